@@ -1,0 +1,164 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// The fmpm executable: read the scene, check it, run Simulator<dim>.
+
+#include <fmpm/parameters.h>
+#include <fmpm/simulator.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+namespace {
+  const char *usage =
+    "Usage: fmpm [options] [scene.prm ...]\n"
+    "\n"
+    "Runs a material point method scene described by deal.II parameter\n"
+    "files. Several files are read in order; later 'set' lines override\n"
+    "earlier ones. '-' reads the scene from standard input. Without a file,\n"
+    "fmpm runs its built-in default scene: two elastic disks colliding.\n"
+    "\n"
+    "Options:\n"
+    "  -h, --help                 show this text\n"
+    "  --validate                 check the scene and exit without running\n"
+    "  --print-parameters[=json]  print every parameter with its default,\n"
+    "                             allowed values and description\n"
+    "  --print-default-scene      print the built-in default scene\n"
+    "\n"
+    "Results (VTU/PVD, history.csv, summary.json, parameters.prm) go to the\n"
+    "directory set by 'subsection Output / set Directory'.\n";
+
+  template <int dim>
+  int
+  run(const fmpm::Parameters &parameters, dealii::ParameterHandler &prm)
+  {
+    fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD);
+    try
+      {
+        simulator.run();
+      }
+    catch (const fmpm::SimulationFailure &)
+      {
+        return 2;
+      }
+    return 0;
+  }
+} // namespace
+
+
+
+int
+main(int argc, char **argv)
+{
+  using namespace dealii;
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const bool is_root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+
+  std::vector<std::string> files;
+  bool                     validate_only = false;
+  for (int i = 1; i < argc; ++i)
+    {
+      const std::string arg = argv[i];
+      if (arg == "-h" || arg == "--help")
+        {
+          if (is_root)
+            std::cout << usage;
+          return 0;
+        }
+      else if (arg == "--validate")
+        validate_only = true;
+      else if (arg == "--print-parameters" ||
+               arg == "--print-parameters=json" ||
+               arg == "--print-parameters=prm")
+        {
+          ParameterHandler prm;
+          fmpm::Parameters::declare_parameters(prm, fmpm::SceneSize());
+          if (is_root)
+            prm.print_parameters(std::cout,
+                                 arg == "--print-parameters=json" ?
+                                   ParameterHandler::JSON :
+                                   ParameterHandler::PRM);
+          return 0;
+        }
+      else if (arg == "--print-default-scene")
+        {
+          if (is_root)
+            std::cout << fmpm::default_scene();
+          return 0;
+        }
+      else if (arg.size() > 1 && arg[0] == '-' && arg != "-")
+        {
+          if (is_root)
+            std::cerr << "fmpm: unknown option <" << arg << ">.\n\n" << usage;
+          return 1;
+        }
+      else
+        files.push_back(arg);
+    }
+
+  // Read and check the scene on rank 0 first, so that an error is reported
+  // once; the other ranks then read the same text.
+  std::vector<std::pair<std::string, std::string>> sources;
+  ParameterHandler                                 prm;
+  fmpm::Parameters                                 parameters;
+  std::string                                      error;
+  if (is_root)
+    {
+      try
+        {
+          sources = fmpm::load_scene_sources(files);
+          fmpm::read_scene(sources, prm, parameters);
+        }
+      catch (const std::exception &e)
+        {
+          error = fmpm::error_message(e);
+        }
+    }
+  error = Utilities::MPI::broadcast(MPI_COMM_WORLD, error, 0);
+  if (!error.empty())
+    {
+      if (is_root)
+        std::cerr << "fmpm: " << error << std::endl;
+      return 1;
+    }
+  sources = Utilities::MPI::broadcast(MPI_COMM_WORLD, sources, 0);
+  if (!is_root)
+    fmpm::read_scene(sources, prm, parameters);
+
+  if (validate_only)
+    {
+      if (is_root)
+        std::cout << "fmpm: the scene is valid (" << parameters.size.dimension
+                  << "D, " << parameters.size.n_bodies << " bodies, "
+                  << parameters.size.n_materials << " materials)." << std::endl;
+      return 0;
+    }
+
+  try
+    {
+      if (is_root)
+        {
+          std::filesystem::create_directories(parameters.output.directory);
+          std::ofstream prm_out(parameters.output.directory +
+                                "/parameters.prm");
+          prm.print_parameters(prm_out, ParameterHandler::ShortPRM);
+          std::ofstream json_out(parameters.output.directory +
+                                 "/parameters.json");
+          prm.print_parameters(json_out, ParameterHandler::JSON);
+        }
+      if (parameters.size.dimension == 2)
+        return run<2>(parameters, prm);
+      else
+        return run<3>(parameters, prm);
+    }
+  catch (const std::exception &e)
+    {
+      if (is_root)
+        std::cerr << "fmpm: " << fmpm::error_message(e) << std::endl;
+      return 1;
+    }
+}

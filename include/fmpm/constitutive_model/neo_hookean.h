@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_constitutive_model_neo_hookean_h
+#define fmpm_constitutive_model_neo_hookean_h
+
+#include <fmpm/constitutive_model/interface.h>
+
+namespace fmpm {
+  namespace ConstitutiveModel {
+    /**
+     * @brief Compressible neo-Hookean hyperelasticity, seed 004 Eq. (18):
+     * \f$W = \frac{G}{2}(I_1 J^{-2/3} - 3) + \frac{K}{2}(\frac{1}{2}(J^2-1)
+     * - \ln J)\f$, giving the Kirchhoff stress
+     * \f$\tau = G\,\mathrm{dev}(\bar b) + \frac{K}{2}(J^2-1) I\f$ with
+     * \f$\bar b = J^{-2/3} F F^T\f$ and Cauchy stress \f$\sigma = \tau/J\f$.
+     *
+     * @ingroup ConstitutiveModels
+     */
+    template <int dim>
+    class NeoHookean : public Interface<dim>
+    {
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm);
+
+      void
+      parse_parameters(ParameterHandler &prm) override;
+
+      void
+      update_stress(const StressUpdateInputs &inputs,
+                    StressUpdateOutputs      &outputs) const override;
+
+      double
+      wave_speed(const double density, const double J) const override;
+
+      void
+      check_parameters(const std::string &where) const override;
+
+      /** Kirchhoff stress and energy density W of one deformation gradient. */
+      void
+      stress_and_energy(const Tensor<2, 3>    &F,
+                        SymmetricTensor<2, 3> &kirchhoff_stress,
+                        double                &energy_density) const;
+
+      /** Bulk modulus K. Units: Pa. */
+      double bulk_modulus = 1.0e6;
+      /** Shear modulus G. Units: Pa. */
+      double shear_modulus = 0.5e6;
+    };
+  } // namespace ConstitutiveModel
+} // namespace fmpm
+
+#endif

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_grid_transfer_h
+#define fmpm_grid_transfer_h
+
+#include <deal.II/base/geometry_info.h>
+#include <deal.II/base/partitioner.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/affine_constraints.h>
+
+#include <array>
+#include <vector>
+
+namespace fmpm {
+  using namespace dealii;
+
+  /**
+   * @brief The transfer operators of seed 000 for classic (FE_Q(1)) shape
+   * functions: S_pi (grid to point values, Eq. 1.1) and G_pi (grid to point
+   * gradients, Eq. 2.8) at a point given by its reference coordinates in its
+   * cell.
+   *
+   * Per locally owned cell it caches the vertices, the DoFs as global and as
+   * local (ghosted vector) indices, whether a hanging-node constraint touches
+   * the cell, and for parallelogram/parallelepiped cells the constant inverse
+   * Jacobian. The shape functions equal those of FE_Q<dim>(1) with a MappingQ
+   * of degree 1 (DoF i sits on vertex i).
+   *
+   * @tparam dim space dimension
+   */
+  template <int dim>
+  class GridTransfer
+  {
+  public:
+    static constexpr unsigned int n_nodes =
+      GeometryInfo<dim>::vertices_per_cell;
+
+    struct CellData
+    {
+      std::array<unsigned int, n_nodes>            local_index;
+      std::array<types::global_dof_index, n_nodes> dof_index;
+      std::array<Point<dim>, n_nodes>              vertex;
+      Tensor<2, dim>                               inverse_jacobian_transpose;
+      bool                                         is_affine       = true;
+      bool                                         has_constraints = false;
+    };
+
+    /** @brief Cache the data of every locally owned cell. */
+    void
+    reinit(const DoFHandler<dim>             &dof_handler,
+           const AffineConstraints<double>   &constraints,
+           const Utilities::MPI::Partitioner &partitioner);
+
+    const CellData &
+    cell_data(const unsigned int active_cell_index) const
+    {
+      return cells[active_cell_index];
+    }
+
+    /** @brief S_pi: the nodal shape function values at @p xi. */
+    static void
+    values(const Point<dim> &xi, std::array<double, n_nodes> &S)
+    {
+      for (unsigned int i = 0; i < n_nodes; ++i)
+        {
+          double s = 1;
+          for (unsigned int d = 0; d < dim; ++d)
+            s *= ((i >> d) & 1) ? xi[d] : 1 - xi[d];
+          S[i] = s;
+        }
+    }
+
+    /** @brief Gradients with respect to the reference coordinates. */
+    static void
+    reference_gradients(const Point<dim>                    &xi,
+                        std::array<Tensor<1, dim>, n_nodes> &dS)
+    {
+      for (unsigned int i = 0; i < n_nodes; ++i)
+        for (unsigned int c = 0; c < dim; ++c)
+          {
+            double g = 1;
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                const bool upper = (i >> d) & 1;
+                if (d == c)
+                  g *= upper ? 1.0 : -1.0;
+                else
+                  g *= upper ? xi[d] : 1 - xi[d];
+              }
+            dS[i][c] = g;
+          }
+    }
+
+    /**
+     * @brief S_pi and G_pi at reference point @p xi of a cell.
+     */
+    static void
+    values_and_gradients(const CellData                      &cell,
+                         const Point<dim>                    &xi,
+                         std::array<double, n_nodes>         &S,
+                         std::array<Tensor<1, dim>, n_nodes> &G)
+    {
+      values(xi, S);
+      reference_gradients(xi, G);
+      Tensor<2, dim> inverse_jacobian_transpose;
+      if (cell.is_affine)
+        inverse_jacobian_transpose = cell.inverse_jacobian_transpose;
+      else
+        {
+          // J = Σ_i x_i ⊗ ∇̂N_i of the multilinear map at xi.
+          Tensor<2, dim> J;
+          for (unsigned int i = 0; i < n_nodes; ++i)
+            J += outer_product(cell.vertex[i], G[i]);
+          inverse_jacobian_transpose = transpose(invert(J));
+        }
+      for (unsigned int i = 0; i < n_nodes; ++i)
+        G[i] = inverse_jacobian_transpose * G[i];
+    }
+
+  private:
+    std::vector<CellData> cells;
+  };
+} // namespace fmpm
+
+#endif

@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_mass_matrix_interface_h
+#define fmpm_mass_matrix_interface_h
+
+#include <fmpm/grid_vectors.h>
+#include <fmpm/plugins.h>
+#include <fmpm/simulator_access.h>
+
+namespace fmpm {
+  /**
+   * @defgroup MassMatrices Mass matrices
+   * The maps from grid momenta to grid velocities, v = m̃ₖ⁻¹ p.
+   */
+  namespace MassMatrix {
+    /**
+     * @brief Interface of mass matrices: how grid velocities follow from grid
+     * momenta (seed 000 Eqs. 1.5-1.6, 1.22-1.23).
+     *
+     * The Simulator calls setup() after every particle-to-grid pass (when the
+     * lumped masses m = SᵀM, and m̃ = SᵀMS if requested, are known), then
+     * solve() for each momentum-like grid field that must become a velocity
+     * (p, p⁺, f). solve() writes locally owned entries only.
+     *
+     * @ingroup MassMatrices
+     */
+    template <int dim>
+    class Interface : public Plugins::InterfaceBase, public SimulatorAccess<dim>
+    {
+    public:
+      static void
+      declare_parameters(ParameterHandler &)
+      {}
+
+      /** @brief Whether the particle-to-grid pass must assemble m̃ = SᵀMS. */
+      virtual bool
+      needs_full_mass_matrix() const
+      {
+        return false;
+      }
+
+      /** @brief Called once per step after the masses are extrapolated. */
+      virtual void
+      setup()
+      {}
+
+      /** @brief v = m̃ₖ⁻¹ p for every component of @p momentum. */
+      virtual void
+      solve(const GridVectorField &momentum,
+            GridVectorField       &velocity) const = 0;
+
+      /** @brief The order k of the approximation m̃ₖ (1 for lumped). */
+      virtual unsigned int
+      order() const
+      {
+        return 1;
+      }
+    };
+
+    template <int dim>
+    using Registry = Plugins::Registry<Interface<dim>>;
+
+    /**
+     * @brief v = m⁻¹p on locally owned nodes, zero where m is below
+     * @p mass_floor (nodes no material point touches).
+     */
+    void
+    apply_lumped_inverse(const GridScalar      &lumped_mass,
+                         const GridVectorField &momentum,
+                         GridVectorField       &velocity,
+                         const double           mass_floor);
+  } // namespace MassMatrix
+} // namespace fmpm
+
+#define FMPM_REGISTER_MASS_MATRIX(CLASSNAME, NAME, DESCRIPTION) \
+  FMPM_REGISTER_PLUGIN(::fmpm::MassMatrix::Interface,           \
+                       CLASSNAME,                               \
+                       NAME,                                    \
+                       DESCRIPTION)
+
+#endif

@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_parameters_h
+#define fmpm_parameters_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/base/types.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fmpm {
+  using namespace dealii;
+
+  /**
+   * @brief The parts of a scene that must be known before the full set of
+   * parameters can be declared: the dimension and how many bodies and
+   * materials the scene has (each gets its own subsection).
+   */
+  struct SceneSize
+  {
+    unsigned int dimension   = 2;
+    unsigned int n_bodies    = 1;
+    unsigned int n_materials = 1;
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
+  };
+
+  /** @brief Background mesh. */
+  struct MeshParameters
+  {
+    /** "box" (GridGenerator::subdivided_hyper_rectangle) or "gmsh". */
+    std::string               type = "box";
+    std::vector<double>       lower_corner{0, 0, 0};
+    std::vector<double>       upper_corner{1, 1, 1};
+    std::vector<unsigned int> subdivisions{8, 8, 8};
+    std::string               file_name;
+    unsigned int              global_refinement = 0;
+  };
+
+  /** @brief Grid velocity conditions per boundary id. */
+  struct BoundaryConditionParameters
+  {
+    std::vector<types::boundary_id> fixed;
+    std::vector<types::boundary_id> roller;
+  };
+
+  /** @brief Time stepping. */
+  struct TimeParameters
+  {
+    double       end_time       = 1.0;
+    double       time_step      = 0.0;
+    double       courant_number = 0.5;
+    unsigned int max_steps      = 1000000000;
+  };
+
+  /** @brief Choice of the MPM algorithm. */
+  struct MethodParameters
+  {
+    std::string particle_update = "flip";
+    std::string mass_matrix     = "lumped";
+    /** usf, usl (= usl-) or usl+ */
+    std::string strain_update = "usl";
+  };
+
+  /** @brief One material: a density and a constitutive model. */
+  struct MaterialParameters
+  {
+    std::string model_name = "linear elastic";
+    double      density    = 1000.0;
+  };
+
+  /** @brief One body: a shape filled with material points. */
+  struct BodyParameters
+  {
+    /** box, sphere or ellipsoid (rectangle, disk, ellipse in 2D). */
+    std::string         shape = "box";
+    std::vector<double> center{0.5, 0.5, 0.5};
+    std::vector<double> half_lengths{0.25, 0.25, 0.25};
+    unsigned int        material        = 0;
+    unsigned int        points_per_cell = 2;
+    std::vector<double> velocity{0, 0, 0};
+  };
+
+  /** @brief What a run writes and how often. */
+  struct OutputParameters
+  {
+    std::string  directory        = "output";
+    double       interval         = 0.0;
+    unsigned int step_interval    = 0;
+    bool         write_vtu        = true;
+    double       progress_seconds = 5.0;
+  };
+
+  /** @brief How a run detects and treats failures. */
+  struct FailureParameters
+  {
+    double energy_growth_limit = 2.0;
+    /** stop or delete */
+    std::string lost_points = "stop";
+  };
+
+  /** @brief An analytical solution the run measures its error against. */
+  struct ReferenceSolutionParameters
+  {
+    bool        enable = false;
+    std::string velocity;
+    std::string displacement;
+    std::string constants;
+  };
+
+  /**
+   * @brief All parameters of a scene, read in two passes (SceneSize first).
+   */
+  struct Parameters
+  {
+    SceneSize                       size;
+    MeshParameters                  mesh;
+    BoundaryConditionParameters     boundary_conditions;
+    TimeParameters                  time;
+    MethodParameters                method;
+    std::vector<MaterialParameters> materials;
+    std::vector<BodyParameters>     bodies;
+    std::vector<double>             gravity{0, 0, 0};
+    OutputParameters                output;
+    FailureParameters               failure;
+    ReferenceSolutionParameters     reference;
+    bool                            test_mode  = false;
+    std::string                     timer_type = "summary";
+
+    /**
+     * @brief Declare everything for a scene of size @p size, including the
+     * parameters of every plugin.
+     */
+    static void
+    declare_parameters(ParameterHandler &prm, const SceneSize &size);
+
+    /** @brief Read the values and check them across parameters. */
+    void
+    parse_parameters(ParameterHandler &prm);
+  };
+
+  /**
+   * @brief The text of each scene source, in order: each file, standard
+   * input for "-", or the built-in default scene if @p files is empty.
+   * Returns (name, text) pairs.
+   */
+  std::vector<std::pair<std::string, std::string>>
+  load_scene_sources(const std::vector<std::string> &files);
+
+  /**
+   * @brief Parse scene sources in order (later `set` lines override earlier
+   * ones) into @p prm and @p parameters. Throws an ExcMessage naming the
+   * file, line and parameter on any error.
+   */
+  void
+  read_scene(const std::vector<std::pair<std::string, std::string>> &sources,
+             ParameterHandler                                       &prm,
+             Parameters &parameters);
+
+  /** @brief Declared error messages without deal.II's source location. */
+  std::string
+  error_message(const std::exception &e);
+
+  /** @brief The built-in default scene: two elastic disks colliding. */
+  std::string
+  default_scene();
+
+  /** @brief "Body 0", "Material 2", ...: names of numbered subsections. */
+  std::string
+  numbered_subsection(const std::string &name, const unsigned int index);
+} // namespace fmpm
+
+#endif

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_particle_update_flip_h
+#define fmpm_particle_update_flip_h
+
+#include <fmpm/particle_update/interface.h>
+
+namespace fmpm {
+  namespace ParticleUpdate {
+    /**
+     * @brief FLIP(Std), seed 000 Eqs. 2.27-2.28 and Table 2.1:
+     * V += a Δt, X += (v_p − ψ/2 a Δt) Δt with a = S m̃ₖ⁻¹ f and
+     * v_p = S m̃ₖ⁻¹ p⁺ (lumped m for the standard method). ψ = 0 is the usual
+     * first-order position update, ψ = 1 the second-order one.
+     *
+     * @ingroup ParticleUpdates
+     */
+    template <int dim>
+    class Flip : public Interface<dim>
+    {
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm);
+
+      void
+      parse_parameters(ParameterHandler &prm) override;
+
+      std::vector<GridField>
+      required_fields() const override;
+
+      void
+      update(Batch<dim> &batch) const override;
+
+      /** ψ of Eq. 2.28. */
+      double psi = 0;
+    };
+  } // namespace ParticleUpdate
+} // namespace fmpm
+
+#endif

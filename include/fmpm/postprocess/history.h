@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_postprocess_history_h
+#define fmpm_postprocess_history_h
+
+#include <deal.II/base/tensor.h>
+
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fmpm {
+  using namespace dealii;
+
+  /** @brief One row of history.csv. */
+  template <int dim>
+  struct HistoryRow
+  {
+    unsigned int   step             = 0;
+    double         time             = 0;
+    double         dt               = 0;
+    double         kinetic_energy   = 0;
+    double         strain_energy    = 0;
+    double         potential_energy = 0;
+    double         total_energy     = 0;
+    Tensor<1, dim> momentum;
+    double         mass = 0;
+    /** Relative L2 errors against the reference solution (or NaN). */
+    double error_velocity_l2     = 0;
+    double error_displacement_l2 = 0;
+  };
+
+  /**
+   * @brief The time history of a run: kept in memory and written row by row
+   * (flushed) to history.csv on rank 0, so that a failed run keeps every row
+   * written before the failure.
+   */
+  template <int dim>
+  class History
+  {
+  public:
+    /** @brief Open @p file_name (rank 0 only) and write the header. */
+    void
+    open(const std::string &file_name,
+         const bool         is_root,
+         const bool         with_errors);
+
+    void
+    add(const HistoryRow<dim> &row);
+
+    const std::vector<HistoryRow<dim>> &
+    rows() const
+    {
+      return all_rows;
+    }
+
+  private:
+    std::vector<HistoryRow<dim>>   all_rows;
+    std::unique_ptr<std::ofstream> file;
+    bool                           with_errors = false;
+  };
+} // namespace fmpm
+
+#endif

@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_simulator_h
+#define fmpm_simulator_h
+
+#include <fmpm/constitutive_model/interface.h>
+#include <fmpm/grid_transfer.h>
+#include <fmpm/grid_vectors.h>
+#include <fmpm/mass_matrix/interface.h>
+#include <fmpm/parameters.h>
+#include <fmpm/particle_properties.h>
+#include <fmpm/particle_update/interface.h>
+#include <fmpm/postprocess/history.h>
+#include <fmpm/simulator_access.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/particles/particle_handler.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fmpm {
+  /**
+   * @brief Thrown when the numerical solution fails (NaN, energy growth,
+   * inverted elements, points leaving the mesh). Carries the step and time.
+   */
+  class SimulationFailure : public std::runtime_error
+  {
+  public:
+    SimulationFailure(const std::string &reason,
+                      const unsigned int step,
+                      const double       time)
+      : std::runtime_error(reason)
+      , step(step)
+      , time(time)
+    {}
+    unsigned int step;
+    double       time;
+  };
+
+  /**
+   * @brief Global quantities of the material points at one instant.
+   */
+  template <int dim>
+  struct GlobalStatistics
+  {
+    double         mass             = 0;
+    double         kinetic_energy   = 0;
+    double         strain_energy    = 0;
+    double         potential_energy = 0;
+    Tensor<1, dim> momentum;
+    /** Σ M |V − v_ref|² and Σ M |v_ref|² against the reference solution. */
+    double velocity_error_squared         = 0;
+    double velocity_reference_squared     = 0;
+    double displacement_error_squared     = 0;
+    double displacement_reference_squared = 0;
+
+    double
+    total_energy() const
+    {
+      return kinetic_energy + strain_energy + potential_energy;
+    }
+  };
+
+  /**
+   * @brief Orchestrates an MPM run: owns the background mesh, the DoFs, the
+   * material points, the grid vectors and one object per plugin system.
+   *
+   * run() reads as the time step of seed 000 §2.2; each phase is a private
+   * member function, timed by the TimerOutput.
+   *
+   * @tparam dim space dimension (2 or 3)
+   */
+  template <int dim>
+  class Simulator
+  {
+  public:
+    /**
+     * @brief Set up from parsed parameters. @p prm must be the handler the
+     * parameters were parsed from (plugins read their subsections).
+     */
+    Simulator(const Parameters &parameters,
+              ParameterHandler &prm,
+              MPI_Comm          mpi_communicator);
+
+    ~Simulator();
+
+    /**
+     * @brief Run to the end time. Writes summary.json in every case. Throws
+     * SimulationFailure after writing it if the run failed numerically.
+     */
+    void
+    run();
+
+    /** @brief Rows of history.csv written so far (for tests). */
+    const std::vector<HistoryRow<dim>> &
+    get_history() const
+    {
+      return history.rows();
+    }
+
+    /** @brief Nodes with mass below this are treated as empty. */
+    double
+    mass_floor() const
+    {
+      return mass_floor_value;
+    }
+
+    /** @brief Statistics of the material points now (collective). */
+    GlobalStatistics<dim>
+    compute_statistics() const;
+
+  private:
+    // --- set-up (simulator/setup.cc) ---
+    void
+    make_grid();
+    void
+    setup_dofs();
+    void
+    create_material_points();
+    void
+    setup_boundary_conditions();
+    void
+    setup_plugins(ParameterHandler &prm);
+    void
+    check_scene();
+
+    // --- the time step (simulator/core.cc, transfer.cc) ---
+    double
+    compute_time_step() const;
+    double
+    compute_max_signal_speed() const;
+    bool
+    is_output_step();
+    void
+    do_time_step();
+    void
+    particles_to_grid(const bool with_forces);
+    void
+    compute_forces();
+    void
+    apply_velocity_conditions(GridVectorField &field) const;
+    void
+    grid_velocity_from(const GridVectorField &momentum_like,
+                       GridVectorField       &velocity);
+    void
+    compute_requested_fields();
+    void
+    update_stresses(const GridVectorField &grid_velocity, const double dt);
+    void
+    update_particles();
+    void
+    sort_particles_into_cells();
+    void
+    check_energy(const GlobalStatistics<dim> &statistics);
+
+    // --- output (simulator/output.cc) ---
+    void
+    output_results(const GlobalStatistics<dim> &statistics);
+    void
+    write_summary(const std::string           &status,
+                  const SimulationFailure     *failure,
+                  const GlobalStatistics<dim> &statistics);
+    void
+    print_progress(const GlobalStatistics<dim> &statistics, const bool force);
+    void
+    print_test_particles() const;
+
+    MPI_Comm            mpi_communicator;
+    const Parameters    parameters;
+    ConditionalOStream  pcout;
+    mutable TimerOutput computing_timer;
+
+    parallel::distributed::Triangulation<dim> triangulation;
+    MappingQ<dim>                             mapping;
+    FE_Q<dim>                                 fe;
+    DoFHandler<dim>                           dof_handler;
+    IndexSet                                  locally_owned_dofs;
+    IndexSet                                  locally_relevant_dofs;
+    AffineConstraints<double>                 constraints;
+    GridTransfer<dim>                         transfer;
+
+    ParticleProperties<dim>         particle_properties;
+    Particles::ParticleHandler<dim> particle_handler;
+
+    // Grid fields in the notation of seed 000.
+    GridScalar      lumped_mass;      // m = SᵀM
+    GridVectorField momentum;         // p = SᵀMV
+    GridVectorField force;            // f
+    GridVectorField updated_momentum; // p⁺ = p + fΔt
+    std::array<GridVectorField, ParticleUpdate::n_grid_fields> grid_fields;
+    std::array<bool, ParticleUpdate::n_grid_fields>            field_needed;
+    TrilinosWrappers::SparseMatrix                             full_mass_matrix;
+
+    // Grid velocity conditions: owned local node index and unit normal
+    // (for rollers) or an empty normal (fixed: all components).
+    struct NodeCondition
+    {
+      unsigned int   local_index;
+      bool           fixed_all;
+      Tensor<1, dim> normal;
+    };
+    std::vector<NodeCondition> node_conditions;
+
+    std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
+                                                    constitutive_models;
+    std::unique_ptr<MassMatrix::Interface<dim>>     mass_matrix;
+    std::unique_ptr<ParticleUpdate::Interface<dim>> particle_update;
+
+    History<dim> history;
+
+    double       time              = 0;
+    double       time_step         = 0;
+    unsigned int timestep_number   = 0;
+    double       next_output_time  = 0;
+    unsigned int n_output          = 0;
+    double       mass_floor_value  = 0;
+    double       minimum_cell_size = 0;
+    /** Largest wave speed + point speed over all points. Units: m/s. */
+    double max_signal_speed = 0;
+    /** First numerical failure this rank saw in the current step. */
+    std::string local_failure;
+    /** Output stream for test mode (rank 0, only in test mode). */
+    ConditionalOStream tout;
+    double             initial_total_energy  = 0;
+    unsigned long long n_lost_points         = 0;
+    unsigned long long total_lost_points     = 0;
+    double             local_max_wave_speed  = 0;
+    double             local_max_point_speed = 0;
+    /** Scale of the energy-growth bound (initial kinetic + strain energy, or
+     * the work gravity can do across the mesh). Units: J. */
+    double initial_energy_scale = 0;
+    /** Σ over outputs of the squared reference errors and norms. */
+    std::array<double, 4>                       error_sums{{0, 0, 0, 0}};
+    std::vector<std::string>                    lost_point_messages;
+    std::vector<std::pair<double, std::string>> particle_pvd_records;
+    std::vector<std::pair<double, std::string>> grid_pvd_records;
+    double                                      wall_start         = 0;
+    double                                      last_progress_wall = -1e30;
+    unsigned long long                          particle_steps     = 0;
+
+    friend class SimulatorAccess<dim>;
+  };
+} // namespace fmpm
+
+#endif

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_simulator_access_h
+#define fmpm_simulator_access_h
+
+#include <fmpm/grid_vectors.h>
+#include <fmpm/parameters.h>
+#include <fmpm/particle_properties.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/particles/particle_handler.h>
+
+namespace fmpm {
+  template <int dim>
+  class Simulator;
+
+  /**
+   * @brief Read-only view of the Simulator's state for plugins.
+   *
+   * The Simulator calls initialize_simulator() on each plugin that derives
+   * from this class before the plugin's initialize().
+   */
+  template <int dim>
+  class SimulatorAccess
+  {
+  public:
+    virtual ~SimulatorAccess() = default;
+
+    /** @brief Connect to the Simulator; called by the Simulator. */
+    void
+    initialize_simulator(const Simulator<dim> &simulator_object)
+    {
+      simulator = &simulator_object;
+    }
+
+  protected:
+    const Simulator<dim> &
+    get_simulator() const
+    {
+      Assert(simulator != nullptr, ExcNotInitialized());
+      return *simulator;
+    }
+
+    MPI_Comm
+    get_mpi_communicator() const;
+    const ConditionalOStream &
+    get_pcout() const;
+    const Parameters &
+    get_parameters() const;
+    const parallel::distributed::Triangulation<dim> &
+    get_triangulation() const;
+    const DoFHandler<dim> &
+    get_dof_handler() const;
+    const AffineConstraints<double> &
+    get_constraints() const;
+    const Particles::ParticleHandler<dim> &
+    get_particle_handler() const;
+    const ParticleProperties<dim> &
+    get_particle_properties() const;
+    /** Lumped nodal masses m = SᵀM (Eq. 1.6), ghosted. */
+    const GridScalar &
+    get_lumped_mass() const;
+    /** Full mass matrix m̃ = SᵀMS (Eq. 1.9); assembled only on request. */
+    const TrilinosWrappers::SparseMatrix &
+    get_full_mass_matrix() const;
+    double
+    get_time() const;
+    double
+    get_timestep() const;
+    unsigned int
+    get_timestep_number() const;
+
+  private:
+    const Simulator<dim> *simulator = nullptr;
+  };
+} // namespace fmpm
+
+#endif

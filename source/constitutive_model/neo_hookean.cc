@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/constitutive_model/neo_hookean.h>
+
+#include <cmath>
+
+namespace fmpm {
+  namespace ConstitutiveModel {
+    template <int dim>
+    void
+    NeoHookean<dim>::declare_parameters(ParameterHandler &prm)
+    {
+      const NeoHookean<dim> defaults;
+      prm.declare_entry("Bulk modulus",
+                        std::to_string(defaults.bulk_modulus),
+                        Patterns::Double(),
+                        "Bulk modulus K of seed 004 Eq. (18). Must be "
+                        "positive. Units: Pa.");
+      prm.declare_entry("Shear modulus",
+                        std::to_string(defaults.shear_modulus),
+                        Patterns::Double(),
+                        "Shear modulus G of seed 004 Eq. (18). Must be "
+                        "positive. Units: Pa.");
+    }
+
+
+
+    template <int dim>
+    void
+    NeoHookean<dim>::parse_parameters(ParameterHandler &prm)
+    {
+      bulk_modulus  = prm.get_double("Bulk modulus");
+      shear_modulus = prm.get_double("Shear modulus");
+    }
+
+
+
+    template <int dim>
+    void
+    NeoHookean<dim>::check_parameters(const std::string &where) const
+    {
+      AssertThrow(bulk_modulus > 0,
+                  ExcMessage(where +
+                             "/Bulk modulus = " + std::to_string(bulk_modulus) +
+                             " is not positive. Allowed: any value > 0 (Pa)."));
+      AssertThrow(shear_modulus > 0,
+                  ExcMessage(where + "/Shear modulus = " +
+                             std::to_string(shear_modulus) +
+                             " is not positive. Allowed: any value > 0 (Pa)."));
+    }
+
+
+
+    template <int dim>
+    void
+    NeoHookean<dim>::stress_and_energy(const Tensor<2, 3>    &F,
+                                       SymmetricTensor<2, 3> &tau,
+                                       double                &W) const
+    {
+      const double                J      = determinant(F);
+      const double                J_m23  = std::pow(J, -2.0 / 3.0);
+      const SymmetricTensor<2, 3> b_bar  = J_m23 * symmetrize(F * transpose(F));
+      const double                I1_bar = trace(b_bar);
+      const SymmetricTensor<2, 3> I      = unit_symmetric_tensor<3>();
+      tau = shear_modulus * (b_bar - I1_bar / 3.0 * I) +
+            0.5 * bulk_modulus * (J * J - 1) * I;
+      W = 0.5 * shear_modulus * (I1_bar - 3) +
+          0.5 * bulk_modulus * (0.5 * (J * J - 1) - std::log(J));
+    }
+
+
+
+    template <int dim>
+    void
+    NeoHookean<dim>::update_stress(const StressUpdateInputs &inputs,
+                                   StressUpdateOutputs      &outputs) const
+    {
+      SymmetricTensor<2, 3> tau;
+      for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
+        {
+          const Tensor<2, 3> &F = inputs.deformation_gradient[q];
+          stress_and_energy(F, tau, outputs.strain_energy_density[q]);
+          outputs.cauchy_stress[q] = tau / determinant(F);
+        }
+    }
+
+
+
+    template <int dim>
+    double
+    NeoHookean<dim>::wave_speed(const double density, const double J) const
+    {
+      // Tangent bulk modulus J dp/dJ = K (J + 1/J) / 2 at the current volume
+      // ratio, current density density/J.
+      const double tangent_bulk = 0.5 * bulk_modulus * (J + 1.0 / J);
+      return std::sqrt((tangent_bulk + 4.0 / 3.0 * shear_modulus) * J /
+                       density);
+    }
+
+    FMPM_REGISTER_CONSTITUTIVE_MODEL(
+      NeoHookean,
+      "neo hookean",
+      "Compressible neo-Hookean hyperelasticity of seed 004 Eq. (18), with bulk "
+      "modulus K and shear modulus G; plane strain in 2D.")
+  } // namespace ConstitutiveModel
+} // namespace fmpm

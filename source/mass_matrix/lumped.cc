@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/mass_matrix/lumped.h>
+#include <fmpm/simulator.h>
+
+namespace fmpm {
+  namespace MassMatrix {
+    void
+    apply_lumped_inverse(const GridScalar      &m,
+                         const GridVectorField &p,
+                         GridVectorField       &v,
+                         const double           mass_floor)
+    {
+      const unsigned int n_owned = m.locally_owned_size();
+      for (unsigned int b = 0; b < p.n_blocks(); ++b)
+        for (unsigned int i = 0; i < n_owned; ++i)
+          {
+            const double m_i = m.local_element(i);
+            v.block(b).local_element(i) =
+              (m_i > mass_floor ? p.block(b).local_element(i) / m_i : 0.0);
+          }
+    }
+
+
+
+    template <int dim>
+    void
+    Lumped<dim>::solve(const GridVectorField &p, GridVectorField &v) const
+    {
+      apply_lumped_inverse(this->get_lumped_mass(),
+                           p,
+                           v,
+                           this->get_simulator().mass_floor());
+    }
+
+    FMPM_REGISTER_MASS_MATRIX(Lumped,
+                              "lumped",
+                              "The lumped mass matrix m = S^T M of seed 000 "
+                              "Eq. 1.6: standard MPM.")
+  } // namespace MassMatrix
+} // namespace fmpm

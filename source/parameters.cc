@@ -1,0 +1,627 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/constitutive_model/interface.h>
+#include <fmpm/mass_matrix/interface.h>
+#include <fmpm/parameters.h>
+#include <fmpm/particle_update/interface.h>
+
+#include <deal.II/base/utilities.h>
+
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+
+namespace fmpm {
+  namespace {
+    std::string
+    join(const std::vector<double> &values, const unsigned int n)
+    {
+      std::ostringstream out;
+      for (unsigned int i = 0; i < n; ++i)
+        out << (i ? ", " : "") << values[i];
+      return out.str();
+    }
+
+    std::string
+    join(const std::vector<unsigned int> &values, const unsigned int n)
+    {
+      std::ostringstream out;
+      for (unsigned int i = 0; i < n; ++i)
+        out << (i ? ", " : "") << values[i];
+      return out.str();
+    }
+
+    /** A list of exactly @p dim doubles. */
+    Patterns::List
+    point_pattern(const unsigned int dim)
+    {
+      return Patterns::List(Patterns::Double(), dim, dim, ",");
+    }
+
+    std::vector<double>
+    get_doubles(ParameterHandler &prm, const std::string &name)
+    {
+      return Utilities::string_to_double(
+        Utilities::split_string_list(prm.get(name)));
+    }
+
+    /** The message of a deal.II exception without its source location. */
+    std::string
+    message_of(const ExceptionBase &e)
+    {
+      std::ostringstream out;
+      e.print_info(out);
+      return out.str();
+    }
+
+    /** Declare the parameters that depend on the plugins, for one dim. */
+    template <int dim>
+    void
+    declare_plugin_parameters(ParameterHandler &prm, const SceneSize &size)
+    {
+      const MethodParameters method;
+      prm.enter_subsection("Particle update");
+      prm.declare_entry(
+        "Model name",
+        method.particle_update,
+        Patterns::Selection(
+          ParticleUpdate::Registry<dim>::instance().pattern()),
+        "How material points get their new velocity and "
+        "position from the grid (seed 000 Table 2.1). " +
+          ParticleUpdate::Registry<dim>::instance().documentation() +
+          "Units: none.");
+      ParticleUpdate::Registry<dim>::instance().declare_parameters(prm);
+      prm.leave_subsection();
+
+      prm.enter_subsection("Mass matrix");
+      prm.declare_entry(
+        "Model name",
+        method.mass_matrix,
+        Patterns::Selection(MassMatrix::Registry<dim>::instance().pattern()),
+        "How grid velocities follow from grid momenta. " +
+          MassMatrix::Registry<dim>::instance().documentation() +
+          "Units: none.");
+      MassMatrix::Registry<dim>::instance().declare_parameters(prm);
+      prm.leave_subsection();
+
+      const MaterialParameters material;
+      for (unsigned int m = 0; m < size.n_materials; ++m)
+        {
+          prm.enter_subsection(numbered_subsection("Material", m));
+          prm.declare_entry(
+            "Model name",
+            material.model_name,
+            Patterns::Selection(
+              ConstitutiveModel::Registry<dim>::instance().pattern()),
+            "Constitutive model of this material. " +
+              ConstitutiveModel::Registry<dim>::instance().documentation() +
+              "Units: none.");
+          prm.declare_entry("Density",
+                            std::to_string(material.density),
+                            Patterns::Double(),
+                            "Mass density in the reference configuration. "
+                            "Must be positive. Units: kg/m^3.");
+          ConstitutiveModel::Registry<dim>::instance().declare_parameters(prm);
+          prm.leave_subsection();
+        }
+    }
+  } // namespace
+
+
+
+  std::string
+  error_message(const std::exception &e)
+  {
+    if (const auto *deal_ii = dynamic_cast<const ExceptionBase *>(&e))
+      return message_of(*deal_ii);
+    return e.what();
+  }
+
+
+
+  std::string
+  numbered_subsection(const std::string &name, const unsigned int index)
+  {
+    return name + " " + std::to_string(index);
+  }
+
+
+
+  void
+  SceneSize::declare_parameters(ParameterHandler &prm)
+  {
+    const SceneSize defaults;
+    prm.declare_entry("Dimension",
+                      std::to_string(defaults.dimension),
+                      Patterns::Integer(2, 3),
+                      "Space dimension of the scene: 2 (plane strain) or 3. "
+                      "Units: none.");
+    prm.declare_entry("Number of bodies",
+                      std::to_string(defaults.n_bodies),
+                      Patterns::Integer(1, 1000),
+                      "How many bodies the scene has; each is described in a "
+                      "subsection 'Body N', N = 0, 1, .... Units: none.");
+    prm.declare_entry("Number of materials",
+                      std::to_string(defaults.n_materials),
+                      Patterns::Integer(1, 1000),
+                      "How many materials the scene has; each is described "
+                      "in a subsection 'Material N'. Units: none.");
+  }
+
+
+
+  void
+  SceneSize::parse_parameters(ParameterHandler &prm)
+  {
+    dimension   = prm.get_integer("Dimension");
+    n_bodies    = prm.get_integer("Number of bodies");
+    n_materials = prm.get_integer("Number of materials");
+  }
+
+
+
+  void
+  Parameters::declare_parameters(ParameterHandler &prm, const SceneSize &size)
+  {
+    const unsigned int dim = size.dimension;
+    SceneSize::declare_parameters(prm);
+
+    const MeshParameters mesh;
+    prm.enter_subsection("Mesh");
+    {
+      prm.declare_entry("Type",
+                        mesh.type,
+                        Patterns::Selection("box|gmsh"),
+                        "'box': a rectangle/box subdivided into cells, with "
+                        "boundary ids 0,1 (x min/max), 2,3 (y), 4,5 (z); "
+                        "'gmsh': quadrilateral/hexahedral mesh read from "
+                        "'File name' with its physical boundary ids. "
+                        "Units: none.");
+      prm.declare_entry("Lower corner",
+                        join(mesh.lower_corner, dim),
+                        point_pattern(dim),
+                        "Lower corner of the box. Units: m.");
+      prm.declare_entry("Upper corner",
+                        join(mesh.upper_corner, dim),
+                        point_pattern(dim),
+                        "Upper corner of the box. Units: m.");
+      prm.declare_entry("Subdivisions",
+                        join(mesh.subdivisions, dim),
+                        Patterns::List(Patterns::Integer(1), dim, dim, ","),
+                        "Number of cells of the box in each direction. "
+                        "Units: none.");
+      prm.declare_entry("File name",
+                        mesh.file_name,
+                        Patterns::Anything(),
+                        "Gmsh .msh file for 'Type = gmsh', relative to the "
+                        "working directory. Units: none.");
+      prm.declare_entry("Initial global refinement",
+                        std::to_string(mesh.global_refinement),
+                        Patterns::Integer(0, 12),
+                        "Number of times every cell is split in 2^dim before "
+                        "the run. Units: none.");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Boundary conditions");
+    {
+      prm.declare_entry("Fixed boundary ids",
+                        "",
+                        Patterns::List(Patterns::Integer(0, 255)),
+                        "Boundary ids on which all grid velocity components "
+                        "are zero. Units: none.");
+      prm.declare_entry("Roller boundary ids",
+                        "",
+                        Patterns::List(Patterns::Integer(0, 255)),
+                        "Boundary ids on which the normal grid velocity is "
+                        "zero (free slip, symmetry). Units: none.");
+    }
+    prm.leave_subsection();
+
+    const TimeParameters time;
+    prm.enter_subsection("Time");
+    {
+      prm.declare_entry("End time",
+                        std::to_string(time.end_time),
+                        Patterns::Double(0),
+                        "Time at which the run stops. Units: s.");
+      prm.declare_entry("Time step",
+                        std::to_string(time.time_step),
+                        Patterns::Double(0),
+                        "Fixed time step; 0 chooses it every step from the "
+                        "Courant number. Must not exceed the stable limit "
+                        "h_min / (wave speed + point speed). Units: s.");
+      prm.declare_entry("Courant number",
+                        std::to_string(time.courant_number),
+                        Patterns::Double(0, 1),
+                        "Time step as a fraction of h_min / (largest wave "
+                        "speed + largest point speed), used when 'Time step' "
+                        "is 0. Units: none.");
+      prm.declare_entry("Maximum number of steps",
+                        std::to_string(time.max_steps),
+                        Patterns::Integer(1),
+                        "The run stops after this many steps even before "
+                        "'End time'. Units: none.");
+      prm.declare_entry("Strain update",
+                        "usl",
+                        Patterns::Selection("usf|usl|usl+"),
+                        "When stresses are updated (seed 000 §2.1-2.2): "
+                        "'usf' before the force extrapolation, 'usl' (USL-) "
+                        "after the particle update with the grid velocity "
+                        "v⁺, 'usl+' after re-extrapolating the updated point "
+                        "momenta. Units: none.");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Body force");
+    prm.declare_entry("Gravity",
+                      join(std::vector<double>{0, 0, 0}, dim),
+                      point_pattern(dim),
+                      "Gravitational acceleration b. Units: m/s^2.");
+    prm.leave_subsection();
+
+    const BodyParameters body;
+    for (unsigned int b = 0; b < size.n_bodies; ++b)
+      {
+        prm.enter_subsection(numbered_subsection("Body", b));
+        prm.declare_entry("Shape",
+                          body.shape,
+                          Patterns::Selection("box|sphere|ellipsoid"),
+                          "Shape of the body: 'box' (a rectangle in 2D), "
+                          "'sphere' (disk; radius = first half length), "
+                          "'ellipsoid' (ellipse; semi-axes = half lengths, "
+                          "axis aligned). Units: none.");
+        prm.declare_entry("Center",
+                          join(body.center, dim),
+                          point_pattern(dim),
+                          "Center of the shape. Units: m.");
+        prm.declare_entry("Half lengths",
+                          join(body.half_lengths, dim),
+                          point_pattern(dim),
+                          "Half widths of the box, or semi-axes of the "
+                          "ellipsoid; the first is the sphere's radius. "
+                          "Units: m.");
+        prm.declare_entry("Material",
+                          std::to_string(body.material),
+                          Patterns::Integer(0),
+                          "Index N of the 'Material N' the body is made of. "
+                          "Units: none.");
+        prm.declare_entry("Points per cell",
+                          std::to_string(body.points_per_cell),
+                          Patterns::Integer(1, 10),
+                          "Material points per cell in each direction, "
+                          "placed at the centres of a regular subdivision of "
+                          "each cell. Units: none.");
+        prm.declare_entry("Initial velocity",
+                          join(body.velocity, dim),
+                          point_pattern(dim),
+                          "Initial velocity of every point of the body. "
+                          "Units: m/s.");
+        prm.leave_subsection();
+      }
+
+    const OutputParameters output;
+    prm.enter_subsection("Output");
+    {
+      prm.declare_entry("Directory",
+                        output.directory,
+                        Patterns::Anything(),
+                        "Directory for all results (created if missing). "
+                        "Units: none.");
+      prm.declare_entry("Interval",
+                        std::to_string(output.interval),
+                        Patterns::Double(0),
+                        "Simulated time between outputs (history row and "
+                        "VTU files); 0 writes every 'Step interval' steps. "
+                        "Units: s.");
+      prm.declare_entry("Step interval",
+                        std::to_string(output.step_interval),
+                        Patterns::Integer(0),
+                        "Steps between outputs when 'Interval' is 0; 0 means "
+                        "every step. Units: none.");
+      prm.declare_entry("Write vtu",
+                        output.write_vtu ? "true" : "false",
+                        Patterns::Bool(),
+                        "Write particle and grid fields as VTU/PVTU with PVD "
+                        "records for ParaView. Units: none.");
+      prm.declare_entry("Progress interval",
+                        std::to_string(output.progress_seconds),
+                        Patterns::Double(0),
+                        "Wall-clock seconds between progress lines on the "
+                        "terminal. Units: s.");
+    }
+    prm.leave_subsection();
+
+    const FailureParameters failure;
+    prm.enter_subsection("Failure detection");
+    {
+      prm.declare_entry("Energy growth limit",
+                        std::to_string(failure.energy_growth_limit),
+                        Patterns::Double(1),
+                        "The run fails when the total energy exceeds this "
+                        "factor times the largest of the initial total "
+                        "energy and the energy put in by body forces. "
+                        "Units: none.");
+      prm.declare_entry("Points leaving the mesh",
+                        failure.lost_points,
+                        Patterns::Selection("stop|delete"),
+                        "'stop': a point that leaves the mesh stops the run "
+                        "with a message naming it; 'delete': such points are "
+                        "removed and counted. Units: none.");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Reference solution");
+    {
+      prm.declare_entry("Enable",
+                        "false",
+                        Patterns::Bool(),
+                        "Measure the error of each output against the "
+                        "analytical velocity and displacement below. "
+                        "Units: none.");
+      prm.declare_entry("Velocity",
+                        join(std::vector<double>{0, 0, 0}, dim),
+                        Patterns::Anything(),
+                        "Velocity as function of the initial position "
+                        "(x, y, z) and time t (FunctionParser syntax, one "
+                        "expression per component, separated by ';'). "
+                        "Units: m/s.");
+      prm.declare_entry("Displacement",
+                        join(std::vector<double>{0, 0, 0}, dim),
+                        Patterns::Anything(),
+                        "Displacement as function of the initial position "
+                        "and t, as 'Velocity'. Units: m.");
+      prm.declare_entry("Function constants",
+                        "",
+                        Patterns::Anything(),
+                        "Constants for the expressions, e.g. "
+                        "'v0=0.1, omega=3.2'. Units: as used.");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Test");
+    prm.declare_entry("Enable",
+                      "false",
+                      Patterns::Bool(),
+                      "Print mass, momentum and energy every output and the "
+                      "points sorted by id at the end, at fixed precision, "
+                      "instead of progress and timings (for regression "
+                      "tests). Units: none.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Timer");
+    prm.declare_entry("Type",
+                      "summary",
+                      Patterns::Selection("none|summary"),
+                      "Whether to print the TimerOutput summary at the end. "
+                      "Units: none.");
+    prm.leave_subsection();
+
+    if (dim == 2)
+      declare_plugin_parameters<2>(prm, size);
+    else
+      declare_plugin_parameters<3>(prm, size);
+  }
+
+
+
+  void
+  Parameters::parse_parameters(ParameterHandler &prm)
+  {
+    size.parse_parameters(prm);
+    const unsigned int dim = size.dimension;
+
+    prm.enter_subsection("Mesh");
+    mesh.type         = prm.get("Type");
+    mesh.lower_corner = get_doubles(prm, "Lower corner");
+    mesh.upper_corner = get_doubles(prm, "Upper corner");
+    mesh.subdivisions.clear();
+    for (const double n : get_doubles(prm, "Subdivisions"))
+      mesh.subdivisions.push_back(static_cast<unsigned int>(n));
+    mesh.file_name         = prm.get("File name");
+    mesh.global_refinement = prm.get_integer("Initial global refinement");
+    prm.leave_subsection();
+    if (mesh.type == "box")
+      for (unsigned int d = 0; d < dim; ++d)
+        AssertThrow(mesh.upper_corner[d] > mesh.lower_corner[d],
+                    ExcMessage("Mesh/Upper corner must be above Mesh/Lower "
+                               "corner in every direction; direction " +
+                               std::to_string(d) + " is not."));
+    if (mesh.type == "gmsh")
+      {
+        AssertThrow(!mesh.file_name.empty(),
+                    ExcMessage("Mesh/Type = gmsh needs Mesh/File name."));
+        std::ifstream test(mesh.file_name);
+        AssertThrow(test,
+                    ExcMessage("Mesh/File name = <" + mesh.file_name +
+                               "> cannot be opened: no such file or not "
+                               "readable."));
+      }
+
+    prm.enter_subsection("Boundary conditions");
+    for (const double id : get_doubles(prm, "Fixed boundary ids"))
+      boundary_conditions.fixed.push_back(static_cast<types::boundary_id>(id));
+    for (const double id : get_doubles(prm, "Roller boundary ids"))
+      boundary_conditions.roller.push_back(static_cast<types::boundary_id>(id));
+    prm.leave_subsection();
+
+    prm.enter_subsection("Time");
+    time.end_time        = prm.get_double("End time");
+    time.time_step       = prm.get_double("Time step");
+    time.courant_number  = prm.get_double("Courant number");
+    time.max_steps       = prm.get_integer("Maximum number of steps");
+    method.strain_update = prm.get("Strain update");
+    prm.leave_subsection();
+    AssertThrow(time.time_step > 0 || time.courant_number > 0,
+                ExcMessage("Time/Time step and Time/Courant number are both "
+                           "0: set one of them to a positive value."));
+
+    prm.enter_subsection("Body force");
+    gravity = get_doubles(prm, "Gravity");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Particle update");
+    method.particle_update = prm.get("Model name");
+    prm.leave_subsection();
+    prm.enter_subsection("Mass matrix");
+    method.mass_matrix = prm.get("Model name");
+    prm.leave_subsection();
+
+    materials.resize(size.n_materials);
+    for (unsigned int m = 0; m < size.n_materials; ++m)
+      {
+        const std::string where = numbered_subsection("Material", m);
+        prm.enter_subsection(where);
+        materials[m].model_name = prm.get("Model name");
+        materials[m].density    = prm.get_double("Density");
+        prm.leave_subsection();
+        AssertThrow(materials[m].density > 0,
+                    ExcMessage(where + "/Density = " +
+                               std::to_string(materials[m].density) +
+                               " is not positive. Allowed: any value > 0 "
+                               "(kg/m^3)."));
+      }
+
+    bodies.resize(size.n_bodies);
+    for (unsigned int b = 0; b < size.n_bodies; ++b)
+      {
+        const std::string where = numbered_subsection("Body", b);
+        prm.enter_subsection(where);
+        bodies[b].shape           = prm.get("Shape");
+        bodies[b].center          = get_doubles(prm, "Center");
+        bodies[b].half_lengths    = get_doubles(prm, "Half lengths");
+        bodies[b].material        = prm.get_integer("Material");
+        bodies[b].points_per_cell = prm.get_integer("Points per cell");
+        bodies[b].velocity        = get_doubles(prm, "Initial velocity");
+        prm.leave_subsection();
+        AssertThrow(bodies[b].material < size.n_materials,
+                    ExcMessage(where + "/Material = " +
+                               std::to_string(bodies[b].material) +
+                               " does not exist: the scene has 'Number of "
+                               "materials' = " +
+                               std::to_string(size.n_materials) +
+                               ", so allowed values are 0 to " +
+                               std::to_string(size.n_materials - 1) + "."));
+        for (unsigned int d = 0; d < dim; ++d)
+          AssertThrow(bodies[b].half_lengths[d] > 0,
+                      ExcMessage(where + "/Half lengths must all be "
+                                         "positive."));
+      }
+
+    prm.enter_subsection("Output");
+    output.directory        = prm.get("Directory");
+    output.interval         = prm.get_double("Interval");
+    output.step_interval    = prm.get_integer("Step interval");
+    output.write_vtu        = prm.get_bool("Write vtu");
+    output.progress_seconds = prm.get_double("Progress interval");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Failure detection");
+    failure.energy_growth_limit = prm.get_double("Energy growth limit");
+    failure.lost_points         = prm.get("Points leaving the mesh");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Reference solution");
+    reference.enable       = prm.get_bool("Enable");
+    reference.velocity     = prm.get("Velocity");
+    reference.displacement = prm.get("Displacement");
+    reference.constants    = prm.get("Function constants");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Test");
+    test_mode = prm.get_bool("Enable");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Timer");
+    timer_type = prm.get("Type");
+    prm.leave_subsection();
+  }
+
+
+
+  namespace {
+    /** The text of a scene source: a file, or standard input for "-". */
+    std::string
+    read_source(const std::string &file)
+    {
+      if (file == "-")
+        return std::string(std::istreambuf_iterator<char>(std::cin),
+                           std::istreambuf_iterator<char>());
+      std::ifstream in(file);
+      AssertThrow(in,
+                  ExcMessage("Cannot open the scene file <" + file +
+                             ">: no such file or not readable."));
+      return std::string(std::istreambuf_iterator<char>(in),
+                         std::istreambuf_iterator<char>());
+    }
+
+    void
+    parse_source(ParameterHandler  &prm,
+                 const std::string &text,
+                 const std::string &name,
+                 const bool         skip_undefined)
+    {
+      std::istringstream in(text);
+      try
+        {
+          prm.parse_input(in, name, "", skip_undefined);
+        }
+      catch (const ExceptionBase &e)
+        {
+          AssertThrow(false,
+                      ExcMessage("Error in the scene <" + name + ">:\n    " +
+                                 message_of(e)));
+        }
+    }
+  } // namespace
+
+
+
+  std::vector<std::pair<std::string, std::string>>
+  load_scene_sources(const std::vector<std::string> &files)
+  {
+    std::vector<std::pair<std::string, std::string>> sources;
+    if (files.empty())
+      sources.emplace_back("default scene", default_scene());
+    for (const auto &file : files)
+      sources.emplace_back(file == "-" ? "standard input" : file,
+                           read_source(file));
+    return sources;
+  }
+
+
+
+  void
+  read_scene(const std::vector<std::pair<std::string, std::string>> &sources,
+             ParameterHandler                                       &prm,
+             Parameters                                             &parameters)
+  {
+    // Pass 1: how many bodies and materials, and which dimension.
+    ParameterHandler size_prm;
+    SceneSize::declare_parameters(size_prm);
+    for (const auto &source : sources)
+      parse_source(size_prm, source.second, source.first, true);
+    SceneSize size;
+    size.parse_parameters(size_prm);
+
+    // Pass 2: everything, strictly.
+    Parameters::declare_parameters(prm, size);
+    for (const auto &source : sources)
+      parse_source(prm, source.second, source.first, false);
+    try
+      {
+        parameters.parse_parameters(prm);
+      }
+    catch (const ExceptionBase &e)
+      {
+        std::string where;
+        for (const auto &source : sources)
+          where += (where.empty() ? "" : ", ") + source.first;
+        AssertThrow(false,
+                    ExcMessage("Error in the scene <" + where + ">:\n    " +
+                               message_of(e)));
+      }
+  }
+} // namespace fmpm

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/particle_properties.h>
+
+#include <deal.II/base/exceptions.h>
+
+namespace fmpm {
+  template <int dim>
+  ParticleProperties<dim>::ParticleProperties()
+  {
+    using Index = PropertyIndex<dim>;
+    request("mass", 1);
+    request("volume", 1);
+    request("initial_volume", 1);
+    request("velocity", dim);
+    request("deformation_gradient", 9);
+    request("stress", 6);
+    request("strain_energy_density", 1);
+    request("material_id", 1);
+    request("body_id", 1);
+    request("initial_position", dim);
+    request("initial_half_length", dim);
+    AssertThrow(n_properties() == Index::n_core_properties &&
+                  offset("velocity") == Index::velocity &&
+                  offset("stress") == Index::stress &&
+                  offset("initial_half_length") == Index::initial_half_length,
+                ExcInternalError());
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  ParticleProperties<dim>::request(const std::string &name,
+                                   const unsigned int n_components)
+  {
+    AssertThrow(n_components > 0, ExcInternalError());
+    for (const auto &field : fields)
+      AssertThrow(field.first != name,
+                  ExcMessage("Particle property <" + name +
+                             "> was requested twice."));
+    const unsigned int first = names.size();
+    fields.emplace_back(name, first);
+    const bool is_vector = (n_components == dim);
+    for (unsigned int c = 0; c < n_components; ++c)
+      {
+        // Vectors are shown as vectors in ParaView; tensors as components.
+        names.push_back(is_vector || n_components == 1 ?
+                          name :
+                          name + "_" + std::to_string(c));
+        interpretations.push_back(
+          is_vector ? DataComponentInterpretation::component_is_part_of_vector :
+                      DataComponentInterpretation::component_is_scalar);
+      }
+    return first;
+  }
+
+
+
+  template <int dim>
+  unsigned int
+  ParticleProperties<dim>::offset(const std::string &name) const
+  {
+    for (const auto &field : fields)
+      if (field.first == name)
+        return field.second;
+    AssertThrow(false, ExcMessage("No particle property <" + name + ">."));
+    return 0;
+  }
+
+  template class ParticleProperties<2>;
+  template class ParticleProperties<3>;
+} // namespace fmpm

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/particle_update/flip.h>
+
+namespace fmpm {
+  namespace ParticleUpdate {
+    template <int dim>
+    void
+    Flip<dim>::declare_parameters(ParameterHandler &prm)
+    {
+      prm.declare_entry("Position update psi",
+                        "0",
+                        Patterns::Double(0, 1),
+                        "psi of seed 000 Eq. 2.28: 0 gives the common "
+                        "first-order position update X += v_p dt, 1 the "
+                        "second-order one X += (v_p - a dt/2) dt. "
+                        "Units: none.");
+    }
+
+
+
+    template <int dim>
+    void
+    Flip<dim>::parse_parameters(ParameterHandler &prm)
+    {
+      psi = prm.get_double("Position update psi");
+    }
+
+
+
+    template <int dim>
+    std::vector<GridField>
+    Flip<dim>::required_fields() const
+    {
+      return {updated_velocity, acceleration};
+    }
+
+
+
+    template <int dim>
+    void
+    Flip<dim>::update(Batch<dim> &batch) const
+    {
+      const double dt  = batch.time_step;
+      const auto  &v_p = batch.grid[updated_velocity];
+      const auto  &a   = batch.grid[acceleration];
+      for (unsigned int q = 0; q < batch.size(); ++q)
+        {
+          batch.velocity[q] += a[q] * dt;
+          batch.position[q] += (v_p[q] - 0.5 * psi * dt * a[q]) * dt;
+        }
+    }
+
+    FMPM_REGISTER_PARTICLE_UPDATE(
+      Flip,
+      "flip",
+      "FLIP(Std) of seed 000 Table 2.1 / Eqs. 2.27-2.28: V += a dt, "
+      "X += (v_p - psi/2 a dt) dt.")
+  } // namespace ParticleUpdate
+} // namespace fmpm

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/postprocess/history.h>
+
+#include <deal.II/base/exceptions.h>
+
+#include <iomanip>
+
+namespace fmpm {
+  template <int dim>
+  void
+  History<dim>::open(const std::string &file_name,
+                     const bool         is_root,
+                     const bool         errors)
+  {
+    with_errors = errors;
+    all_rows.clear();
+    if (!is_root)
+      return;
+    file = std::make_unique<std::ofstream>(file_name);
+    AssertThrow(*file,
+                ExcMessage("Cannot write <" + file_name +
+                           ">: check that the output directory is writable."));
+    *file << "step,time,dt,kinetic_energy,strain_energy,potential_energy,"
+             "total_energy,momentum_x,momentum_y";
+    if (dim == 3)
+      *file << ",momentum_z";
+    *file << ",mass";
+    if (with_errors)
+      *file << ",error_velocity_l2,error_displacement_l2";
+    *file << '\n';
+    file->flush();
+  }
+
+
+
+  template <int dim>
+  void
+  History<dim>::add(const HistoryRow<dim> &row)
+  {
+    all_rows.push_back(row);
+    if (!file)
+      return;
+    *file << row.step << std::setprecision(12) << ',' << row.time << ','
+          << row.dt << ',' << row.kinetic_energy << ',' << row.strain_energy
+          << ',' << row.potential_energy << ',' << row.total_energy;
+    for (unsigned int d = 0; d < dim; ++d)
+      *file << ',' << row.momentum[d];
+    *file << ',' << row.mass;
+    if (with_errors)
+      *file << ',' << row.error_velocity_l2 << ',' << row.error_displacement_l2;
+    *file << '\n';
+    file->flush();
+  }
+
+  template class History<2>;
+  template class History<3>;
+} // namespace fmpm

@@ -1,0 +1,283 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// What a run leaves behind: VTU/PVTU/PVD files for ParaView, history.csv,
+// summary.json, progress lines and the test-mode printout.
+
+#include <fmpm/simulator.h>
+
+#include <deal.II/base/data_out_base.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/particles/data_out.h>
+
+#include <fstream>
+#include <iomanip>
+#include <map>
+
+namespace fmpm {
+  namespace {
+    /** JSON string literal. */
+    std::string
+    quoted(const std::string &text)
+    {
+      std::string result = "\"";
+      for (const char c : text)
+        {
+          if (c == '"' || c == '\\')
+            result += '\\';
+          if (c == '\n')
+            {
+              result += "\\n";
+              continue;
+            }
+          result += c;
+        }
+      return result + "\"";
+    }
+
+    /** JSON number (null for NaN/Inf, which JSON cannot represent). */
+    std::string
+    number(const double value)
+    {
+      if (!std::isfinite(value))
+        return "null";
+      std::ostringstream out;
+      out << std::setprecision(12) << value;
+      return out.str();
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::output_results(const GlobalStatistics<dim> &statistics)
+  {
+    TimerOutput::Scope      timer(computing_timer, "output");
+    const OutputParameters &output = parameters.output;
+
+    // Accumulate the time-averaged reference errors over outputs.
+    error_sums[0] += statistics.velocity_error_squared;
+    error_sums[1] += statistics.velocity_reference_squared;
+    error_sums[2] += statistics.displacement_error_squared;
+    error_sums[3] += statistics.displacement_reference_squared;
+
+    HistoryRow<dim> row;
+    row.step             = timestep_number;
+    row.time             = time;
+    row.dt               = time_step;
+    row.kinetic_energy   = statistics.kinetic_energy;
+    row.strain_energy    = statistics.strain_energy;
+    row.potential_energy = statistics.potential_energy;
+    row.total_energy     = statistics.total_energy();
+    row.momentum         = statistics.momentum;
+    row.mass             = statistics.mass;
+    row.error_velocity_l2 =
+      statistics.velocity_reference_squared > 0 ?
+        std::sqrt(statistics.velocity_error_squared /
+                  statistics.velocity_reference_squared) :
+        std::sqrt(statistics.velocity_error_squared / statistics.mass);
+    row.error_displacement_l2 =
+      statistics.displacement_reference_squared > 0 ?
+        std::sqrt(statistics.displacement_error_squared /
+                  statistics.displacement_reference_squared) :
+        std::sqrt(statistics.displacement_error_squared / statistics.mass);
+    history.add(row);
+
+    if (parameters.test_mode)
+      {
+        tout << std::scientific << std::setprecision(8) << "step "
+             << timestep_number << " t " << time << " mass " << statistics.mass
+             << " momentum " << statistics.momentum << " kinetic "
+             << statistics.kinetic_energy << " strain "
+             << statistics.strain_energy << std::endl;
+      }
+
+    if (output.interval > 0)
+      while (next_output_time <= time * (1 + 1e-12))
+        next_output_time += output.interval;
+
+    if (!output.write_vtu)
+      {
+        ++n_output;
+        return;
+      }
+
+    const std::string directory = output.directory + "/";
+    {
+      Particles::DataOut<dim> particle_output;
+      particle_output.build_patches(
+        particle_handler,
+        particle_properties.component_names(),
+        particle_properties.component_interpretations());
+      const std::string name = particle_output.write_vtu_with_pvtu_record(
+        directory, "particles", n_output, mpi_communicator, 5);
+      particle_pvd_records.emplace_back(time, name);
+    }
+    {
+      DataOut<dim> grid_output;
+      grid_output.attach_dof_handler(dof_handler);
+      GridVectorField &v = grid_fields[ParticleUpdate::updated_velocity];
+      grid_output.add_data_vector(lumped_mass, "nodal_mass");
+      const char *names[3] = {"velocity_x", "velocity_y", "velocity_z"};
+      for (unsigned int d = 0; d < dim; ++d)
+        grid_output.add_data_vector(v.block(d), names[d]);
+      Vector<float> subdomain(triangulation.n_active_cells());
+      for (unsigned int i = 0; i < subdomain.size(); ++i)
+        subdomain(i) = triangulation.locally_owned_subdomain();
+      grid_output.add_data_vector(subdomain, "subdomain");
+      grid_output.build_patches(mapping);
+      const std::string name = grid_output.write_vtu_with_pvtu_record(
+        directory, "grid", n_output, mpi_communicator, 5);
+      grid_pvd_records.emplace_back(time, name);
+    }
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      {
+        std::ofstream particles_pvd(directory + "particles.pvd");
+        DataOutBase::write_pvd_record(particles_pvd, particle_pvd_records);
+        std::ofstream grid_pvd(directory + "grid.pvd");
+        DataOutBase::write_pvd_record(grid_pvd, grid_pvd_records);
+      }
+    ++n_output;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::print_progress(const GlobalStatistics<dim> &statistics,
+                                 const bool)
+  {
+    const double wall     = MPI_Wtime() - wall_start;
+    last_progress_wall    = MPI_Wtime();
+    const double fraction = time / parameters.time.end_time;
+    const double eta = fraction > 0 ? wall * (1 - fraction) / fraction : 0.0;
+    pcout << std::defaultfloat << std::setprecision(5) << "*** Step "
+          << std::setw(6) << timestep_number << "  t = " << std::setw(11)
+          << time << "  dt = " << std::setw(11) << time_step
+          << "  E = " << std::setw(11) << statistics.total_energy()
+          << " (kinetic " << statistics.kinetic_energy << ", strain "
+          << statistics.strain_energy << ")  " << std::setprecision(3)
+          << 100 * fraction << "%  wall " << wall << " s, about " << eta
+          << " s left" << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::print_test_particles() const
+  {
+    if (!parameters.test_mode)
+      return;
+    using Index = PropertyIndex<dim>;
+    // Gather (id, x, V) to rank 0 and print sorted by id.
+    std::vector<std::pair<types::particle_index, std::vector<double>>> local;
+    for (const auto &particle : particle_handler)
+      {
+        std::vector<double> values;
+        for (unsigned int d = 0; d < dim; ++d)
+          values.push_back(particle.get_location()[d]);
+        for (unsigned int d = 0; d < dim; ++d)
+          values.push_back(particle.get_properties()[Index::velocity + d]);
+        local.emplace_back(particle.get_id(), values);
+      }
+    const auto all = Utilities::MPI::gather(mpi_communicator, local, 0);
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
+      return;
+    std::map<types::particle_index, std::vector<double>> sorted;
+    for (const auto &rank : all)
+      for (const auto &entry : rank)
+        sorted[entry.first] = entry.second;
+    tout << "points (id, position, velocity):" << std::endl;
+    for (const auto &entry : sorted)
+      {
+        tout << entry.first;
+        for (const double value : entry.second)
+          tout << ' ' << std::scientific << std::setprecision(8) << value;
+        tout << std::endl;
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::write_summary(const std::string           &status,
+                                const SimulationFailure     *failure,
+                                const GlobalStatistics<dim> &statistics)
+  {
+    const double                  wall = MPI_Wtime() - wall_start;
+    std::map<std::string, double> phases =
+      computing_timer.get_summary_data(TimerOutput::total_wall_time);
+    // Make the phase times the maximum over ranks.
+    for (auto &phase : phases)
+      phase.second = Utilities::MPI::max(phase.second, mpi_communicator);
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
+      return;
+
+    std::ofstream out(parameters.output.directory + "/summary.json");
+    out << "{\n";
+    out << "  \"status\": " << quoted(status) << ",\n";
+    out << "  \"dimension\": " << dim << ",\n";
+    out << "  \"n_mpi_ranks\": "
+        << Utilities::MPI::n_mpi_processes(mpi_communicator) << ",\n";
+    out << "  \"n_particles\": " << particle_handler.n_global_particles()
+        << ",\n";
+    out << "  \"n_cells\": " << triangulation.n_global_active_cells() << ",\n";
+    out << "  \"n_dofs\": " << dof_handler.n_dofs() << ",\n";
+    out << "  \"n_steps\": " << timestep_number << ",\n";
+    out << "  \"end_time\": " << number(time) << ",\n";
+    out << "  \"wall_seconds\": " << number(wall) << ",\n";
+    out << "  \"particle_steps_per_second\": "
+        << number(wall > 0 ? particle_steps / wall : 0.) << ",\n";
+    out << "  \"particle_update\": "
+        << quoted(parameters.method.particle_update) << ",\n";
+    out << "  \"mass_matrix\": " << quoted(parameters.method.mass_matrix)
+        << ",\n";
+    out << "  \"strain_update\": " << quoted(parameters.method.strain_update)
+        << ",\n";
+    out << "  \"final_kinetic_energy\": " << number(statistics.kinetic_energy)
+        << ",\n";
+    out << "  \"final_strain_energy\": " << number(statistics.strain_energy)
+        << ",\n";
+    out << "  \"final_total_energy\": " << number(statistics.total_energy())
+        << ",\n";
+    out << "  \"initial_total_energy\": " << number(initial_total_energy)
+        << ",\n";
+    out << "  \"energy_error\": "
+        << number(
+             (statistics.total_energy() - initial_total_energy) /
+             std::max(std::abs(initial_total_energy), initial_energy_scale))
+        << ",\n";
+    out << "  \"lost_points\": " << total_lost_points << ",\n";
+    if (parameters.reference.enable)
+      {
+        out << "  \"error_velocity_l2\": "
+            << number(
+                 std::sqrt(error_sums[0] / std::max(error_sums[1], 1e-300)))
+            << ",\n";
+        out << "  \"error_displacement_l2\": "
+            << number(
+                 std::sqrt(error_sums[2] / std::max(error_sums[3], 1e-300)))
+            << ",\n";
+      }
+    if (failure != nullptr)
+      {
+        out << "  \"failure_step\": " << failure->step << ",\n";
+        out << "  \"failure_time\": " << number(failure->time) << ",\n";
+      }
+    out << "  \"phase_wall_seconds\": {";
+    bool first = true;
+    for (const auto &phase : phases)
+      {
+        out << (first ? "\n" : ",\n") << "    " << quoted(phase.first) << ": "
+            << number(phase.second);
+        first = false;
+      }
+    out << "\n  }\n}\n";
+  }
+
+  template class Simulator<2>;
+  template class Simulator<3>;
+} // namespace fmpm

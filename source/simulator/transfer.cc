@@ -1,0 +1,443 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// The particle-grid passes of the time step: extrapolations to the grid
+// (Sᵀ, Gᵀ), the particle update (S) and the strain update (G), and the
+// re-sorting of moved points into cells.
+
+#include <fmpm/simulator.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace fmpm {
+  namespace {
+    /**
+     * Add a cell's nodal contributions to a ghosted grid vector: directly
+     * when no hanging node touches the cell, else through the constraints
+     * (condensation of the particle-to-grid result).
+     */
+    template <int dim, typename CellData>
+    inline void
+    add_to_grid(const CellData                             &cell,
+                const double                               *values,
+                LinearAlgebra::distributed::Vector<double> &vector,
+                const AffineConstraints<double>            &constraints)
+    {
+      constexpr unsigned int n = GeometryInfo<dim>::vertices_per_cell;
+      if (!cell.has_constraints)
+        for (unsigned int i = 0; i < n; ++i)
+          vector.local_element(cell.local_index[i]) += values[i];
+      else
+        {
+          Vector<double>                       local(values, values + n);
+          std::vector<types::global_dof_index> dofs(cell.dof_index.begin(),
+                                                    cell.dof_index.end());
+          constraints.distribute_local_to_global(local, dofs, vector);
+        }
+    }
+
+    /** A 3x3 tensor with the dim x dim block @p t (plane strain in 2D). */
+    template <int dim>
+    inline Tensor<2, 3>
+    embed(const Tensor<2, dim> &t)
+    {
+      Tensor<2, 3> result;
+      for (unsigned int i = 0; i < dim; ++i)
+        for (unsigned int j = 0; j < dim; ++j)
+          result[i][j] = t[i][j];
+      return result;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::particles_to_grid(const bool with_forces)
+  {
+    TimerOutput::Scope timer(computing_timer, "particles to grid");
+    using Index              = PropertyIndex<dim>;
+    constexpr unsigned int n = GridTransfer<dim>::n_nodes;
+
+    const bool assemble_full = mass_matrix->needs_full_mass_matrix();
+    lumped_mass              = 0;
+    momentum                 = 0;
+    if (with_forces)
+      force = 0;
+    if (assemble_full)
+      full_mass_matrix = 0;
+
+    Tensor<1, dim> gravity;
+    for (unsigned int d = 0; d < dim; ++d)
+      gravity[d] = parameters.gravity[d];
+
+    std::array<double, n>                S;
+    std::array<Tensor<1, dim>, n>        G;
+    double                               cell_mass[n];
+    double                               cell_momentum[dim][n];
+    double                               cell_force[dim][n];
+    FullMatrix<double>                   cell_full_mass(n, n);
+    std::vector<types::global_dof_index> dofs(n);
+
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        const auto particles = particle_handler.particles_in_cell(cell);
+        if (particles.begin() == particles.end())
+          continue;
+        const auto &data = transfer.cell_data(cell->active_cell_index());
+
+        std::fill(cell_mass, cell_mass + n, 0.);
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            std::fill(cell_momentum[d], cell_momentum[d] + n, 0.);
+            std::fill(cell_force[d], cell_force[d] + n, 0.);
+          }
+        if (assemble_full)
+          cell_full_mass = 0;
+
+        for (const auto &particle : particles)
+          {
+            const auto   p = particle.get_properties();
+            const double M = p[Index::mass];
+            if (with_forces)
+              GridTransfer<dim>::values_and_gradients(
+                data, particle.get_reference_location(), S, G);
+            else
+              GridTransfer<dim>::values(particle.get_reference_location(), S);
+
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                const double MS = M * S[i];
+                cell_mass[i] += MS; // m = SᵀM (Eq. 1.6)
+                for (unsigned int d = 0; d < dim; ++d)
+                  cell_momentum[d][i] += MS * p[Index::velocity + d]; // p = SᵀP
+              }
+            if (assemble_full) // m̃ = SᵀMS (Eq. 1.9)
+              for (unsigned int i = 0; i < n; ++i)
+                for (unsigned int j = 0; j < n; ++j)
+                  cell_full_mass(i, j) += M * S[i] * S[j];
+
+            if (with_forces)
+              {
+                // f = −Σ V_p σ_p G_p + Σ M_p S_p b  (Eq. 2.11, τ/ρ₀ M = σ V)
+                const double V = p[Index::volume];
+                double       sigma[dim][dim];
+                for (unsigned int a = 0; a < dim; ++a)
+                  for (unsigned int b = 0; b < dim; ++b)
+                    sigma[a][b] = 0;
+                {
+                  const SymmetricTensor<2, 3> s =
+                    get_symmetric_tensor3(p, Index::stress);
+                  for (unsigned int a = 0; a < dim; ++a)
+                    for (unsigned int b = 0; b < dim; ++b)
+                      sigma[a][b] = s[a][b];
+                }
+                for (unsigned int i = 0; i < n; ++i)
+                  for (unsigned int a = 0; a < dim; ++a)
+                    {
+                      double f = M * S[i] * gravity[a];
+                      for (unsigned int b = 0; b < dim; ++b)
+                        f -= V * sigma[a][b] * G[i][b];
+                      cell_force[a][i] += f;
+                    }
+              }
+          }
+
+        add_to_grid<dim>(data, cell_mass, lumped_mass, constraints);
+        for (unsigned int d = 0; d < dim; ++d)
+          add_to_grid<dim>(data,
+                           cell_momentum[d],
+                           momentum.block(d),
+                           constraints);
+        if (with_forces)
+          for (unsigned int d = 0; d < dim; ++d)
+            add_to_grid<dim>(data, cell_force[d], force.block(d), constraints);
+        if (assemble_full)
+          {
+            std::copy(data.dof_index.begin(),
+                      data.dof_index.end(),
+                      dofs.begin());
+            constraints.distribute_local_to_global(cell_full_mass,
+                                                   dofs,
+                                                   full_mass_matrix);
+          }
+      }
+
+    lumped_mass.compress(VectorOperation::add);
+    momentum.compress(VectorOperation::add);
+    if (with_forces)
+      force.compress(VectorOperation::add);
+    if (assemble_full)
+      full_mass_matrix.compress(VectorOperation::add);
+    lumped_mass.update_ghost_values();
+    mass_matrix->setup();
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::compute_forces()
+  {
+    TimerOutput::Scope timer(computing_timer, "particles to grid");
+    using Index              = PropertyIndex<dim>;
+    constexpr unsigned int n = GridTransfer<dim>::n_nodes;
+    force                    = 0;
+    Tensor<1, dim> gravity;
+    for (unsigned int d = 0; d < dim; ++d)
+      gravity[d] = parameters.gravity[d];
+
+    std::array<double, n>         S;
+    std::array<Tensor<1, dim>, n> G;
+    double                        cell_force[dim][n];
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        const auto particles = particle_handler.particles_in_cell(cell);
+        if (particles.begin() == particles.end())
+          continue;
+        const auto &data = transfer.cell_data(cell->active_cell_index());
+        for (unsigned int d = 0; d < dim; ++d)
+          std::fill(cell_force[d], cell_force[d] + n, 0.);
+        for (const auto &particle : particles)
+          {
+            const auto p = particle.get_properties();
+            GridTransfer<dim>::values_and_gradients(
+              data, particle.get_reference_location(), S, G);
+            const double                M = p[Index::mass];
+            const double                V = p[Index::volume];
+            const SymmetricTensor<2, 3> sigma =
+              get_symmetric_tensor3(p, Index::stress);
+            for (unsigned int i = 0; i < n; ++i)
+              for (unsigned int a = 0; a < dim; ++a)
+                {
+                  double f = M * S[i] * gravity[a];
+                  for (unsigned int b = 0; b < dim; ++b)
+                    f -= V * sigma[a][b] * G[i][b];
+                  cell_force[a][i] += f;
+                }
+          }
+        for (unsigned int d = 0; d < dim; ++d)
+          add_to_grid<dim>(data, cell_force[d], force.block(d), constraints);
+      }
+    force.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::update_particles()
+  {
+    TimerOutput::Scope timer(computing_timer, "particle update");
+    using Index              = PropertyIndex<dim>;
+    constexpr unsigned int n = GridTransfer<dim>::n_nodes;
+
+    std::vector<unsigned int> fields;
+    for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
+      if (field_needed[f])
+        fields.push_back(f);
+
+    ParticleUpdate::Batch<dim> batch;
+    batch.time_step = time_step;
+    std::array<double, n> S;
+    double                speed = 0;
+
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        const auto         particles = particle_handler.particles_in_cell(cell);
+        const unsigned int n_points =
+          particle_handler.n_particles_in_cell(cell);
+        if (n_points == 0)
+          continue;
+        const auto &data = transfer.cell_data(cell->active_cell_index());
+        batch.resize(n_points);
+
+        // Gather: V, X and the requested fields extrapolated with S.
+        unsigned int q = 0;
+        for (const auto &particle : particles)
+          {
+            const auto p      = particle.get_properties();
+            batch.velocity[q] = get_vector<dim>(p, Index::velocity);
+            batch.position[q] = particle.get_location();
+            GridTransfer<dim>::values(particle.get_reference_location(), S);
+            for (const unsigned int f : fields)
+              {
+                Tensor<1, dim> value;
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    const auto &block = grid_fields[f].block(d);
+                    double      sum   = 0;
+                    for (unsigned int i = 0; i < n; ++i)
+                      sum += S[i] * block.local_element(data.local_index[i]);
+                    value[d] = sum;
+                  }
+                batch.grid[f][q] = value;
+              }
+            ++q;
+          }
+
+        particle_update->update(batch);
+
+        // Scatter the new V and X.
+        q = 0;
+        for (auto &particle : particles)
+          {
+            const Tensor<1, dim> &V  = batch.velocity[q];
+            const double          V2 = V * V;
+            if (!std::isfinite(V2) && local_failure.empty())
+              {
+                std::ostringstream message;
+                message << "velocity of material point " << particle.get_id()
+                        << " at (" << particle.get_location()
+                        << ") is not finite (NaN or Inf)";
+                local_failure = message.str();
+              }
+            speed = std::max(speed, std::sqrt(V2));
+            set_vector<dim>(particle.get_properties(), Index::velocity, V);
+            particle.set_location(batch.position[q]);
+            ++q;
+          }
+      }
+    local_max_point_speed = speed;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::update_stresses(const GridVectorField &v, const double dt)
+  {
+    TimerOutput::Scope timer(computing_timer, "stress update");
+    using Index                        = PropertyIndex<dim>;
+    constexpr unsigned int n           = GridTransfer<dim>::n_nodes;
+    const unsigned int     n_materials = constitutive_models.size();
+
+    std::array<double, n>                  S;
+    std::array<Tensor<1, dim>, n>          G;
+    ConstitutiveModel::StressUpdateInputs  inputs;
+    ConstitutiveModel::StressUpdateOutputs outputs;
+    inputs.time_step  = dt;
+    double wave_speed = 0;
+
+    // Points of one cell, grouped by material for the batched model call.
+    std::vector<
+      std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>>
+      by_material(n_materials);
+
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        const auto particles = particle_handler.particles_in_cell(cell);
+        if (particles.begin() == particles.end())
+          continue;
+        const auto &data = transfer.cell_data(cell->active_cell_index());
+        for (auto &group : by_material)
+          group.clear();
+        for (auto particle = particles.begin(); particle != particles.end();
+             ++particle)
+          by_material[n_materials == 1 ?
+                        0 :
+                        static_cast<unsigned int>(
+                          particle->get_properties()[Index::material_id])]
+            .push_back(particle);
+
+        for (unsigned int m = 0; m < n_materials; ++m)
+          {
+            const auto &group = by_material[m];
+            if (group.empty())
+              continue;
+            inputs.resize(group.size());
+            outputs.resize(group.size());
+            for (unsigned int q = 0; q < group.size(); ++q)
+              {
+                auto       particle = group[q];
+                const auto p        = particle->get_properties();
+                GridTransfer<dim>::values_and_gradients(
+                  data, particle->get_reference_location(), S, G);
+                // ∇v = Σ_i v_i ⊗ G_pi (Eq. 2.7, 2.18)
+                Tensor<2, dim> grad_v;
+                for (unsigned int i = 0; i < n; ++i)
+                  for (unsigned int a = 0; a < dim; ++a)
+                    {
+                      const double v_ia =
+                        v.block(a).local_element(data.local_index[i]);
+                      for (unsigned int b = 0; b < dim; ++b)
+                        grad_v[a][b] += v_ia * G[i][b];
+                    }
+                const Tensor<2, 3> L = embed<dim>(grad_v);
+                const Tensor<2, 3> F_old =
+                  get_tensor3(p, Index::deformation_gradient);
+                // First-order update F^{n+1} = (I + L Δt) F^n.
+                Tensor<2, 3> F                 = F_old + dt * (L * F_old);
+                inputs.deformation_gradient[q] = F;
+                inputs.velocity_gradient[q]    = L;
+                inputs.properties[q]           = p;
+                const double J                 = determinant(F);
+                if (!(J > 0) && local_failure.empty())
+                  {
+                    std::ostringstream message;
+                    message
+                      << "material point " << particle->get_id() << " at ("
+                      << particle->get_location()
+                      << ") has an inverted deformation gradient, J = " << J;
+                    local_failure = message.str();
+                  }
+              }
+
+            constitutive_models[m]->update_stress(inputs, outputs);
+
+            const double density = parameters.materials[m].density;
+            for (unsigned int q = 0; q < group.size(); ++q)
+              {
+                auto         particle = group[q];
+                const auto   p        = particle->get_properties();
+                const double J = determinant(inputs.deformation_gradient[q]);
+                set_tensor3(p,
+                            Index::deformation_gradient,
+                            inputs.deformation_gradient[q]);
+                set_symmetric_tensor3(p,
+                                      Index::stress,
+                                      outputs.cauchy_stress[q]);
+                p[Index::strain_energy_density] =
+                  outputs.strain_energy_density[q];
+                p[Index::volume] = J * p[Index::initial_volume];
+                if (J > 0)
+                  wave_speed =
+                    std::max(wave_speed,
+                             constitutive_models[m]->wave_speed(density, J));
+                if (!std::isfinite(outputs.strain_energy_density[q]) &&
+                    local_failure.empty())
+                  {
+                    std::ostringstream message;
+                    message << "stress of material point " << group[q]->get_id()
+                            << " at (" << group[q]->get_location()
+                            << ") is not finite (NaN or Inf)";
+                    local_failure = message.str();
+                  }
+              }
+          }
+      }
+    local_max_wave_speed = wave_speed;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::sort_particles_into_cells()
+  {
+    TimerOutput::Scope timer(computing_timer, "sort points into cells");
+    particle_handler.sort_particles_into_subdomains_and_cells();
+  }
+
+  template class Simulator<2>;
+  template class Simulator<3>;
+} // namespace fmpm

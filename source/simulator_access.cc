@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/simulator.h>
+#include <fmpm/simulator_access.h>
+
+namespace fmpm {
+  template <int dim>
+  MPI_Comm
+  SimulatorAccess<dim>::get_mpi_communicator() const
+  {
+    return get_simulator().mpi_communicator;
+  }
+
+  template <int dim>
+  const ConditionalOStream &
+  SimulatorAccess<dim>::get_pcout() const
+  {
+    return get_simulator().pcout;
+  }
+
+  template <int dim>
+  const Parameters &
+  SimulatorAccess<dim>::get_parameters() const
+  {
+    return get_simulator().parameters;
+  }
+
+  template <int dim>
+  const parallel::distributed::Triangulation<dim> &
+  SimulatorAccess<dim>::get_triangulation() const
+  {
+    return get_simulator().triangulation;
+  }
+
+  template <int dim>
+  const DoFHandler<dim> &
+  SimulatorAccess<dim>::get_dof_handler() const
+  {
+    return get_simulator().dof_handler;
+  }
+
+  template <int dim>
+  const AffineConstraints<double> &
+  SimulatorAccess<dim>::get_constraints() const
+  {
+    return get_simulator().constraints;
+  }
+
+  template <int dim>
+  const Particles::ParticleHandler<dim> &
+  SimulatorAccess<dim>::get_particle_handler() const
+  {
+    return get_simulator().particle_handler;
+  }
+
+  template <int dim>
+  const ParticleProperties<dim> &
+  SimulatorAccess<dim>::get_particle_properties() const
+  {
+    return get_simulator().particle_properties;
+  }
+
+  template <int dim>
+  const GridScalar &
+  SimulatorAccess<dim>::get_lumped_mass() const
+  {
+    return get_simulator().lumped_mass;
+  }
+
+  template <int dim>
+  const TrilinosWrappers::SparseMatrix &
+  SimulatorAccess<dim>::get_full_mass_matrix() const
+  {
+    return get_simulator().full_mass_matrix;
+  }
+
+  template <int dim>
+  double
+  SimulatorAccess<dim>::get_time() const
+  {
+    return get_simulator().time;
+  }
+
+  template <int dim>
+  double
+  SimulatorAccess<dim>::get_timestep() const
+  {
+    return get_simulator().time_step;
+  }
+
+  template <int dim>
+  unsigned int
+  SimulatorAccess<dim>::get_timestep_number() const
+  {
+    return get_simulator().timestep_number;
+  }
+
+  template class SimulatorAccess<2>;
+  template class SimulatorAccess<3>;
+} // namespace fmpm
