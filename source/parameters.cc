@@ -53,7 +53,11 @@ namespace fmpm {
     {
       std::ostringstream out;
       e.print_info(out);
-      return out.str();
+      // Drop the indentation and trailing newlines deal.II adds.
+      std::string text = out.str();
+      const auto  first = text.find_first_not_of(" \n\t");
+      const auto  last  = text.find_last_not_of(" \n\t");
+      return first == std::string::npos ? text : text.substr(first, last - first + 1);
     }
 
     /** Declare the parameters that depend on the plugins, for one dim. */
@@ -108,6 +112,36 @@ namespace fmpm {
         }
     }
   } // namespace
+
+
+
+  std::map<std::string, double>
+  parse_function_constants(const std::string &text, const std::string &where)
+  {
+    std::map<std::string, double> constants;
+    for (const auto &entry : Utilities::split_string_list(text, ','))
+      {
+        const auto pair = Utilities::split_string_list(entry, '=');
+        AssertThrow(pair.size() == 2,
+                    ExcMessage(where + ": <" + entry +
+                               "> is not of the form name=value."));
+        constants[pair[0]] = Utilities::string_to_double(pair[1]);
+      }
+    return constants;
+  }
+
+
+
+  std::string
+  to_function_expressions(const std::string &value)
+  {
+    if (value.find(';') != std::string::npos)
+      return value;
+    std::string result;
+    for (const auto &component : Utilities::split_string_list(value, ','))
+      result += (result.empty() ? "" : ";") + component;
+    return result;
+  }
 
 
 
@@ -235,10 +269,20 @@ namespace fmpm {
                         "h_min / (wave speed + point speed). Units: s.");
       prm.declare_entry("Courant number",
                         std::to_string(time.courant_number),
-                        Patterns::Double(0, 1),
+                        Patterns::Double(0, 10),
                         "Time step as a fraction of h_min / (largest wave "
                         "speed + largest point speed), used when 'Time step' "
-                        "is 0. Units: none.");
+                        "is 0. Values above 1 exceed the stable limit of "
+                        "lumped-mass MPM and are only accepted with "
+                        "'Check stability limit = false' (stability "
+                        "studies). Units: none.");
+      prm.declare_entry("Check stability limit",
+                        "true",
+                        Patterns::Bool(),
+                        "Refuse a 'Time step' or 'Courant number' above the "
+                        "stable limit h_min / (wave speed + point speed). "
+                        "Stability studies switch this off to find where "
+                        "methods fail. Units: none.");
       prm.declare_entry("Maximum number of steps",
                         std::to_string(time.max_steps),
                         Patterns::Integer(1),
@@ -296,9 +340,16 @@ namespace fmpm {
                           "each cell. Units: none.");
         prm.declare_entry("Initial velocity",
                           join(body.velocity, dim),
-                          point_pattern(dim),
-                          "Initial velocity of every point of the body. "
-                          "Units: m/s.");
+                          Patterns::Anything(),
+                          "Initial velocity of the points: either dim numbers "
+                          "separated by ',', or dim FunctionParser "
+                          "expressions in x, y, z separated by ';' (for "
+                          "example 'v0*sin(beta*x); 0'). Units: m/s.");
+        prm.declare_entry("Function constants",
+                          "",
+                          Patterns::Anything(),
+                          "Constants for the 'Initial velocity' expressions, "
+                          "e.g. 'v0=0.1, beta=1.5708'. Units: as used.");
         prm.leave_subsection();
       }
 
@@ -453,7 +504,13 @@ namespace fmpm {
     time.courant_number  = prm.get_double("Courant number");
     time.max_steps       = prm.get_integer("Maximum number of steps");
     method.strain_update = prm.get("Strain update");
+    time.check_stability = prm.get_bool("Check stability limit");
     prm.leave_subsection();
+    AssertThrow(!time.check_stability || time.courant_number <= 1,
+                ExcMessage("Time/Courant number = " +
+                           std::to_string(time.courant_number) +
+                           " is above the stable limit 1. Allowed: (0, 1], "
+                           "or set Time/Check stability limit = false."));
     AssertThrow(time.time_step > 0 || time.courant_number > 0,
                 ExcMessage("Time/Time step and Time/Courant number are both "
                            "0: set one of them to a positive value."));
@@ -494,7 +551,8 @@ namespace fmpm {
         bodies[b].half_lengths    = get_doubles(prm, "Half lengths");
         bodies[b].material        = prm.get_integer("Material");
         bodies[b].points_per_cell = prm.get_integer("Points per cell");
-        bodies[b].velocity        = get_doubles(prm, "Initial velocity");
+        bodies[b].velocity_expression = prm.get("Initial velocity");
+        bodies[b].function_constants  = prm.get("Function constants");
         prm.leave_subsection();
         AssertThrow(bodies[b].material < size.n_materials,
                     ExcMessage(where + "/Material = " +

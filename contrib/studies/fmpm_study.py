@@ -39,7 +39,7 @@ import subprocess
 import sys
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 #: Name of the axis that sets the number of MPI ranks instead of a parameter.
@@ -360,7 +360,8 @@ def parse_study(path, quick=False):
                     cell_size = compile_cell_size(value)
                 except ValueError as error:
                     raise StudyError(path, number, f"bad cell size "
-                                     f"expression '{value}': {error}") from None
+                                     f"expression '{value}': {error}"
+                                     ) from None
             charts[key] = value
 
     if base is None:
@@ -612,8 +613,8 @@ class Runner:
             return None  # killed by kill_all: no run.json, redone next time
         record["elapsed_seconds"] = round(time.monotonic() - start, 3)
         if record["runner_status"] is None:
-            summary = read_json(run.directory / "summary.json")
-            if not summary or not summary.get("status"):
+            summary = read_json(run.directory / "summary.json") or {}
+            if not is_final_status(summary.get("status")):
                 record["runner_status"] = (f"failed: no summary (exit code "
                                            f"{record['exit_code']})")
         with open(run.directory / "run.json", "w") as stream:
@@ -1233,6 +1234,11 @@ def resolve_fmpm(option):
     return command
 
 
+def _interrupt(signum, frame):
+    """Turn SIGTERM into KeyboardInterrupt so that runs are killed too."""
+    raise KeyboardInterrupt
+
+
 def main(argv=None):
     arguments = parse_arguments(sys.argv[1:] if argv is None else argv)
     try:
@@ -1265,6 +1271,7 @@ def main(argv=None):
             print(f"Skipped {len(runs) - len(todo)} of {len(runs)} runs "
                   "already done (delete a run directory to redo it).")
         runner = Runner(fmpm_command, study.base, arguments.timeout)
+        signal.signal(signal.SIGTERM, _interrupt)
         try:
             execute_runs(todo, runner, texts, arguments.jobs, len(runs))
         except KeyboardInterrupt:

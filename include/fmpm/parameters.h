@@ -9,6 +9,7 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/base/types.h>
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,6 +60,7 @@ namespace fmpm {
     double       time_step      = 0.0;
     double       courant_number = 0.5;
     unsigned int max_steps      = 1000000000;
+    bool         check_stability = true;
   };
 
   /** @brief Choice of the MPM algorithm. */
@@ -87,7 +89,25 @@ namespace fmpm {
     unsigned int        material        = 0;
     unsigned int        points_per_cell = 2;
     std::vector<double> velocity{0, 0, 0};
+    /** Initial velocity: numbers separated by ',' or expressions by ';'. */
+    std::string velocity_expression;
+    /** "name=value, ..." for the expressions. */
+    std::string function_constants;
   };
+
+  /**
+   * @brief Parse "a=1, b=2" into a map for FunctionParser; @p where names
+   * the parameter in error messages.
+   */
+  std::map<std::string, double>
+  parse_function_constants(const std::string &text, const std::string &where);
+
+  /**
+   * @brief FunctionParser expressions from a parameter value: "1, 2"
+   * (numbers separated by ',') or "x; 2*y" (expressions separated by ';').
+   */
+  std::string
+  to_function_expressions(const std::string &value);
 
   /** @brief What a run writes and how often. */
   struct OutputParameters

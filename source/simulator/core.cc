@@ -24,8 +24,9 @@ namespace fmpm {
     , pcout(std::cout,
             Utilities::MPI::this_mpi_process(mpi_communicator) == 0 &&
               !parameters.test_mode)
-    , computing_timer(mpi_communicator,
-                      pcout,
+    // Rank 0's timings (no MPI communicator: an error during set-up must not
+    // leave the timer waiting for other ranks).
+    , computing_timer(pcout,
                       (parameters.timer_type == "none" ||
                        parameters.test_mode) ?
                         TimerOutput::never :
@@ -417,26 +418,18 @@ namespace fmpm {
       reference_displacement;
     if (parameters.reference.enable)
       {
-        std::map<std::string, double> constants;
-        for (const auto &entry :
-             Utilities::split_string_list(parameters.reference.constants, ','))
-          {
-            const auto pair = Utilities::split_string_list(entry, '=');
-            AssertThrow(pair.size() == 2,
-                        ExcMessage("Reference solution/Function constants: <" +
-                                   entry + "> is not of the form name=value."));
-            constants[pair[0]] = Utilities::string_to_double(pair[1]);
-          }
+        const auto constants = parse_function_constants(
+          parameters.reference.constants, "Reference solution/Function constants");
         reference_velocity     = std::make_unique<FunctionParser<dim>>(dim);
         reference_displacement = std::make_unique<FunctionParser<dim>>(dim);
         reference_velocity->initialize(
-          FunctionParser<dim>::default_variable_names(),
+          FunctionParser<dim>::default_variable_names() + ",t",
           parameters.reference.velocity,
           constants,
           true);
         reference_displacement->initialize(
-          FunctionParser<dim>::default_variable_names(),
-          parameters.reference.displacement,
+          FunctionParser<dim>::default_variable_names() + ",t",
+          to_function_expressions(parameters.reference.displacement),
           constants,
           true);
         reference_velocity->set_time(time);

@@ -7,6 +7,7 @@
 
 #include <fmpm/simulator.h>
 
+#include <deal.II/base/function_parser.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
@@ -186,6 +187,34 @@ namespace fmpm {
                                           update_quadrature_points |
                                             update_JxW_values);
 
+    // Initial velocity of each body as a function of position.
+    std::vector<std::unique_ptr<FunctionParser<dim>>> initial_velocity;
+    for (unsigned int b = 0; b < n_bodies; ++b)
+      {
+        const std::string where =
+          numbered_subsection("Body", b) + "/Initial velocity";
+        initial_velocity.push_back(std::make_unique<FunctionParser<dim>>(dim));
+        try
+          {
+            initial_velocity.back()->initialize(
+              FunctionParser<dim>::default_variable_names(),
+              to_function_expressions(parameters.bodies[b].velocity_expression),
+              parse_function_constants(parameters.bodies[b].function_constants,
+                                       numbered_subsection("Body", b) +
+                                         "/Function constants"));
+          }
+        catch (const ExceptionBase &e)
+          {
+            std::ostringstream message;
+            e.print_info(message);
+            AssertThrow(false,
+                        ExcMessage(where + " = <" +
+                                   parameters.bodies[b].velocity_expression +
+                                   "> is not " + std::to_string(dim) +
+                                   " numbers or expressions: " + message.str()));
+          }
+      }
+
     std::vector<BoundingBox<dim>> body_boxes;
     for (const auto &body : parameters.bodies)
       body_boxes.push_back(body_bounding_box<dim>(body));
@@ -235,7 +264,7 @@ namespace fmpm {
                   p[Index::volume]         = volume;
                   p[Index::initial_volume] = volume;
                   for (unsigned int d = 0; d < dim; ++d)
-                    p[Index::velocity + d] = body.velocity[d];
+                    p[Index::velocity + d] = initial_velocity[b]->value(x, d);
                   for (unsigned int i = 0; i < 3; ++i)
                     p[Index::deformation_gradient + 4 * i] = 1.0;
                   p[Index::material_id] = body.material;
@@ -455,14 +484,16 @@ namespace fmpm {
 
     // A fixed time step must be stable.
     const double stable = minimum_cell_size / max_signal_speed;
-    AssertThrow(parameters.time.time_step <= stable,
+    AssertThrow(!parameters.time.check_stability ||
+                  parameters.time.time_step <= stable,
                 ExcMessage("Time/Time step = " +
                            std::to_string(parameters.time.time_step) +
                            " s is above the stable limit h_min / (wave speed "
                            "+ point speed) = " +
                            std::to_string(stable) +
                            " s of this scene. Choose a smaller time step, or "
-                           "set it to 0 and use Time/Courant number."));
+                           "set it to 0 and use Time/Courant number (or set Time/Check "
+                           "stability limit = false for a stability study)."));
   }
 
   template class Simulator<2>;
