@@ -1,0 +1,140 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// Whole runs in-process, compared with analytical solutions and
+// conservation laws: the axially vibrating bar (centre-of-mass velocity
+// (2 v0/pi) cos(omega t)), a freely translating body (momentum, energy and
+// positions exact), the colliding disks (energy bounded, momentum zero).
+
+#include <fmpm/parameters.h>
+#include <fmpm/simulator.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace
+{
+  using namespace dealii;
+
+  /** Run a scene: parameter files from parameters/ plus overrides. */
+  template <int dim>
+  std::vector<fmpm::HistoryRow<dim>>
+  run_scene(const std::vector<std::string> &files, const std::string &overrides)
+  {
+    auto sources = fmpm::load_scene_sources(files);
+    sources.emplace_back("overrides", overrides);
+    ParameterHandler prm;
+    fmpm::Parameters parameters;
+    fmpm::read_scene(sources, prm, parameters);
+    fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD);
+    simulator.run();
+    return simulator.get_history();
+  }
+
+  const std::string parameter_dir = FMPM_SOURCE_DIR "/parameters/";
+
+  std::string
+  output_overrides(const std::string &directory)
+  {
+    return "subsection Output\n set Directory = " + directory +
+           "\n set Write vtu = false\nend\nsubsection Timer\n set Type = "
+           "none\nend\n";
+  }
+} // namespace
+
+
+
+// The bar of parameters/vibrating_bar.prm: v_cm(t) = (2 v0/pi) cos(omega t).
+// FLIP with lumped mass must follow it within 3% of the amplitude for two
+// periods (a factor 2 in the stiffness or mass or a sign error is off by
+// 40% or more within the first period), and conserve energy within 2%.
+TEST(WholeRun, VibratingBarFollowsAnalyticalSolution)
+{
+  for (const std::string update : {"usl", "usf"})
+    {
+      const auto history = run_scene<2>(
+        {parameter_dir + "vibrating_bar.prm"},
+        output_overrides("output-bar-" + update) +
+          "subsection Time\n set Strain update = " + update + "\nend\n");
+      const double v0 = 0.1, omega = M_PI / 2 * 10;
+      const double amplitude = 2 * v0 / M_PI;
+      ASSERT_GT(history.size(), 70u);
+      double max_error = 0;
+      for (const auto &row : history)
+        {
+          const double v_cm     = row.momentum[0] / row.mass;
+          const double expected = amplitude * std::cos(omega * row.time);
+          max_error = std::max(max_error, std::abs(v_cm - expected));
+          EXPECT_NEAR(row.total_energy,
+                      history.front().total_energy,
+                      0.02 * history.front().total_energy);
+        }
+      EXPECT_LT(max_error, 0.03 * amplitude) << "strain update " << update;
+      EXPECT_NEAR(history.back().time, 0.8, 1e-12);
+    }
+}
+
+
+
+// A body in free flight (no walls, no gravity) translates rigidly: grad v = 0,
+// no stress, momentum and kinetic energy exact, for FLIP and PIC, USF and USL.
+TEST(WholeRun, FreeTranslationConservesMomentumAndEnergy)
+{
+  for (const std::string update : {"flip", "pic"})
+    for (const std::string strain : {"usf", "usl"})
+      {
+        const auto history = run_scene<2>(
+          {parameter_dir + "vibrating_bar.prm"},
+          output_overrides("output-free-" + update + strain) +
+            "subsection Reference solution\n set Enable = false\nend\n"
+            "subsection Mesh\n set Upper corner = 1.5, 1.5\n"
+            " set Subdivisions = 12, 12\nend\n"
+            "subsection Boundary conditions\n set Roller boundary ids =\nend\n"
+            "subsection Time\n set End time = 1\n set Strain update = " +
+            strain +
+            "\nend\n"
+            "subsection Particle update\n set Model name = " +
+            update +
+            "\nend\n"
+            "subsection Body 0\n set Initial velocity = 0.3, 0.2\n"
+            " set Center = 0.4, 0.4\n set Half lengths = 0.2, 0.3\nend\n");
+        const auto &first = history.front();
+        for (const auto &row : history)
+          {
+            EXPECT_NEAR(row.momentum[0], first.momentum[0], 1e-12 * first.mass);
+            EXPECT_NEAR(row.momentum[1], first.momentum[1], 1e-12 * first.mass);
+            EXPECT_NEAR(row.kinetic_energy,
+                        first.kinetic_energy,
+                        1e-12 * first.kinetic_energy);
+            EXPECT_LT(row.strain_energy, 1e-10 * first.kinetic_energy);
+          }
+        EXPECT_NEAR(first.momentum[0], 0.3 * first.mass, 1e-12 * first.mass);
+      }
+}
+
+
+
+// The colliding disks: total energy stays within 10% of its initial value
+// over the whole collision with FLIP, the total momentum stays zero, and the
+// disks really interact (strain energy rises, kinetic energy drops).
+TEST(WholeRun, CollidingDisksEnergyBounded)
+{
+  const auto history =
+    run_scene<2>({parameter_dir + "colliding_disks.prm"},
+                 output_overrides("output-disks") +
+                   "subsection Time\n set End time = 2.5\nend\n");
+  const double E0         = history.front().total_energy;
+  double       max_strain = 0, min_kinetic = E0;
+  for (const auto &row : history)
+    {
+      EXPECT_LT(row.total_energy, 1.10 * E0) << "t = " << row.time;
+      EXPECT_GT(row.total_energy, 0.90 * E0) << "t = " << row.time;
+      EXPECT_NEAR(row.momentum[0], 0, 1e-10 * row.mass);
+      EXPECT_NEAR(row.momentum[1], 0, 1e-10 * row.mass);
+      max_strain  = std::max(max_strain, row.strain_energy);
+      min_kinetic = std::min(min_kinetic, row.kinetic_energy);
+    }
+  EXPECT_GT(max_strain, 0.3 * E0);
+  EXPECT_LT(min_kinetic, 0.7 * E0);
+}
