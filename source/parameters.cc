@@ -76,6 +76,19 @@ namespace fmpm {
         "position from the grid (seed 000 Table 2.1). " +
           ParticleUpdate::Registry<dim>::instance().documentation() +
           "Units: none.");
+      prm.declare_entry("Grid damping",
+                        "0",
+                        Patterns::Double(),
+                        "alpha_g of seed 003 Eqs. 1.17-1.24: the update "
+                        "subtracts alpha_g S v dt from the particle velocity "
+                        "(and half of it times dt from the position); for "
+                        "quasi-static scenes. Units: 1/s.");
+      prm.declare_entry("Particle damping",
+                        "0",
+                        Patterns::Double(),
+                        "alpha_p of seed 003 Eqs. 1.17-1.24: the update "
+                        "subtracts alpha_p V dt from the particle velocity. "
+                        "Units: 1/s.");
       ParticleUpdate::Registry<dim>::instance().declare_parameters(prm);
       prm.leave_subsection();
 
@@ -290,12 +303,46 @@ namespace fmpm {
                         "'End time'. Units: none.");
       prm.declare_entry("Strain update",
                         "usl",
-                        Patterns::Selection("usf|usl|usl+"),
+                        Patterns::Selection("usf|usl|usl+|usavg|usavg+"),
                         "When stresses are updated (seed 000 §2.1-2.2): "
-                        "'usf' before the force extrapolation, 'usl' (USL-) "
-                        "after the particle update with the grid velocity "
-                        "v⁺, 'usl+' after re-extrapolating the updated point "
-                        "momenta. Units: none.");
+                        "'usf' before the force extrapolation with v from p; "
+                        "'usl' (USL-) after the particle update with the grid "
+                        "velocity v+; 'usl+' after re-extrapolating the "
+                        "updated point momenta; 'usavg' and 'usavg+' half a "
+                        "step (dt/2) first as USF and half last as USL- or "
+                        "USL+. Units: none.");
+      prm.declare_entry("Strain update mass matrix",
+                        "same",
+                        Patterns::Selection("same|lumped"),
+                        "Which mass matrix turns momenta into the grid "
+                        "velocities of the strain update (seed 000 §3.3 "
+                        "question 2): 'same' as the particle update, or "
+                        "'lumped'. Units: none.");
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Deformation gradient");
+    {
+      prm.declare_entry("Update",
+                        "cayley",
+                        Patterns::Selection("first order|taylor|subcycle|cayley"),
+                        "How F^(n+1) follows from F^n and the velocity "
+                        "gradient L (seed 001, computeDeformationGradient"
+                        "FromVelocity): 'first order' (I + L dt) F; 'taylor' "
+                        "sum_k (L dt)^k/k! F with 'Taylor terms' terms; "
+                        "'subcycle' first-order substeps with |L dt_sub| "
+                        "below 'Subcycle strain increment'; 'cayley' "
+                        "(I - L dt/2)^-1 (I + L dt/2) F. Units: none.");
+      prm.declare_entry("Taylor terms",
+                        "3",
+                        Patterns::Integer(1, 20),
+                        "Number of terms after the identity of the 'taylor' "
+                        "update. Units: none.");
+      prm.declare_entry("Subcycle strain increment",
+                        "0.01",
+                        Patterns::Double(1e-8, 1),
+                        "Largest |L| dt of one substep of the 'subcycle' "
+                        "update. Units: none.");
     }
     prm.leave_subsection();
 
@@ -377,6 +424,15 @@ namespace fmpm {
                         Patterns::Bool(),
                         "Write particle and grid fields as VTU/PVTU with PVD "
                         "records for ParaView. Units: none.");
+      prm.declare_entry("Track dissipated energy",
+                        "false",
+                        Patterns::Bool(),
+                        "Sum the energy each particle update dissipates "
+                        "compared with a non-dissipative FLIP update (seed "
+                        "003 Eqs. 1.44-1.50) and write it, accumulated, as "
+                        "the column dissipated_energy of history.csv. Costs "
+                        "two extra grid-to-point interpolations. Units: "
+                        "none.");
       prm.declare_entry("Progress interval",
                         std::to_string(output.progress_seconds),
                         Patterns::Double(0),
@@ -515,12 +571,50 @@ namespace fmpm {
                 ExcMessage("Time/Time step and Time/Courant number are both "
                            "0: set one of them to a positive value."));
 
+    prm.enter_subsection("Deformation gradient");
+    {
+      prm.declare_entry("Update",
+                        "cayley",
+                        Patterns::Selection("first order|taylor|subcycle|cayley"),
+                        "How F^(n+1) follows from F^n and the velocity "
+                        "gradient L (seed 001, computeDeformationGradient"
+                        "FromVelocity): 'first order' (I + L dt) F; 'taylor' "
+                        "sum_k (L dt)^k/k! F with 'Taylor terms' terms; "
+                        "'subcycle' first-order substeps with |L dt_sub| "
+                        "below 'Subcycle strain increment'; 'cayley' "
+                        "(I - L dt/2)^-1 (I + L dt/2) F. Units: none.");
+      prm.declare_entry("Taylor terms",
+                        "3",
+                        Patterns::Integer(1, 20),
+                        "Number of terms after the identity of the 'taylor' "
+                        "update. Units: none.");
+      prm.declare_entry("Subcycle strain increment",
+                        "0.01",
+                        Patterns::Double(1e-8, 1),
+                        "Largest |L| dt of one substep of the 'subcycle' "
+                        "update. Units: none.");
+    }
+    prm.leave_subsection();
+
     prm.enter_subsection("Body force");
     gravity = get_doubles(prm, "Gravity");
     prm.leave_subsection();
 
+    prm.enter_subsection("Time");
+    method.strain_update_mass_matrix = prm.get("Strain update mass matrix");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Deformation gradient");
+    method.deformation_gradient_update = prm.get("Update");
+    method.taylor_terms                = prm.get_integer("Taylor terms");
+    method.subcycle_strain_increment =
+      prm.get_double("Subcycle strain increment");
+    prm.leave_subsection();
+
     prm.enter_subsection("Particle update");
-    method.particle_update = prm.get("Model name");
+    method.particle_update   = prm.get("Model name");
+    method.grid_damping      = prm.get_double("Grid damping");
+    method.particle_damping  = prm.get_double("Particle damping");
     prm.leave_subsection();
     prm.enter_subsection("Mass matrix");
     method.mass_matrix = prm.get("Model name");
@@ -574,6 +668,7 @@ namespace fmpm {
     output.step_interval    = prm.get_integer("Step interval");
     output.write_vtu        = prm.get_bool("Write vtu");
     output.progress_seconds = prm.get_double("Progress interval");
+    output.track_dissipation = prm.get_bool("Track dissipated energy");
     prm.leave_subsection();
 
     prm.enter_subsection("Failure detection");

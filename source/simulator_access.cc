@@ -76,6 +76,13 @@ namespace fmpm {
   }
 
   template <int dim>
+  const std::vector<GridScalar> &
+  SimulatorAccess<dim>::get_zero_velocity_mask() const
+  {
+    return get_simulator().zero_velocity_mask;
+  }
+
+  template <int dim>
   double
   SimulatorAccess<dim>::get_time() const
   {

@@ -68,8 +68,17 @@ namespace fmpm {
   {
     std::string particle_update = "flip";
     std::string mass_matrix     = "lumped";
-    /** usf, usl (= usl-) or usl+ */
+    /** usf, usl (= usl-), usl+, usavg (= usavg-), usavg+ */
     std::string strain_update = "usl";
+    /** same or lumped */
+    std::string strain_update_mass_matrix = "same";
+    /** first order, taylor, subcycle or cayley */
+    std::string  deformation_gradient_update = "cayley";
+    unsigned int taylor_terms                = 3;
+    double       subcycle_strain_increment   = 0.01;
+    /** α_g and α_p of seed 003 Eq. 1.17. Units: 1/s. */
+    double grid_damping     = 0;
+    double particle_damping = 0;
   };
 
   /** @brief One material: a density and a constitutive model. */
@@ -117,6 +126,7 @@ namespace fmpm {
     unsigned int step_interval    = 0;
     bool         write_vtu        = true;
     double       progress_seconds = 5.0;
+    bool         track_dissipation = false;
   };
 
   /** @brief How a run detects and treats failures. */

@@ -149,15 +149,16 @@ namespace fmpm {
     compute_forces();
     void
     apply_velocity_conditions(GridVectorField &field) const;
+    /** Compute a nodal field (once per step) with BCs, ghosts, constraints. */
     void
-    grid_velocity_from(const GridVectorField &momentum_like,
-                       GridVectorField       &velocity);
-    void
-    compute_requested_fields();
+    compute_field(const ParticleUpdate::GridField field);
     void
     update_stresses(const GridVectorField &grid_velocity, const double dt);
     void
     update_particles();
+    /** ΔF with F^{n+1} = ΔF F^n for velocity gradient L over Δt. */
+    Tensor<2, 3>
+    deformation_gradient_increment(const Tensor<2, 3> &L, const double dt) const;
     void
     sort_particles_into_cells();
     void
@@ -199,6 +200,7 @@ namespace fmpm {
     GridVectorField updated_momentum; // p⁺ = p + fΔt
     std::array<GridVectorField, ParticleUpdate::n_grid_fields> grid_fields;
     std::array<bool, ParticleUpdate::n_grid_fields>            field_needed;
+    std::array<bool, ParticleUpdate::n_grid_fields> field_computed;
     TrilinosWrappers::SparseMatrix                             full_mass_matrix;
 
     // Grid velocity conditions: owned local node index and unit normal
@@ -210,6 +212,8 @@ namespace fmpm {
       Tensor<1, dim> normal;
     };
     std::vector<NodeCondition> node_conditions;
+    /** Per component: 1 on owned nodes whose component is held at zero. */
+    std::vector<GridScalar> zero_velocity_mask;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
                                                     constitutive_models;
@@ -241,6 +245,10 @@ namespace fmpm {
     double initial_energy_scale = 0;
     /** Σ over outputs of the squared reference errors and norms. */
     std::array<double, 4>                       error_sums{{0, 0, 0, 0}};
+    /** Energy dissipated by the particle updates on this rank in the
+     * current step, and the global accumulated sum (seed 003 Eq. 1.46). */
+    double local_dissipation = 0;
+    double dissipated_energy = 0;
     std::vector<std::string>                    lost_point_messages;
     std::vector<std::pair<double, std::string>> particle_pvd_records;
     std::vector<std::pair<double, std::string>> grid_pvd_records;

@@ -68,6 +68,13 @@ namespace fmpm {
     /** Full mass matrix m̃ = SᵀMS (Eq. 1.9); assembled only on request. */
     const TrilinosWrappers::SparseMatrix &
     get_full_mass_matrix() const;
+    /**
+     * Per velocity component, 1 on locally owned nodes where a grid
+     * condition holds that component at zero (axis-aligned fixed or roller
+     * conditions), else 0.
+     */
+    const std::vector<GridScalar> &
+    get_zero_velocity_mask() const;
     double
     get_time() const;
     double

@@ -57,5 +57,11 @@ namespace fmpm {
       "flip",
       "FLIP(Std) of seed 000 Table 2.1 / Eqs. 2.27-2.28: V += a dt, "
       "X += (v_p - psi/2 a dt) dt.")
+
+    FMPM_REGISTER_PARTICLE_UPDATE(
+      Fmpm0,
+      "fmpm0",
+      "FMPM(0) = XPIC(0) of seed 000 Table 2.1: V += a dt, X += (v_p - a "
+      "dt/2) dt (FLIP with psi = 1).")
   } // namespace ParticleUpdate
 } // namespace fmpm

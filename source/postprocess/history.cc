@@ -12,9 +12,11 @@ namespace fmpm {
   void
   History<dim>::open(const std::string &file_name,
                      const bool         is_root,
-                     const bool         errors)
+                     const bool         errors,
+                     const bool         dissipation)
   {
-    with_errors = errors;
+    with_errors      = errors;
+    with_dissipation = dissipation;
     all_rows.clear();
     if (!is_root)
       return;
@@ -29,6 +31,8 @@ namespace fmpm {
     *file << ",mass";
     if (with_errors)
       *file << ",error_velocity_l2,error_displacement_l2";
+    if (with_dissipation)
+      *file << ",dissipated_energy";
     *file << '\n';
     file->flush();
   }
@@ -50,6 +54,8 @@ namespace fmpm {
     *file << ',' << row.mass;
     if (with_errors)
       *file << ',' << row.error_velocity_l2 << ',' << row.error_displacement_l2;
+    if (with_dissipation)
+      *file << ',' << row.dissipated_energy;
     *file << '\n';
     file->flush();
   }

@@ -45,6 +45,7 @@ namespace fmpm {
     make_grid();
     setup_plugins(prm);
     setup_dofs();
+    mass_matrix->initialize();
     particle_handler.initialize(triangulation,
                                 mapping,
                                 particle_properties.n_properties());
@@ -141,7 +142,8 @@ namespace fmpm {
       std::filesystem::create_directories(parameters.output.directory);
     history.open(parameters.output.directory + "/history.csv",
                  is_root,
-                 parameters.reference.enable);
+                 parameters.reference.enable,
+                 parameters.output.track_dissipation);
 
     pcout << "fmpm: " << dim << "D, "
           << Utilities::MPI::n_mpi_processes(mpi_communicator)
@@ -237,51 +239,78 @@ namespace fmpm {
   void
   Simulator<dim>::do_time_step()
   {
+    using namespace ParticleUpdate;
     const std::string &strain_update = parameters.method.strain_update;
-    time_step                        = compute_time_step();
-    const double dt                  = time_step;
+    const bool update_first = (strain_update == "usf" || strain_update == "usavg" ||
+                               strain_update == "usavg+");
+    const bool update_last = (strain_update != "usf");
+    const bool re_extrapolate =
+      (strain_update == "usl+" || strain_update == "usavg+");
+    const bool   average = (strain_update == "usavg" || strain_update == "usavg+");
+    const bool   lumped_strain_velocity =
+      (parameters.method.strain_update_mass_matrix == "lumped");
+    time_step       = compute_time_step();
+    const double dt = time_step;
+    field_computed.fill(false);
 
-    // 1. Extrapolate mass and momentum (and, for USL, the forces from the
-    //    stresses of the last step): m = SᵀM, p = SᵀMV (Eq. 2.14-2.15).
-    particles_to_grid(strain_update != "usf");
+    // 1. Extrapolate mass and momentum (and, when the stresses are not
+    //    updated first, the forces from the last stresses):
+    //    m = SᵀM, p = SᵀMV, f (Eqs. 2.14-2.15). Velocity conditions on p.
+    particles_to_grid(!update_first);
     apply_velocity_conditions(momentum);
 
-    // 2. USF: update stresses with v = m̃ₖ⁻¹p, then extrapolate forces.
-    if (strain_update == "usf")
+    // 2. USF / USAVG: update stresses with v = m̃ₖ⁻¹p (Δt/2 for USAVG),
+    //    then extrapolate the forces.
+    if (update_first)
       {
-        {
-          TimerOutput::Scope timer(computing_timer, "grid solve");
-          grid_velocity_from(momentum, grid_fields[ParticleUpdate::velocity]);
-        }
-        update_stresses(grid_fields[ParticleUpdate::velocity], dt);
+        const GridField v = lumped_strain_velocity ? lumped_velocity : velocity;
+        compute_field(v);
+        update_stresses(grid_fields[v], average ? dt / 2 : dt);
         compute_forces();
       }
 
-    // 3.-4. Velocity conditions on forces; p⁺ = p + fΔt (Eq. 2.16).
+    // 3.-4. Velocity conditions on forces; p⁺ = p + fΔt (Eq. 2.16), with the
+    //    conditions imposed again.
     {
       TimerOutput::Scope timer(computing_timer, "grid solve");
       apply_velocity_conditions(force);
       updated_momentum = momentum;
       updated_momentum.add(dt, force);
       apply_velocity_conditions(updated_momentum);
-      compute_requested_fields();
+      for (unsigned int f = 0; f < n_grid_fields; ++f)
+        if (field_needed[f])
+          compute_field(static_cast<GridField>(f));
     }
 
     // 5. Particle update (Table 2.1).
     update_particles();
-
-    // 6. USL-: stresses from v⁺; USL+: from re-extrapolated momenta.
-    if (strain_update == "usl")
-      update_stresses(grid_fields[ParticleUpdate::updated_velocity], dt);
-    else if (strain_update == "usl+")
+    if (parameters.output.track_dissipation)
       {
-        particles_to_grid(false);
-        apply_velocity_conditions(momentum);
-        {
-          TimerOutput::Scope timer(computing_timer, "grid solve");
-          grid_velocity_from(momentum, grid_fields[ParticleUpdate::velocity]);
-        }
-        update_stresses(grid_fields[ParticleUpdate::velocity], dt);
+        dissipated_energy += Utilities::MPI::sum(local_dissipation, mpi_communicator);
+        local_dissipation = 0;
+      }
+
+    // 6. USL- / USAVG-: stresses from v⁺; USL+ / USAVG+: from momenta
+    //    re-extrapolated from the updated points (Eq. 2.17-2.18).
+    if (update_last)
+      {
+        const double dt_last = average ? dt / 2 : dt;
+        if (re_extrapolate)
+          {
+            particles_to_grid(false);
+            apply_velocity_conditions(momentum);
+            field_computed[velocity] = field_computed[lumped_velocity] = false;
+            const GridField v = lumped_strain_velocity ? lumped_velocity : velocity;
+            compute_field(v);
+            update_stresses(grid_fields[v], dt_last);
+          }
+        else
+          {
+            const GridField v =
+              lumped_strain_velocity ? lumped_updated_velocity : updated_velocity;
+            compute_field(v);
+            update_stresses(grid_fields[v], dt_last);
+          }
       }
 
     sort_particles_into_cells();
@@ -339,42 +368,43 @@ namespace fmpm {
 
   template <int dim>
   void
-  Simulator<dim>::grid_velocity_from(const GridVectorField &momentum_like,
-                                     GridVectorField       &velocity)
-  {
-    mass_matrix->solve(momentum_like, velocity);
-    apply_velocity_conditions(velocity);
-    constraints.distribute(velocity);
-    velocity.update_ghost_values();
-  }
-
-
-
-  template <int dim>
-  void
-  Simulator<dim>::compute_requested_fields()
+  Simulator<dim>::compute_field(const ParticleUpdate::GridField field)
   {
     using namespace ParticleUpdate;
-    grid_velocity_from(updated_momentum, grid_fields[updated_velocity]);
-    if (field_needed[acceleration])
-      grid_velocity_from(force, grid_fields[acceleration]);
-    if (field_needed[velocity])
-      grid_velocity_from(momentum, grid_fields[velocity]);
-    auto lumped = [&](const GridVectorField &source, GridVectorField &target) {
-      MassMatrix::apply_lumped_inverse(lumped_mass,
-                                       source,
-                                       target,
-                                       mass_floor_value);
-      apply_velocity_conditions(target);
-      constraints.distribute(target);
-      target.update_ghost_values();
-    };
-    if (field_needed[lumped_velocity])
-      lumped(momentum, grid_fields[lumped_velocity]);
-    if (field_needed[lumped_updated_velocity])
-      lumped(updated_momentum, grid_fields[lumped_updated_velocity]);
-    if (field_needed[lumped_acceleration])
-      lumped(force, grid_fields[lumped_acceleration]);
+    if (field_computed[field])
+      return;
+    TimerOutput::Scope timer(computing_timer, "grid solve");
+    GridVectorField   &target = grid_fields[field];
+    switch (field)
+      {
+        case updated_velocity: // v⁺ = m̃ₖ⁻¹ p⁺
+          mass_matrix->solve(updated_momentum, target);
+          break;
+        case acceleration: // m̃ₖ⁻¹ f
+          mass_matrix->solve(force, target);
+          break;
+        case velocity: // v = m̃ₖ⁻¹ p
+          mass_matrix->solve(momentum, target);
+          break;
+        case lumped_velocity: // m⁻¹ p
+          MassMatrix::apply_lumped_inverse(lumped_mass, momentum, target, mass_floor_value);
+          break;
+        case lumped_updated_velocity: // m⁻¹ p⁺
+          MassMatrix::apply_lumped_inverse(lumped_mass,
+                                           updated_momentum,
+                                           target,
+                                           mass_floor_value);
+          break;
+        case lumped_acceleration: // m⁻¹ f
+          MassMatrix::apply_lumped_inverse(lumped_mass, force, target, mass_floor_value);
+          break;
+        default:
+          Assert(false, ExcInternalError());
+      }
+    apply_velocity_conditions(target);
+    constraints.distribute(target);
+    target.update_ghost_values();
+    field_computed[field] = true;
   }
 
 

@@ -72,6 +72,7 @@ namespace fmpm {
     row.total_energy     = statistics.total_energy();
     row.momentum         = statistics.momentum;
     row.mass             = statistics.mass;
+    row.dissipated_energy = dissipated_energy;
     row.error_velocity_l2 =
       statistics.velocity_reference_squared > 0 ?
         std::sqrt(statistics.velocity_error_squared /
@@ -208,6 +209,8 @@ namespace fmpm {
                                 const GlobalStatistics<dim> &statistics)
   {
     const double                  wall = MPI_Wtime() - wall_start;
+    const std::map<std::string, double> mass_matrix_statistics =
+      mass_matrix->statistics();
     std::map<std::string, double> phases =
       computing_timer.get_summary_data(TimerOutput::total_wall_time);
     // Make the phase times the maximum over ranks.
@@ -251,6 +254,11 @@ namespace fmpm {
              std::max(std::abs(initial_total_energy), initial_energy_scale))
         << ",\n";
     out << "  \"lost_points\": " << total_lost_points << ",\n";
+    out << "  \"mass_matrix_order\": " << mass_matrix->order() << ",\n";
+    for (const auto &entry : mass_matrix_statistics)
+      out << "  " << quoted(entry.first) << ": " << number(entry.second) << ",\n";
+    if (parameters.output.track_dissipation)
+      out << "  \"dissipated_energy\": " << number(dissipated_energy) << ",\n";
     if (parameters.reference.enable)
       {
         out << "  \"error_velocity_l2\": "

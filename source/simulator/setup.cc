@@ -415,6 +415,20 @@ namespace fmpm {
           condition.normal /= condition.normal.norm();
         node_conditions.push_back(condition);
       }
+
+    // Components held at zero velocity on axis-aligned conditions: the full
+    // mass matrix solves treat them as known (Dirichlet) values, the least
+    // squares problem of seed 000 Eq. 1.49.
+    zero_velocity_mask.resize(dim);
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        zero_velocity_mask[d].reinit(lumped_mass.get_partitioner());
+        zero_velocity_mask[d] = 0;
+      }
+    for (const auto &condition : node_conditions)
+      for (unsigned int d = 0; d < dim; ++d)
+        if (condition.fixed_all || std::abs(condition.normal[d]) > 1 - 1e-12)
+          zero_velocity_mask[d].local_element(condition.local_index) = 1;
   }
 
 
@@ -452,6 +466,12 @@ namespace fmpm {
     field_needed[ParticleUpdate::updated_velocity] = true;
     for (const auto field : particle_update->required_fields())
       field_needed[field] = true;
+    // Grid damping needs S v; the dissipation measure S v and S a.
+    if (parameters.method.grid_damping != 0)
+      field_needed[ParticleUpdate::velocity] = true;
+    if (parameters.output.track_dissipation)
+      field_needed[ParticleUpdate::velocity] =
+        field_needed[ParticleUpdate::acceleration] = true;
   }
 
 

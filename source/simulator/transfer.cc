@@ -53,6 +53,44 @@ namespace fmpm {
 
 
   template <int dim>
+  Tensor<2, 3>
+  Simulator<dim>::deformation_gradient_increment(const Tensor<2, 3> &L,
+                                                 const double        dt) const
+  {
+    // F^{n+1} = ΔF F^n with ΔF ≈ exp(L Δt) for a velocity gradient constant
+    // over the step (seed 001, computeDeformationGradientFromVelocity).
+    const Tensor<2, 3> I     = unit_symmetric_tensor<3>();
+    const Tensor<2, 3> L_dt  = L * dt;
+    const std::string &update = parameters.method.deformation_gradient_update;
+    if (update == "first order")
+      return I + L_dt;
+    if (update == "cayley")
+      return invert(I - 0.5 * L_dt) * (I + 0.5 * L_dt);
+    if (update == "taylor")
+      {
+        Tensor<2, 3> term = I, sum = I;
+        for (unsigned int k = 1; k <= parameters.method.taylor_terms; ++k)
+          {
+            term = term * L_dt / static_cast<double>(k);
+            sum += term;
+          }
+        return sum;
+      }
+    // subcycle: first-order substeps with |L Δt_sub| below the bound.
+    const unsigned int n_sub = std::max(
+      1u,
+      static_cast<unsigned int>(std::ceil(
+        L_dt.norm() / parameters.method.subcycle_strain_increment)));
+    const Tensor<2, 3> step = I + L_dt / static_cast<double>(n_sub);
+    Tensor<2, 3>       result = I;
+    for (unsigned int k = 0; k < n_sub; ++k)
+      result = step * result;
+    return result;
+  }
+
+
+
+  template <int dim>
   void
   Simulator<dim>::particles_to_grid(const bool with_forces)
   {
@@ -244,6 +282,11 @@ namespace fmpm {
 
     ParticleUpdate::Batch<dim> batch;
     batch.time_step = time_step;
+    const bool   track_dissipation = parameters.output.track_dissipation;
+    const double grid_damping      = parameters.method.grid_damping;
+    const double particle_damping  = parameters.method.particle_damping;
+    std::vector<Tensor<1, dim>> old_velocity, damping_velocity;
+    std::vector<Point<dim>>     old_position;
     std::array<double, n> S;
     double                speed = 0;
 
@@ -283,7 +326,56 @@ namespace fmpm {
             ++q;
           }
 
+        // Keep V^(n), X^(n) where damping or the dissipation measure need
+        // them.
+        if (track_dissipation)
+          {
+            old_velocity.assign(batch.velocity.begin(), batch.velocity.end());
+            old_position.assign(batch.position.begin(), batch.position.end());
+          }
+        const std::vector<Tensor<1, dim>> *V_n = &batch.velocity;
+        if (particle_damping != 0)
+          {
+            damping_velocity.assign(batch.velocity.begin(), batch.velocity.end());
+            V_n = &damping_velocity;
+          }
+
         particle_update->update(batch);
+
+        // Damping (seed 003 Eqs. 1.21-1.25): the acceleration loses
+        // A_damp = α_g S v + α_p V^(n); V^(n+1) -= A_damp Δt and, the
+        // effective velocity being unchanged, X^(n+1) -= A_damp Δt²/2.
+        if (grid_damping != 0 || particle_damping != 0)
+          for (unsigned int p = 0; p < n_points; ++p)
+            {
+              Tensor<1, dim> A_damp;
+              if (grid_damping != 0)
+                A_damp += grid_damping * batch.grid[ParticleUpdate::velocity][p];
+              if (particle_damping != 0)
+                A_damp += particle_damping * (*V_n)[p];
+              batch.velocity[p] -= A_damp * time_step;
+              batch.position[p] -= A_damp * (0.5 * time_step * time_step);
+            }
+
+        // Energy dissipated compared with non-dissipative FLIP (seed 003
+        // Eqs. 1.44-1.45): M [A_g→p Δt·(V_g→p + A_g→p Δt/2) − ΔV·ΔX/Δt].
+        if (track_dissipation)
+          {
+            unsigned int p_index = 0;
+            for (const auto &particle : particles)
+              {
+                const double M = particle.get_properties()[Index::mass];
+                const Tensor<1, dim> a_dt =
+                  batch.grid[ParticleUpdate::acceleration][p_index] * time_step;
+                const Tensor<1, dim> &v_g = batch.grid[ParticleUpdate::velocity][p_index];
+                const Tensor<1, dim>  dV =
+                  batch.velocity[p_index] - old_velocity[p_index];
+                const Tensor<1, dim> dX_dt =
+                  (batch.position[p_index] - old_position[p_index]) / time_step;
+                local_dissipation += M * (a_dt * (v_g + 0.5 * a_dt) - dV * dX_dt);
+                ++p_index;
+              }
+          }
 
         // Scatter the new V and X.
         q = 0;
@@ -375,8 +467,8 @@ namespace fmpm {
                 const Tensor<2, 3> L = embed<dim>(grad_v);
                 const Tensor<2, 3> F_old =
                   get_tensor3(p, Index::deformation_gradient);
-                // First-order update F^{n+1} = (I + L Δt) F^n.
-                Tensor<2, 3> F                 = F_old + dt * (L * F_old);
+                const Tensor<2, 3> F =
+                  deformation_gradient_increment(L, dt) * F_old;
                 inputs.deformation_gradient[q] = F;
                 inputs.velocity_gradient[q]    = L;
                 inputs.properties[q]           = p;

@@ -8,6 +8,9 @@
 #include <fmpm/plugins.h>
 #include <fmpm/simulator_access.h>
 
+#include <map>
+#include <string>
+
 namespace fmpm {
   /**
    * @defgroup MassMatrices Mass matrices
@@ -49,6 +52,16 @@ namespace fmpm {
       virtual void
       solve(const GridVectorField &momentum,
             GridVectorField       &velocity) const = 0;
+
+      /**
+       * @brief Figures for summary.json (e.g. CG iteration counts), called
+       * once at the end of a run.
+       */
+      virtual std::map<std::string, double>
+      statistics() const
+      {
+        return {};
+      }
 
       /** @brief The order k of the approximation m̃ₖ (1 for lumped). */
       virtual unsigned int

@@ -35,6 +35,31 @@ namespace fmpm {
       /** ψ of Eq. 2.28. */
       double psi = 0;
     };
+
+    /**
+     * @brief FMPM(0) = XPIC(0) of seed 000 Table 2.1: dV = a Δt, V += dV,
+     * X += (v_p − dV/2) Δt, i.e. FLIP with the second-order position update
+     * ψ = 1.
+     *
+     * @ingroup ParticleUpdates
+     */
+    template <int dim>
+    class Fmpm0 : public Flip<dim>
+    {
+    public:
+      Fmpm0()
+      {
+        this->psi = 1;
+      }
+
+      static void
+      declare_parameters(ParameterHandler &)
+      {}
+
+      void
+      parse_parameters(ParameterHandler &) override
+      {}
+    };
   } // namespace ParticleUpdate
 } // namespace fmpm
 

@@ -30,6 +30,8 @@ namespace fmpm {
     /** Relative L2 errors against the reference solution (or NaN). */
     double error_velocity_l2     = 0;
     double error_displacement_l2 = 0;
+    /** Energy dissipated by the particle updates since the start. */
+    double dissipated_energy = 0;
   };
 
   /**
@@ -45,7 +47,8 @@ namespace fmpm {
     void
     open(const std::string &file_name,
          const bool         is_root,
-         const bool         with_errors);
+         const bool         with_errors,
+         const bool         with_dissipation);
 
     void
     add(const HistoryRow<dim> &row);
@@ -59,7 +62,8 @@ namespace fmpm {
   private:
     std::vector<HistoryRow<dim>>   all_rows;
     std::unique_ptr<std::ofstream> file;
-    bool                           with_errors = false;
+    bool                           with_errors      = false;
+    bool with_dissipation = false;
   };
 } // namespace fmpm
 

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_mass_matrix_fmpm_h
+#define fmpm_mass_matrix_fmpm_h
+
+#include <fmpm/mass_matrix/interface.h>
+
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+
+namespace fmpm
+{
+  namespace MassMatrix
+  {
+    /**
+     * @brief v = m̃ₖ⁻¹ p of seed 000 Eqs. 1.22-1.23 (= XPIC(k)'s v(k),
+     * Eqs. 1.32-1.36) as k Jacobi-preconditioned Richardson sweeps on
+     * m̃ v = p from v = 0:
+     * \f$v_1 = m^{-1}p,\; v_{j+1} = v_j + m^{-1}(p - \tilde m v_j)\f$,
+     * since \f$\tilde m_k^{-1} = \sum_{\ell=0}^{k-1} A^\ell m^{-1}\f$ with
+     * \f$A = I - S^+S = I - m^{-1}\tilde m\f$ (Eq. 1.12). With m̃ assembled
+     * once per step, each order costs one sparse mat-vec per component
+     * instead of a pass over all material points.
+     *
+     * @param[in] full_mass m̃ = SᵀMS
+     * @param[in] lumped_mass m = SᵀM
+     * @param[in] p momentum-like field
+     * @param[out] v m̃ₖ⁻¹ p on locally owned nodes
+     * @param[in] k order (k = 1: lumped)
+     * @param[in] mass_floor nodes with less mass are empty
+     * @param[in] zero_mask per component, nodes whose velocity is held at
+     * zero by a grid condition (kept at zero in every sweep), or nullptr
+     */
+    void
+    apply_fmpm_inverse(const TrilinosWrappers::SparseMatrix &full_mass,
+                       const GridScalar                     &lumped_mass,
+                       const GridVectorField                &p,
+                       GridVectorField                      &v,
+                       const unsigned int                    k,
+                       const double                          mass_floor,
+                       const std::vector<GridScalar> *zero_mask = nullptr);
+
+    /**
+     * @brief FMPM(k): the approximate full-mass-matrix inverse m̃ₖ⁻¹.
+     *
+     * @ingroup MassMatrices
+     */
+    template <int dim>
+    class Fmpm : public Interface<dim>
+    {
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm);
+
+      void
+      parse_parameters(ParameterHandler &prm) override;
+
+      bool
+      needs_full_mass_matrix() const override
+      {
+        return k > 1;
+      }
+
+      void
+      solve(const GridVectorField &momentum,
+            GridVectorField       &velocity) const override;
+
+      unsigned int
+      order() const override
+      {
+        return k;
+      }
+
+      /** The order k >= 1. */
+      unsigned int k = 2;
+    };
+  } // namespace MassMatrix
+} // namespace fmpm
+
+#endif

@@ -1,0 +1,350 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// Checks the constitutive models (dim = 2 in plane strain, and dim = 3):
+// NeoHookean (seed 004 Eq. 18) against a hand computation for a uniaxial
+// stretch, its Kirchhoff stress against finite differences of its energy
+// (tau = dW/dF F^T) for general F, zero stress/energy at F = I and its wave
+// speed at J = 1; LinearElastic against sigma = lambda tr(eps) I + 2 mu eps,
+// W = 1/2 sigma:eps and sqrt((lambda + 2 mu)/rho); and that check_parameters
+// rejects non-physical parameters with a message naming the parameter.
+
+#include <fmpm/constitutive_model/linear_elastic.h>
+#include <fmpm/constitutive_model/neo_hookean.h>
+#include <fmpm/parameters.h>
+
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/tensor.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+  using namespace dealii;
+  using fmpm::ConstitutiveModel::StressUpdateInputs;
+  using fmpm::ConstitutiveModel::StressUpdateOutputs;
+
+  template <typename T>
+  class ConstitutiveModelTest : public ::testing::Test
+  {};
+
+  template <int d>
+  using Dim        = std::integral_constant<int, d>;
+  using Dimensions = ::testing::Types<Dim<2>, Dim<3>>;
+  TYPED_TEST_SUITE(ConstitutiveModelTest, Dimensions);
+
+  /**
+   * A random deformation gradient with det F > 0 (close to, but clearly
+   * away from, I). In 2D plane strain: only the upper 2x2 block differs from
+   * I.
+   */
+  template <int dim>
+  Tensor<2, 3>
+  random_deformation_gradient(std::mt19937 &generator, const double amplitude)
+  {
+    std::uniform_real_distribution<double> uniform(-amplitude, amplitude);
+    Tensor<2, 3>                           F = unit_symmetric_tensor<3>();
+    for (unsigned int i = 0; i < dim; ++i)
+      for (unsigned int j = 0; j < dim; ++j)
+        F[i][j] += uniform(generator);
+    return F;
+  }
+
+  /** Relative difference |a - b| / |b| of two tensors. */
+  template <typename A, typename B>
+  double
+  relative_error(const A &a, const B &b)
+  {
+    return (Tensor<2, 3>(a) - Tensor<2, 3>(b)).norm() / Tensor<2, 3>(b).norm();
+  }
+
+  /** Run update_stress of @p model on a batch of deformation gradients. */
+  template <typename Model>
+  StressUpdateOutputs
+  update(const Model &model, const std::vector<Tensor<2, 3>> &F)
+  {
+    StressUpdateInputs inputs;
+    inputs.resize(F.size());
+    for (unsigned int q = 0; q < F.size(); ++q)
+      {
+        inputs.deformation_gradient[q] = F[q];
+        inputs.velocity_gradient[q]    = Tensor<2, 3>();
+      }
+    inputs.time_step = 1e-3;
+    StressUpdateOutputs outputs;
+    outputs.resize(F.size());
+    model.update_stress(inputs, outputs);
+    return outputs;
+  }
+
+  /** Expect @p check to throw, with a message containing every @p words. */
+  void
+  expect_error(const std::function<void()>    &check,
+               const std::vector<std::string> &words)
+  {
+    try
+      {
+        check();
+        ADD_FAILURE() << "no exception thrown; expected one naming <"
+                      << words.front() << ">";
+      }
+    catch (const std::exception &e)
+      {
+        const std::string message = fmpm::error_message(e);
+        for (const auto &word : words)
+          EXPECT_NE(message.find(word), std::string::npos)
+            << "message does not contain <" << word << ">:\n"
+            << message;
+      }
+  }
+
+
+
+  // F = diag(lambda, 1, 1): J = lambda, b = diag(lambda^2, 1, 1),
+  // bbar = lambda^{-2/3} b, I1bar = lambda^{-2/3} (lambda^2 + 2), so
+  //   tau_11 = 2G/3 lambda^{-2/3} (lambda^2 - 1) + K/2 (lambda^2 - 1),
+  //   tau_22 = tau_33 = -G/3 lambda^{-2/3} (lambda^2 - 1) + K/2 (lambda^2-1),
+  //   sigma = tau / lambda, off-diagonals 0,
+  //   W = G/2 (lambda^{-2/3}(lambda^2 + 2) - 3)
+  //       + K/2 (1/2 (lambda^2 - 1) - ln lambda).
+  TYPED_TEST(ConstitutiveModelTest, NeoHookeanUniaxialStretch)
+  {
+    constexpr int                                dim = TypeParam::value;
+    fmpm::ConstitutiveModel::NeoHookean<dim> model;
+    model.bulk_modulus  = 2.5e6;
+    model.shear_modulus = 1.2e6;
+    const double K = model.bulk_modulus, G = model.shear_modulus;
+
+    for (const double lambda : {1.3, 0.8})
+      {
+        Tensor<2, 3> F = unit_symmetric_tensor<3>();
+        F[0][0]        = lambda;
+
+        const double l2     = lambda * lambda;
+        const double l_m23  = std::pow(lambda, -2.0 / 3.0);
+        const double tau_11 = 2 * G / 3 * l_m23 * (l2 - 1) + K / 2 * (l2 - 1);
+        const double tau_22 = -G / 3 * l_m23 * (l2 - 1) + K / 2 * (l2 - 1);
+        const double W      = G / 2 * (l_m23 * (l2 + 2) - 3) +
+                         K / 2 * (0.5 * (l2 - 1) - std::log(lambda));
+        SymmetricTensor<2, 3> expected_sigma;
+        expected_sigma[0][0] = tau_11 / lambda;
+        expected_sigma[1][1] = tau_22 / lambda;
+        expected_sigma[2][2] = tau_22 / lambda;
+
+        const StressUpdateOutputs out = update(model, {F});
+        const double scale = expected_sigma.norm();
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = 0; j < 3; ++j)
+            EXPECT_NEAR(out.cauchy_stress[0][i][j],
+                        expected_sigma[i][j],
+                        1e-12 * scale)
+              << "lambda = " << lambda << ", sigma_" << i << j;
+        EXPECT_NEAR(out.strain_energy_density[0], W, 1e-12 * std::abs(W));
+
+        SymmetricTensor<2, 3> tau;
+        double                energy = 0;
+        model.stress_and_energy(F, tau, energy);
+        EXPECT_NEAR(tau[0][0], tau_11, 1e-12 * std::abs(tau_11));
+        EXPECT_NEAR(tau[1][1], tau_22, 1e-12 * std::abs(tau_11));
+        EXPECT_NEAR(energy, W, 1e-12 * std::abs(W));
+      }
+  }
+
+
+
+  // tau = dW/dF F^T by central differences of W, and sigma = tau / J from
+  // update_stress, for several random F in one batch.
+  TYPED_TEST(ConstitutiveModelTest, NeoHookeanStressIsEnergyDerivative)
+  {
+    constexpr int                            dim = TypeParam::value;
+    fmpm::ConstitutiveModel::NeoHookean<dim> model;
+    model.bulk_modulus  = 3.0;
+    model.shear_modulus = 0.7;
+
+    std::mt19937              generator(11 + dim);
+    std::vector<Tensor<2, 3>> batch;
+    for (unsigned int q = 0; q < 4; ++q)
+      {
+        const Tensor<2, 3> F = random_deformation_gradient<dim>(generator, 0.3);
+        ASSERT_GT(determinant(F), 0.2);
+        batch.push_back(F);
+      }
+    const StressUpdateOutputs out = update(model, batch);
+
+    const double h = 1e-5;
+    for (unsigned int q = 0; q < batch.size(); ++q)
+      {
+        const Tensor<2, 3> &F = batch[q];
+        Tensor<2, 3>        P; // dW/dF
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = 0; j < 3; ++j)
+            {
+              SymmetricTensor<2, 3> tau;
+              double                W_plus = 0, W_minus = 0;
+              Tensor<2, 3>          F_h = F;
+              F_h[i][j] += h;
+              model.stress_and_energy(F_h, tau, W_plus);
+              F_h[i][j] -= 2 * h;
+              model.stress_and_energy(F_h, tau, W_minus);
+              P[i][j] = (W_plus - W_minus) / (2 * h);
+            }
+        const Tensor<2, 3> tau_fd = P * transpose(F);
+        const double       J      = determinant(F);
+
+        SymmetricTensor<2, 3> tau;
+        double                W = 0;
+        model.stress_and_energy(F, tau, W);
+        EXPECT_LT(relative_error(tau, tau_fd), 1e-6)
+          << "F = " << F << "\ntau = " << tau << "\nFD: " << tau_fd;
+        EXPECT_LT(relative_error(out.cauchy_stress[q], tau_fd / J), 1e-6)
+          << "point " << q << ": sigma = " << out.cauchy_stress[q]
+          << "\nFD tau/J: " << tau_fd / J;
+        EXPECT_NEAR(out.strain_energy_density[q], W, 1e-14 * std::abs(W));
+        EXPECT_GT(W, 0);
+        if (dim == 2)
+          {
+            // Plane strain: no in-plane/out-of-plane shear.
+            EXPECT_EQ(out.cauchy_stress[q][0][2], 0.0);
+            EXPECT_EQ(out.cauchy_stress[q][1][2], 0.0);
+          }
+      }
+  }
+
+
+
+  TYPED_TEST(ConstitutiveModelTest, NeoHookeanUndeformedAndWaveSpeed)
+  {
+    constexpr int                            dim = TypeParam::value;
+    fmpm::ConstitutiveModel::NeoHookean<dim> model;
+    model.bulk_modulus  = 4.0e6;
+    model.shear_modulus = 1.5e6;
+
+    const StressUpdateOutputs out = update(model, {unit_symmetric_tensor<3>()});
+    EXPECT_LT(out.cauchy_stress[0].norm(), 1e-12 * model.bulk_modulus);
+    EXPECT_NEAR(out.strain_energy_density[0], 0.0, 1e-12 * model.bulk_modulus);
+
+    const double density = 1200;
+    EXPECT_NEAR(model.wave_speed(density, 1.0),
+                std::sqrt((model.bulk_modulus + 4.0 / 3.0 * model.shear_modulus) /
+                          density),
+                1e-12 * std::sqrt(model.bulk_modulus / density));
+  }
+
+
+
+  TYPED_TEST(ConstitutiveModelTest, LinearElastic)
+  {
+    constexpr int                               dim = TypeParam::value;
+    fmpm::ConstitutiveModel::LinearElastic<dim> model;
+    model.youngs_modulus = 7.0e4;
+    model.poissons_ratio = 0.27;
+    const double E = model.youngs_modulus, nu = model.poissons_ratio;
+    const double mu     = E / (2 * (1 + nu));
+    const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+
+    // Small random symmetric strain eps (plane strain in 2D) plus a small
+    // rotation-like skew part that the model must ignore: F = I + eps + w.
+    std::mt19937                           generator(5 + dim);
+    std::uniform_real_distribution<double> uniform(-1e-3, 1e-3);
+    Tensor<2, 3>                           eps, w;
+    for (unsigned int i = 0; i < dim; ++i)
+      for (unsigned int j = i; j < dim; ++j)
+        {
+          eps[i][j] = eps[j][i] = uniform(generator);
+          if (j > i)
+            {
+              w[i][j] = uniform(generator);
+              w[j][i] = -w[i][j];
+            }
+        }
+    const Tensor<2, 3> F = Tensor<2, 3>(unit_symmetric_tensor<3>()) + eps + w;
+
+    double trace_eps = 0;
+    for (unsigned int i = 0; i < 3; ++i)
+      trace_eps += eps[i][i];
+    Tensor<2, 3> sigma;
+    double       W = 0;
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        {
+          sigma[i][j] = 2 * mu * eps[i][j] + (i == j ? lambda * trace_eps : 0);
+          W += 0.5 * sigma[i][j] * eps[i][j];
+        }
+
+    const StressUpdateOutputs out = update(model, {F});
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        EXPECT_NEAR(out.cauchy_stress[0][i][j], sigma[i][j], 1e-12 * sigma.norm())
+          << "sigma_" << i << j;
+    EXPECT_NEAR(out.strain_energy_density[0], W, 1e-12 * W);
+    if (dim == 2)
+      {
+        // Plane strain: eps_33 = 0 but sigma_33 = lambda tr(eps).
+        EXPECT_NEAR(out.cauchy_stress[0][2][2],
+                    lambda * trace_eps,
+                    1e-12 * sigma.norm());
+      }
+
+    const StressUpdateOutputs zero = update(model, {unit_symmetric_tensor<3>()});
+    EXPECT_EQ(zero.cauchy_stress[0].norm(), 0.0);
+    EXPECT_EQ(zero.strain_energy_density[0], 0.0);
+
+    const double density = 2700;
+    for (const double J : {1.0, 0.9})
+      EXPECT_NEAR(model.wave_speed(density, J),
+                  std::sqrt((lambda + 2 * mu) / density),
+                  1e-12 * std::sqrt(E / density));
+  }
+
+
+
+  TYPED_TEST(ConstitutiveModelTest, CheckParameters)
+  {
+    constexpr int      dim   = TypeParam::value;
+    const std::string where = "Material 3/Linear elastic";
+    {
+      fmpm::ConstitutiveModel::LinearElastic<dim> model;
+      EXPECT_NO_THROW(model.check_parameters(where));
+      model.poissons_ratio = 0.49;
+      EXPECT_NO_THROW(model.check_parameters(where));
+      for (const double E : {0.0, -2.0e5})
+        {
+          fmpm::ConstitutiveModel::LinearElastic<dim> bad;
+          bad.youngs_modulus = E;
+          expect_error([&]() { bad.check_parameters(where); },
+                       {"Young's modulus", where});
+        }
+      for (const double nu : {0.5, 0.6})
+        {
+          fmpm::ConstitutiveModel::LinearElastic<dim> bad;
+          bad.poissons_ratio = nu;
+          expect_error([&]() { bad.check_parameters(where); },
+                       {"Poisson's ratio", where});
+        }
+    }
+    {
+      const std::string                        nh_where = "Material 0/Neo hookean";
+      fmpm::ConstitutiveModel::NeoHookean<dim> model;
+      EXPECT_NO_THROW(model.check_parameters(nh_where));
+      for (const double K : {0.0, -1.0e6})
+        {
+          fmpm::ConstitutiveModel::NeoHookean<dim> bad;
+          bad.bulk_modulus = K;
+          expect_error([&]() { bad.check_parameters(nh_where); },
+                       {"Bulk modulus", nh_where});
+        }
+      for (const double G : {0.0, -1.0e6})
+        {
+          fmpm::ConstitutiveModel::NeoHookean<dim> bad;
+          bad.shear_modulus = G;
+          expect_error([&]() { bad.check_parameters(nh_where); },
+                       {"Shear modulus", nh_where});
+        }
+    }
+  }
+} // namespace

@@ -1,0 +1,282 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// Checks fmpm::read_scene: the built-in default scene parses (2 bodies);
+// later sources override earlier ones; 'Number of bodies' and 'Dimension'
+// size the declared parameters; and every kind of error (unknown parameter,
+// value outside its pattern, malformed line, non-positive density, a body
+// made of a non-existing material, a gmsh mesh without a readable file)
+// throws with a message naming the problem and where it is.
+
+#include <fmpm/parameters.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace {
+  using namespace dealii;
+  using Sources = std::vector<std::pair<std::string, std::string>>;
+
+  /** The default scene followed by @p text as the source @p name. */
+  Sources
+  default_plus(const std::string &name, const std::string &text)
+  {
+    return {{"default scene", fmpm::default_scene()}, {name, text}};
+  }
+
+  /** read_scene into a fresh ParameterHandler; returns the Parameters. */
+  fmpm::Parameters
+  read(const Sources &sources)
+  {
+    ParameterHandler prm;
+    fmpm::Parameters parameters;
+    fmpm::read_scene(sources, prm, parameters);
+    return parameters;
+  }
+
+  /**
+   * Expect read_scene to throw with a message containing each of @p words;
+   * returns the message.
+   */
+  std::string
+  expect_error(const Sources &sources, const std::vector<std::string> &words)
+  {
+    std::string message;
+    try
+      {
+        read(sources);
+        ADD_FAILURE() << "read_scene did not throw; expected an error naming <"
+                      << words.front() << ">";
+      }
+    catch (const std::exception &e)
+      {
+        message = fmpm::error_message(e);
+        for (const auto &word : words)
+          EXPECT_NE(message.find(word), std::string::npos)
+            << "the message does not contain <" << word << ">:\n"
+            << message;
+      }
+    return message;
+  }
+
+
+
+  TEST(ReadScene, DefaultScene)
+  {
+    ParameterHandler prm;
+    fmpm::Parameters parameters;
+    fmpm::read_scene({{"default scene", fmpm::default_scene()}},
+                     prm,
+                     parameters);
+    EXPECT_EQ(parameters.size.dimension, 2u);
+    EXPECT_EQ(parameters.size.n_bodies, 2u);
+    EXPECT_EQ(parameters.size.n_materials, 1u);
+    ASSERT_EQ(parameters.bodies.size(), 2u);
+    ASSERT_EQ(parameters.materials.size(), 1u);
+    EXPECT_EQ(parameters.bodies[0].shape, "sphere");
+    EXPECT_EQ(parameters.bodies[1].shape, "sphere");
+    EXPECT_EQ(parameters.bodies[1].center, (std::vector<double>{0.75, 0.75}));
+    EXPECT_EQ(parameters.materials[0].model_name, "linear elastic");
+    EXPECT_DOUBLE_EQ(parameters.materials[0].density, 1000.0);
+    EXPECT_EQ(parameters.mesh.type, "box");
+    EXPECT_EQ(parameters.mesh.subdivisions,
+              (std::vector<unsigned int>{20, 20}));
+    EXPECT_EQ(parameters.mesh.upper_corner, (std::vector<double>{1, 1}));
+    EXPECT_DOUBLE_EQ(parameters.time.end_time, 3.0);
+    EXPECT_DOUBLE_EQ(parameters.time.courant_number, 0.4);
+    EXPECT_EQ(parameters.method.particle_update, "flip");
+    EXPECT_EQ(parameters.boundary_conditions.fixed.size(), 4u);
+
+    // The plugin parameters are declared and set in the ParameterHandler.
+    prm.enter_subsection("Material 0");
+    prm.enter_subsection("Linear elastic");
+    EXPECT_DOUBLE_EQ(prm.get_double("Young's modulus"), 1000.0);
+    prm.leave_subsection();
+    prm.leave_subsection();
+  }
+
+
+
+  TEST(ReadScene, LaterSourcesOverrideEarlierOnes)
+  {
+    const std::string end_time = "subsection Time\n"
+                                 "  set End time = 0.5\n"
+                                 "end\n";
+    const fmpm::Parameters later = read(default_plus("override", end_time));
+    EXPECT_DOUBLE_EQ(later.time.end_time, 0.5);
+    // Only what the override sets changes.
+    EXPECT_DOUBLE_EQ(later.time.courant_number, 0.4);
+    EXPECT_EQ(later.bodies.size(), 2u);
+
+    // The other order: the default scene wins.
+    const fmpm::Parameters earlier =
+      read({{"override", end_time}, {"default scene", fmpm::default_scene()}});
+    EXPECT_DOUBLE_EQ(earlier.time.end_time, 3.0);
+
+    // Three sources: the last one wins.
+    const fmpm::Parameters last =
+      read({{"default scene", fmpm::default_scene()},
+            {"override", end_time},
+            {"last", "subsection Time\n set End time = 0.25\nend\n"}});
+    EXPECT_DOUBLE_EQ(last.time.end_time, 0.25);
+  }
+
+
+
+  TEST(ReadScene, NumberOfBodiesDeclaresBodySubsections)
+  {
+    const fmpm::Parameters three =
+      read(default_plus("three bodies",
+                        "set Number of bodies = 3\n"
+                        "subsection Body 2\n"
+                        "  set Shape        = box\n"
+                        "  set Center       = 0.5, 0.1\n"
+                        "  set Half lengths = 0.3, 0.05\n"
+                        "end\n"));
+    EXPECT_EQ(three.size.n_bodies, 3u);
+    ASSERT_EQ(three.bodies.size(), 3u);
+    EXPECT_EQ(three.bodies[2].shape, "box");
+    EXPECT_EQ(three.bodies[2].center, (std::vector<double>{0.5, 0.1}));
+    EXPECT_EQ(three.bodies[2].half_lengths, (std::vector<double>{0.3, 0.05}));
+    EXPECT_EQ(three.bodies[2].material, 0u);
+    // The bodies of the default scene are unchanged.
+    EXPECT_EQ(three.bodies[0].shape, "sphere");
+
+    // Without 'Number of bodies = 3' there is no 'Body 2'.
+    expect_error(default_plus("no third body",
+                              "subsection Body 2\n"
+                              "  set Shape = box\n"
+                              "end\n"),
+                 {"Body 2", "no third body"});
+  }
+
+
+
+  TEST(ReadScene, DimensionSizesTheVectors)
+  {
+    // Defaults follow the dimension.
+    const fmpm::Parameters three_d = read({{"3d", "set Dimension = 3\n"}});
+    EXPECT_EQ(three_d.size.dimension, 3u);
+    EXPECT_EQ(three_d.mesh.lower_corner.size(), 3u);
+    EXPECT_EQ(three_d.mesh.subdivisions.size(), 3u);
+    ASSERT_EQ(three_d.bodies.size(), 1u);
+    EXPECT_EQ(three_d.bodies[0].center.size(), 3u);
+    EXPECT_EQ(three_d.gravity.size(), 3u);
+
+    // The default scene gives two components: wrong in 3D.
+    expect_error(default_plus("3d", "set Dimension = 3\n"),
+                 {"Lower corner", "default scene"});
+  }
+
+
+
+  TEST(ReadScene, UnknownParameter)
+  {
+    const std::string message =
+      expect_error(default_plus("typo.prm",
+                                "# a comment\n"
+                                "subsection Time\n"
+                                "  set End tiem = 2\n"
+                                "end\n"),
+                   {"End tiem", "typo.prm", "3"});
+    EXPECT_NE(message.find("Line <3>"), std::string::npos) << message;
+
+    expect_error(default_plus("top.prm", "set Number of bodys = 2\n"),
+                 {"Number of bodys", "top.prm"});
+  }
+
+
+
+  TEST(ReadScene, ValueOutsidePattern)
+  {
+    expect_error(default_plus("dimension.prm", "set Dimension = 4\n"),
+                 {"Dimension", "4", "dimension.prm"});
+    expect_error(default_plus("courant.prm",
+                              "subsection Time\n"
+                              "  set Courant number = 2\n"
+                              "end\n"),
+                 {"Courant number", "2", "courant.prm", "Line <2>"});
+    expect_error(default_plus("model.prm",
+                              "subsection Material 0\n"
+                              "  set Model name = rubber\n"
+                              "end\n"),
+                 {"Model name", "rubber", "model.prm"});
+    expect_error(default_plus("corner.prm",
+                              "subsection Mesh\n"
+                              "  set Lower corner = 0, 0, 0\n"
+                              "end\n"),
+                 {"Lower corner", "corner.prm"});
+  }
+
+
+
+  TEST(ReadScene, MalformedLine)
+  {
+    expect_error(default_plus("malformed.prm",
+                              "subsection Time\n"
+                              "  End time 2\n"
+                              "end\n"),
+                 {"malformed.prm", "Line <2>"});
+    expect_error(default_plus("unbalanced.prm",
+                              "subsection Time\n"
+                              "  set End time = 2\n"),
+                 {"unbalanced.prm"});
+  }
+
+
+
+  TEST(ReadScene, NonPositiveDensity)
+  {
+    for (const std::string density : {"0", "-5"})
+      expect_error(default_plus("density.prm",
+                                "subsection Material 0\n"
+                                "  set Density = " +
+                                  density + "\n" + "end\n"),
+                   {"Material 0/Density", "density.prm"});
+  }
+
+
+
+  TEST(ReadScene, BodyOfNonExistingMaterial)
+  {
+    expect_error(default_plus("material.prm",
+                              "subsection Body 1\n"
+                              "  set Material = 1\n"
+                              "end\n"),
+                 {"Body 1/Material", "1"});
+
+    // With two materials it is fine.
+    const fmpm::Parameters two =
+      read(default_plus("material.prm",
+                        "set Number of materials = 2\n"
+                        "subsection Body 1\n"
+                        "  set Material = 1\n"
+                        "end\n"));
+    EXPECT_EQ(two.materials.size(), 2u);
+    EXPECT_EQ(two.bodies[1].material, 1u);
+    EXPECT_EQ(two.bodies[0].material, 0u);
+  }
+
+
+
+  TEST(ReadScene, GmshMeshWithoutFile)
+  {
+    const std::string missing = "/nonexistent/fmpm-unit-test-mesh.msh";
+    expect_error(default_plus("gmsh.prm",
+                              "subsection Mesh\n"
+                              "  set Type      = gmsh\n"
+                              "  set File name = " +
+                                missing + "\nend\n"),
+                 {"Mesh/File name", missing});
+    expect_error(default_plus("gmsh.prm",
+                              "subsection Mesh\n"
+                              "  set Type = gmsh\n"
+                              "end\n"),
+                 {"Mesh/File name"});
+  }
+} // namespace
