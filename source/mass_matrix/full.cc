@@ -127,84 +127,116 @@ namespace fmpm
 
 
 
+    FullMassSolve
+    solve_full_mass_system(const TrilinosWrappers::SparseMatrix &K,
+                           const GridScalar                     &m,
+                           const GridScalar                     &known,
+                           const GridScalar                     &p,
+                           GridScalar                           &v,
+                           const double                          tolerance,
+                           const unsigned int                    max_iterations,
+                           const double                          delta,
+                           const double                          mass_floor)
+    {
+      const unsigned int  n = m.locally_owned_size();
+      const LumpedInverse preconditioner{m, mass_floor};
+      const bool          has_known =
+        Utilities::MPI::max(known.linfty_norm(),
+                            m.get_partitioner()->get_mpi_communicator()) > 0;
+      const BlendedMass A{K, m, known, delta, has_known, GridScalar()};
+      FullMassSolve     result;
+      const double      norm = p.l2_norm();
+      if (norm == 0)
+        {
+          for (unsigned int i = 0; i < n; ++i)
+            v.local_element(i) = known.local_element(i) != 0 ? v.local_element(i) : 0.;
+          return result;
+        }
+
+      // Start from the lumped solution on unknown nodes.
+      GridScalar rhs(p), v_known(p);
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          const bool   is_known = known.local_element(i) != 0;
+          const double m_i      = m.local_element(i);
+          v_known.local_element(i) = is_known ? v.local_element(i) : 0.;
+          if (!is_known)
+            v.local_element(i) = m_i > mass_floor ? p.local_element(i) / m_i : 0.;
+        }
+      if (has_known)
+        {
+          // Move (1 − δ) K_UK v_K to the right-hand side; the known rows
+          // read m_K v_K = m_K v_K.
+          GridScalar coupling(p);
+          K.vmult(coupling, v_known);
+          for (unsigned int i = 0; i < n; ++i)
+            rhs.local_element(i) =
+              known.local_element(i) != 0 ?
+                m.local_element(i) * v_known.local_element(i) :
+                rhs.local_element(i) - (1 - delta) * coupling.local_element(i);
+        }
+      SolverControl        control(max_iterations, tolerance * norm, false, false);
+      SolverCG<GridScalar> cg(control);
+      try
+        {
+          cg.solve(A, v, rhs, preconditioner);
+        }
+      catch (const std::exception &)
+        {
+          result.converged = false;
+          // Breakdown or stagnation: lumped velocities for this field.
+          preconditioner.vmult(v, p);
+          for (unsigned int i = 0; i < n; ++i)
+            if (known.local_element(i) != 0)
+              v.local_element(i) = v_known.local_element(i);
+        }
+      result.iterations = control.last_step();
+      return result;
+    }
+
+
+
     template <int dim>
     void
     Full<dim>::solve(const GridVectorField &p, GridVectorField &v) const
     {
-      const GridScalar &m     = this->get_lumped_mass();
-      const double      floor = this->get_simulator().mass_floor();
-      const auto       &zero_mask = this->get_zero_velocity_mask();
-      const unsigned int n        = m.locally_owned_size();
-      const LumpedInverse preconditioner{m, floor};
+      const GridScalar  &m         = this->get_lumped_mass();
+      const double       floor     = this->get_simulator().mass_floor();
+      const auto        &zero_mask = this->get_zero_velocity_mask();
+      const unsigned int n         = m.locally_owned_size();
       for (unsigned int b = 0; b < p.n_blocks(); ++b)
         {
-          // Known nodes: weak nodes (lumped velocity) and nodes whose
-          // component is held at zero (velocity 0).
+          // Known nodes: components held at zero by a grid condition, and
+          // weak nodes (lumped velocity p/m).
           known.reinit(m.get_partitioner());
-          bool any_known = false;
           for (unsigned int i = 0; i < n; ++i)
             {
-              const bool is_known = zero_mask[b].local_element(i) != 0 ||
-                                    (weak.size() > 0 && weak.local_element(i) != 0);
-              known.local_element(i) = is_known ? 1. : 0.;
-              any_known              = any_known || is_known;
-            }
-          const bool        has_weak =
-            Utilities::MPI::max(any_known ? 1 : 0, this->get_mpi_communicator()) > 0;
-          const BlendedMass A{matrix(), m, known, lumped_fraction, has_weak, GridScalar()};
-          const double norm = p.block(b).l2_norm();
-          v.block(b)        = 0;
-          if (norm == 0)
-            continue;
-          // Start from the lumped solution: it is exact where a node's
-          // support holds points with one velocity.
-          GridScalar rhs(p.block(b));
-          preconditioner.vmult(v.block(b), rhs);
-          if (has_weak)
-            {
-              // Known velocities v_W (p/m on weak nodes, 0 on held
-              // components): move (1 − δ) m̃_SW v_W to the right-hand side,
-              // and make the known rows m_W v_W = m_W v_W.
-              GridScalar v_known(v.block(b)), coupling(v.block(b));
-              for (unsigned int i = 0; i < n; ++i)
+              const double m_i = m.local_element(i);
+              if (zero_mask[b].local_element(i) != 0)
                 {
-                  if (zero_mask[b].local_element(i) != 0)
-                    v.block(b).local_element(i) = 0;
-                  v_known.local_element(i) =
-                    known.local_element(i) != 0 ? v.block(b).local_element(i) : 0.;
+                  known.local_element(i)      = 1;
+                  v.block(b).local_element(i) = 0;
                 }
-              matrix().vmult(coupling, v_known);
-              for (unsigned int i = 0; i < n; ++i)
+              else if (weak.size() > 0 && weak.local_element(i) != 0)
                 {
-                  if (known.local_element(i) == 0)
-                    rhs.local_element(i) -=
-                      (1 - lumped_fraction) * coupling.local_element(i);
-                  else
-                    rhs.local_element(i) =
-                      m.local_element(i) * v_known.local_element(i);
+                  known.local_element(i) = 1;
+                  v.block(b).local_element(i) =
+                    m_i > floor ? p.block(b).local_element(i) / m_i : 0.;
                 }
             }
-          SolverControl      control(max_iterations, tolerance * norm, false, false);
-          SolverCG<GridScalar> cg(control);
-          bool               converged = true;
-          try
-            {
-              cg.solve(A, v.block(b), rhs, preconditioner);
-            }
-          catch (const std::exception &)
-            {
-              converged = false;
-            }
+          const FullMassSolve result = solve_full_mass_system(matrix(),
+                                                              m,
+                                                              known,
+                                                              p.block(b),
+                                                              v.block(b),
+                                                              tolerance,
+                                                              max_iterations,
+                                                              lumped_fraction,
+                                                              floor);
           ++n_solves;
-          total_iterations += control.last_step();
-          max_iterations_used =
-            std::max(max_iterations_used, control.last_step());
-          if (!converged)
-            {
-              // Breakdown or stagnation: lumped velocities for this field.
-              ++n_lumped_fallbacks;
-              preconditioner.vmult(v.block(b), rhs);
-            }
+          total_iterations += result.iterations;
+          max_iterations_used = std::max(max_iterations_used, result.iterations);
+          n_lumped_fallbacks += result.converged ? 0 : 1;
         }
     }
 
@@ -220,16 +252,16 @@ namespace fmpm
       if (weak.size() != m.size() ||
           !weak.get_partitioner()->is_compatible(*m.get_partitioner()))
         weak.reinit(m.get_partitioner());
-      const double floor = this->get_simulator().mass_floor();
-      const auto  &range = m.get_partitioner()->locally_owned_range();
+      const double       floor  = this->get_simulator().mass_floor();
+      const auto        &range  = m.get_partitioner()->locally_owned_range();
       unsigned long long n_weak = 0;
       for (unsigned int i = 0; i < m.locally_owned_size(); ++i)
         {
-          const double m_i = m.local_element(i);
-          const bool   is_weak =
-            m_i > floor &&
-            matrix().diag_element(range.nth_index_in_set(i)) <
-              weak_node_threshold * m_i;
+          // A node barely touched by points: m̃ᵢᵢ/mᵢ = Σ M S² / Σ M S < τ.
+          const double m_i     = m.local_element(i);
+          const bool   is_weak = m_i > floor &&
+                               matrix().diag_element(range.nth_index_in_set(i)) <
+                                 weak_node_threshold * m_i;
           weak.local_element(i) = is_weak ? 1. : 0.;
           n_weak += is_weak;
         }

@@ -16,15 +16,16 @@
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <functional>
 #include <random>
 #include <string>
 #include <vector>
 
-namespace {
+#include <gtest/gtest.h>
+
+namespace
+{
   using namespace dealii;
   using fmpm::ConstitutiveModel::StressUpdateInputs;
   using fmpm::ConstitutiveModel::StressUpdateOutputs;
@@ -114,7 +115,7 @@ namespace {
   //       + K/2 (1/2 (lambda^2 - 1) - ln lambda).
   TYPED_TEST(ConstitutiveModelTest, NeoHookeanUniaxialStretch)
   {
-    constexpr int                                dim = TypeParam::value;
+    constexpr int                            dim = TypeParam::value;
     fmpm::ConstitutiveModel::NeoHookean<dim> model;
     model.bulk_modulus  = 2.5e6;
     model.shear_modulus = 1.2e6;
@@ -136,8 +137,8 @@ namespace {
         expected_sigma[1][1] = tau_22 / lambda;
         expected_sigma[2][2] = tau_22 / lambda;
 
-        const StressUpdateOutputs out = update(model, {F});
-        const double scale = expected_sigma.norm();
+        const StressUpdateOutputs out   = update(model, {F});
+        const double              scale = expected_sigma.norm();
         for (unsigned int i = 0; i < 3; ++i)
           for (unsigned int j = 0; j < 3; ++j)
             EXPECT_NEAR(out.cauchy_stress[0][i][j],
@@ -230,8 +231,9 @@ namespace {
 
     const double density = 1200;
     EXPECT_NEAR(model.wave_speed(density, 1.0),
-                std::sqrt((model.bulk_modulus + 4.0 / 3.0 * model.shear_modulus) /
-                          density),
+                std::sqrt(
+                  (model.bulk_modulus + 4.0 / 3.0 * model.shear_modulus) /
+                  density),
                 1e-12 * std::sqrt(model.bulk_modulus / density));
   }
 
@@ -279,7 +281,9 @@ namespace {
     const StressUpdateOutputs out = update(model, {F});
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = 0; j < 3; ++j)
-        EXPECT_NEAR(out.cauchy_stress[0][i][j], sigma[i][j], 1e-12 * sigma.norm())
+        EXPECT_NEAR(out.cauchy_stress[0][i][j],
+                    sigma[i][j],
+                    1e-12 * sigma.norm())
           << "sigma_" << i << j;
     EXPECT_NEAR(out.strain_energy_density[0], W, 1e-12 * W);
     if (dim == 2)
@@ -290,7 +294,8 @@ namespace {
                     1e-12 * sigma.norm());
       }
 
-    const StressUpdateOutputs zero = update(model, {unit_symmetric_tensor<3>()});
+    const StressUpdateOutputs zero =
+      update(model, {unit_symmetric_tensor<3>()});
     EXPECT_EQ(zero.cauchy_stress[0].norm(), 0.0);
     EXPECT_EQ(zero.strain_energy_density[0], 0.0);
 
@@ -305,7 +310,7 @@ namespace {
 
   TYPED_TEST(ConstitutiveModelTest, CheckParameters)
   {
-    constexpr int      dim   = TypeParam::value;
+    constexpr int     dim   = TypeParam::value;
     const std::string where = "Material 3/Linear elastic";
     {
       fmpm::ConstitutiveModel::LinearElastic<dim> model;
@@ -328,7 +333,7 @@ namespace {
         }
     }
     {
-      const std::string                        nh_where = "Material 0/Neo hookean";
+      const std::string nh_where = "Material 0/Neo hookean";
       fmpm::ConstitutiveModel::NeoHookean<dim> model;
       EXPECT_NO_THROW(model.check_parameters(nh_where));
       for (const double K : {0.0, -1.0e6})

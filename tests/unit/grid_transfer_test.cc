@@ -25,14 +25,15 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/affine_constraints.h>
 
-#include <gtest/gtest.h>
-
 #include <array>
 #include <memory>
 #include <random>
 #include <vector>
 
-namespace {
+#include <gtest/gtest.h>
+
+namespace
+{
   using namespace dealii;
 
   constexpr double value_tolerance = 1e-12;
@@ -132,12 +133,12 @@ namespace {
       transfer.reinit(dof_handler, constraints, *partitioner);
     }
 
-    parallel::distributed::Triangulation<dim>     triangulation;
-    FE_Q<dim>                                     fe;
-    DoFHandler<dim>                               dof_handler;
-    AffineConstraints<double>                     constraints;
-    std::shared_ptr<Utilities::MPI::Partitioner>  partitioner;
-    fmpm::GridTransfer<dim>                       transfer;
+    parallel::distributed::Triangulation<dim>    triangulation;
+    FE_Q<dim>                                    fe;
+    DoFHandler<dim>                              dof_handler;
+    AffineConstraints<double>                    constraints;
+    std::shared_ptr<Utilities::MPI::Partitioner> partitioner;
+    fmpm::GridTransfer<dim>                      transfer;
   };
 
   template <typename T>
@@ -145,7 +146,7 @@ namespace {
   {};
 
   template <int d>
-  using Dim = std::integral_constant<int, d>;
+  using Dim        = std::integral_constant<int, d>;
   using Dimensions = ::testing::Types<Dim<2>, Dim<3>>;
   TYPED_TEST_SUITE(GridTransferTest, Dimensions);
 
@@ -155,14 +156,14 @@ namespace {
   // and S_i(vertex j) = delta_ij (DoF i sits on vertex i).
   TYPED_TEST(GridTransferTest, ReferenceFunctionsMatchFEQ1)
   {
-    constexpr int dim     = TypeParam::value;
-    using Transfer        = fmpm::GridTransfer<dim>;
-    constexpr unsigned n  = Transfer::n_nodes;
+    constexpr int dim    = TypeParam::value;
+    using Transfer       = fmpm::GridTransfer<dim>;
+    constexpr unsigned n = Transfer::n_nodes;
     const FE_Q<dim>    fe(1);
     ASSERT_EQ(fe.n_dofs_per_cell(), n);
 
-    std::array<double, n>              S;
-    std::array<Tensor<1, dim>, n>      dS;
+    std::array<double, n>         S;
+    std::array<Tensor<1, dim>, n> dS;
     for (unsigned int j = 0; j < n; ++j)
       {
         const Point<dim> vertex = GeometryInfo<dim>::unit_cell_vertex(j);
@@ -216,10 +217,10 @@ namespace {
     const std::vector<Point<dim>> points = random_reference_points<dim>(6, 7);
     const MappingQ<dim>           mapping(1);
     FEValues<dim>                 fe_values(mapping,
-                                setup.fe,
-                                Quadrature<dim>(points),
-                                update_values | update_gradients |
-                                  update_quadrature_points);
+                            setup.fe,
+                            Quadrature<dim>(points),
+                            update_values | update_gradients |
+                              update_quadrature_points);
 
     // A general (non-symmetric) linear field u(x) = A x + b.
     Tensor<2, dim> A;
@@ -232,8 +233,8 @@ namespace {
       }
     const Tensor<2, dim> identity = unit_symmetric_tensor<dim>();
 
-    unsigned int n_non_affine = 0;
-    unsigned int n_cells      = 0;
+    unsigned int                         n_non_affine = 0;
+    unsigned int                         n_cells      = 0;
     std::vector<types::global_dof_index> dofs(n);
     std::array<double, n>                S;
     std::array<Tensor<1, dim>, n>        G;
@@ -254,8 +255,7 @@ namespace {
         EXPECT_FALSE(data.has_constraints);
         if (kind != MeshKind::distorted)
           {
-            EXPECT_TRUE(data.is_affine)
-              << "cell " << cell->active_cell_index();
+            EXPECT_TRUE(data.is_affine) << "cell " << cell->active_cell_index();
           }
         if (!data.is_affine)
           ++n_non_affine;
@@ -274,8 +274,8 @@ namespace {
             Tensor<1, dim>   u_h;
             for (unsigned int i = 0; i < n; ++i)
               {
-                const Point<dim>     &x_i = cell->vertex(i);
-                const Tensor<1, dim> u_i  = A * x_i + b;
+                const Point<dim>    &x_i = cell->vertex(i);
+                const Tensor<1, dim> u_i = A * x_i + b;
                 sum_S += S[i];
                 sum_G += G[i];
                 x_h += S[i] * x_i;
@@ -340,7 +340,7 @@ namespace {
   // constrained (hanging) DoF; no other cell has one.
   TYPED_TEST(GridTransferTest, HasConstraintsNextToHangingNodes)
   {
-    constexpr int dim = TypeParam::value;
+    constexpr int      dim = TypeParam::value;
     TransferSetup<dim> setup;
     setup.make_mesh(MeshKind::cartesian);
     Point<dim> center;

@@ -12,13 +12,14 @@
 
 #include <deal.II/base/parameter_handler.h>
 
-#include <gtest/gtest.h>
-
 #include <string>
 #include <utility>
 #include <vector>
 
-namespace {
+#include <gtest/gtest.h>
+
+namespace
+{
   using namespace dealii;
   using Sources = std::vector<std::pair<std::string, std::string>>;
 
@@ -104,10 +105,10 @@ namespace {
 
   TEST(ReadScene, LaterSourcesOverrideEarlierOnes)
   {
-    const std::string end_time = "subsection Time\n"
-                                 "  set End time = 0.5\n"
-                                 "end\n";
-    const fmpm::Parameters later = read(default_plus("override", end_time));
+    const std::string      end_time = "subsection Time\n"
+                                      "  set End time = 0.5\n"
+                                      "end\n";
+    const fmpm::Parameters later    = read(default_plus("override", end_time));
     EXPECT_DOUBLE_EQ(later.time.end_time, 0.5);
     // Only what the override sets changes.
     EXPECT_DOUBLE_EQ(later.time.courant_number, 0.4);
@@ -177,13 +178,12 @@ namespace {
 
   TEST(ReadScene, UnknownParameter)
   {
-    const std::string message =
-      expect_error(default_plus("typo.prm",
-                                "# a comment\n"
-                                "subsection Time\n"
-                                "  set End tiem = 2\n"
-                                "end\n"),
-                   {"End tiem", "typo.prm", "3"});
+    const std::string message = expect_error(default_plus("typo.prm",
+                                                          "# a comment\n"
+                                                          "subsection Time\n"
+                                                          "  set End tiem = 2\n"
+                                                          "end\n"),
+                                             {"End tiem", "typo.prm", "3"});
     EXPECT_NE(message.find("Line <3>"), std::string::npos) << message;
 
     expect_error(default_plus("top.prm", "set Number of bodys = 2\n"),
@@ -196,11 +196,18 @@ namespace {
   {
     expect_error(default_plus("dimension.prm", "set Dimension = 4\n"),
                  {"Dimension", "4", "dimension.prm"});
+    // Above the stable limit 1 (whether the pattern or a later check
+    // refuses it).
     expect_error(default_plus("courant.prm",
                               "subsection Time\n"
                               "  set Courant number = 2\n"
                               "end\n"),
-                 {"Courant number", "2", "courant.prm", "Line <2>"});
+                 {"Courant number", "2", "courant.prm"});
+    expect_error(default_plus("courant.prm",
+                              "subsection Time\n"
+                              "  set Courant number = -0.5\n"
+                              "end\n"),
+                 {"Courant number", "-0.5", "courant.prm", "Line <2>"});
     expect_error(default_plus("model.prm",
                               "subsection Material 0\n"
                               "  set Model name = rubber\n"

@@ -15,6 +15,31 @@ namespace fmpm
 {
   namespace MassMatrix
   {
+    /** @brief Outcome of one full-mass solve. */
+    struct FullMassSolve
+    {
+      unsigned int iterations = 0;
+      bool         converged  = true;
+    };
+
+    /**
+     * @brief Solve ((1 − δ) K + δ m) v = p on the nodes where @p known is 0
+     * with CG, preconditioned by the lumped inverse m⁻¹; on nodes where
+     * @p known is 1, v keeps its input value and the other rows see it as
+     * given (Dirichlet). Stops at |residual| <= tolerance |p|. On breakdown or
+     * no convergence, v = m⁻¹p on the unknown nodes and converged = false.
+     */
+    FullMassSolve
+    solve_full_mass_system(const TrilinosWrappers::SparseMatrix &K,
+                           const GridScalar                     &m,
+                           const GridScalar                     &known,
+                           const GridScalar                     &p,
+                           GridScalar                           &v,
+                           const double                          tolerance,
+                           const unsigned int                    max_iterations,
+                           const double                          delta,
+                           const double                          mass_floor);
+
     /**
      * @brief The exact particle full mass matrix m̃ = SᵀMS (seed 000 Eq. 1.9):
      * v = m̃⁻¹p solved with CG, preconditioned by the lumped inverse m⁻¹, to a
