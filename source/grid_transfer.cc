@@ -3,7 +3,8 @@
 
 #include <fmpm/grid_transfer.h>
 
-namespace fmpm {
+namespace fmpm
+{
   template <int dim>
   void
   GridTransfer<dim>::reinit(const DoFHandler<dim>             &dof_handler,

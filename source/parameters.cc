@@ -13,8 +13,10 @@
 #include <iterator>
 #include <sstream>
 
-namespace fmpm {
-  namespace {
+namespace fmpm
+{
+  namespace
+  {
     std::string
     join(const std::vector<double> &values, const unsigned int n)
     {
@@ -54,10 +56,11 @@ namespace fmpm {
       std::ostringstream out;
       e.print_info(out);
       // Drop the indentation and trailing newlines deal.II adds.
-      std::string text = out.str();
+      std::string text  = out.str();
       const auto  first = text.find_first_not_of(" \n\t");
       const auto  last  = text.find_last_not_of(" \n\t");
-      return first == std::string::npos ? text : text.substr(first, last - first + 1);
+      return first == std::string::npos ? text :
+                                          text.substr(first, last - first + 1);
     }
 
     /** Declare the parameters that depend on the plugins, for one dim. */
@@ -302,7 +305,7 @@ namespace fmpm {
                         "The run stops after this many steps even before "
                         "'End time'. Units: none.");
       prm.declare_entry("Strain update",
-                        "usl",
+                        "usavg+",
                         Patterns::Selection("usf|usl|usl+|usavg|usavg+"),
                         "When stresses are updated (seed 000 §2.1-2.2): "
                         "'usf' before the force extrapolation with v from p; "
@@ -324,8 +327,9 @@ namespace fmpm {
     prm.enter_subsection("Deformation gradient");
     {
       prm.declare_entry("Update",
-                        "cayley",
-                        Patterns::Selection("first order|taylor|subcycle|cayley"),
+                        "first order",
+                        Patterns::Selection(
+                          "first order|taylor|subcycle|cayley"),
                         "How F^(n+1) follows from F^n and the velocity "
                         "gradient L (seed 001, computeDeformationGradient"
                         "FromVelocity): 'first order' (I + L dt) F; 'taylor' "
@@ -571,30 +575,6 @@ namespace fmpm {
                 ExcMessage("Time/Time step and Time/Courant number are both "
                            "0: set one of them to a positive value."));
 
-    prm.enter_subsection("Deformation gradient");
-    {
-      prm.declare_entry("Update",
-                        "cayley",
-                        Patterns::Selection("first order|taylor|subcycle|cayley"),
-                        "How F^(n+1) follows from F^n and the velocity "
-                        "gradient L (seed 001, computeDeformationGradient"
-                        "FromVelocity): 'first order' (I + L dt) F; 'taylor' "
-                        "sum_k (L dt)^k/k! F with 'Taylor terms' terms; "
-                        "'subcycle' first-order substeps with |L dt_sub| "
-                        "below 'Subcycle strain increment'; 'cayley' "
-                        "(I - L dt/2)^-1 (I + L dt/2) F. Units: none.");
-      prm.declare_entry("Taylor terms",
-                        "3",
-                        Patterns::Integer(1, 20),
-                        "Number of terms after the identity of the 'taylor' "
-                        "update. Units: none.");
-      prm.declare_entry("Subcycle strain increment",
-                        "0.01",
-                        Patterns::Double(1e-8, 1),
-                        "Largest |L| dt of one substep of the 'subcycle' "
-                        "update. Units: none.");
-    }
-    prm.leave_subsection();
 
     prm.enter_subsection("Body force");
     gravity = get_doubles(prm, "Gravity");
@@ -612,9 +592,9 @@ namespace fmpm {
     prm.leave_subsection();
 
     prm.enter_subsection("Particle update");
-    method.particle_update   = prm.get("Model name");
-    method.grid_damping      = prm.get_double("Grid damping");
-    method.particle_damping  = prm.get_double("Particle damping");
+    method.particle_update  = prm.get("Model name");
+    method.grid_damping     = prm.get_double("Grid damping");
+    method.particle_damping = prm.get_double("Particle damping");
     prm.leave_subsection();
     prm.enter_subsection("Mass matrix");
     method.mass_matrix = prm.get("Model name");
@@ -640,11 +620,11 @@ namespace fmpm {
       {
         const std::string where = numbered_subsection("Body", b);
         prm.enter_subsection(where);
-        bodies[b].shape           = prm.get("Shape");
-        bodies[b].center          = get_doubles(prm, "Center");
-        bodies[b].half_lengths    = get_doubles(prm, "Half lengths");
-        bodies[b].material        = prm.get_integer("Material");
-        bodies[b].points_per_cell = prm.get_integer("Points per cell");
+        bodies[b].shape               = prm.get("Shape");
+        bodies[b].center              = get_doubles(prm, "Center");
+        bodies[b].half_lengths        = get_doubles(prm, "Half lengths");
+        bodies[b].material            = prm.get_integer("Material");
+        bodies[b].points_per_cell     = prm.get_integer("Points per cell");
         bodies[b].velocity_expression = prm.get("Initial velocity");
         bodies[b].function_constants  = prm.get("Function constants");
         prm.leave_subsection();
@@ -663,11 +643,11 @@ namespace fmpm {
       }
 
     prm.enter_subsection("Output");
-    output.directory        = prm.get("Directory");
-    output.interval         = prm.get_double("Interval");
-    output.step_interval    = prm.get_integer("Step interval");
-    output.write_vtu        = prm.get_bool("Write vtu");
-    output.progress_seconds = prm.get_double("Progress interval");
+    output.directory         = prm.get("Directory");
+    output.interval          = prm.get_double("Interval");
+    output.step_interval     = prm.get_integer("Step interval");
+    output.write_vtu         = prm.get_bool("Write vtu");
+    output.progress_seconds  = prm.get_double("Progress interval");
     output.track_dissipation = prm.get_bool("Track dissipated energy");
     prm.leave_subsection();
 
@@ -694,7 +674,8 @@ namespace fmpm {
 
 
 
-  namespace {
+  namespace
+  {
     /** The text of a scene source: a file, or standard input for "-". */
     std::string
     read_source(const std::string &file)

@@ -5,7 +5,8 @@
 
 #include <deal.II/base/exceptions.h>
 
-namespace fmpm {
+namespace fmpm
+{
   template <int dim>
   ParticleProperties<dim>::ParticleProperties()
   {

@@ -4,7 +4,8 @@
 #include <fmpm/simulator.h>
 #include <fmpm/simulator_access.h>
 
-namespace fmpm {
+namespace fmpm
+{
   template <int dim>
   MPI_Comm
   SimulatorAccess<dim>::get_mpi_communicator() const

@@ -13,7 +13,8 @@
 #include <fstream>
 #include <iostream>
 
-namespace {
+namespace
+{
   const char *usage =
     "Usage: fmpm [options] [scene.prm ...]\n"
     "\n"

@@ -14,7 +14,8 @@
 #include <array>
 #include <vector>
 
-namespace fmpm {
+namespace fmpm
+{
   using namespace dealii;
 
   /**

@@ -7,7 +7,8 @@
 #include <deal.II/lac/la_parallel_block_vector.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
-namespace fmpm {
+namespace fmpm
+{
   /** A scalar nodal field, e.g. the lumped masses m. Ghosted. */
   using GridScalar = dealii::LinearAlgebra::distributed::Vector<double>;
 

@@ -14,7 +14,8 @@
 #include <utility>
 #include <vector>
 
-namespace fmpm {
+namespace fmpm
+{
   using namespace dealii;
 
   /**
@@ -56,10 +57,10 @@ namespace fmpm {
   /** @brief Time stepping. */
   struct TimeParameters
   {
-    double       end_time       = 1.0;
-    double       time_step      = 0.0;
-    double       courant_number = 0.5;
-    unsigned int max_steps      = 1000000000;
+    double       end_time        = 1.0;
+    double       time_step       = 0.0;
+    double       courant_number  = 0.5;
+    unsigned int max_steps       = 1000000000;
     bool         check_stability = true;
   };
 
@@ -69,11 +70,11 @@ namespace fmpm {
     std::string particle_update = "flip";
     std::string mass_matrix     = "lumped";
     /** usf, usl (= usl-), usl+, usavg (= usavg-), usavg+ */
-    std::string strain_update = "usl";
+    std::string strain_update = "usavg+";
     /** same or lumped */
     std::string strain_update_mass_matrix = "same";
     /** first order, taylor, subcycle or cayley */
-    std::string  deformation_gradient_update = "cayley";
+    std::string  deformation_gradient_update = "first order";
     unsigned int taylor_terms                = 3;
     double       subcycle_strain_increment   = 0.01;
     /** α_g and α_p of seed 003 Eq. 1.17. Units: 1/s. */
@@ -121,11 +122,11 @@ namespace fmpm {
   /** @brief What a run writes and how often. */
   struct OutputParameters
   {
-    std::string  directory        = "output";
-    double       interval         = 0.0;
-    unsigned int step_interval    = 0;
-    bool         write_vtu        = true;
-    double       progress_seconds = 5.0;
+    std::string  directory         = "output";
+    double       interval          = 0.0;
+    unsigned int step_interval     = 0;
+    bool         write_vtu         = true;
+    double       progress_seconds  = 5.0;
     bool         track_dissipation = false;
   };
 

@@ -13,7 +13,8 @@
 #include <utility>
 #include <vector>
 
-namespace fmpm {
+namespace fmpm
+{
   using namespace dealii;
 
   /**

@@ -12,8 +12,10 @@
 #include <memory>
 #include <string>
 
-namespace fmpm {
-  namespace Plugins {
+namespace fmpm
+{
+  namespace Plugins
+  {
     using namespace dealii;
 
     /**
@@ -188,7 +190,8 @@ namespace fmpm {
  * Used by the FMPM_REGISTER_* macros of each plugin system.
  */
 #define FMPM_REGISTER_PLUGIN(INTERFACE, CLASSNAME, NAME, DESCRIPTION)      \
-  namespace {                                                              \
+  namespace                                                                \
+  {                                                                        \
     const ::fmpm::Plugins::RegisterForBothDimensions<INTERFACE, CLASSNAME> \
       fmpm_plugin_registration_##CLASSNAME(NAME, DESCRIPTION);             \
   }

@@ -28,7 +28,8 @@
 #include <string>
 #include <vector>
 
-namespace fmpm {
+namespace fmpm
+{
   /**
    * @brief Thrown when the numerical solution fails (NaN, energy growth,
    * inverted elements, points leaving the mesh). Carries the step and time.
@@ -158,7 +159,8 @@ namespace fmpm {
     update_particles();
     /** ΔF with F^{n+1} = ΔF F^n for velocity gradient L over Δt. */
     Tensor<2, 3>
-    deformation_gradient_increment(const Tensor<2, 3> &L, const double dt) const;
+    deformation_gradient_increment(const Tensor<2, 3> &L,
+                                   const double        dt) const;
     void
     sort_particles_into_cells();
     void
@@ -200,7 +202,7 @@ namespace fmpm {
     GridVectorField updated_momentum; // p⁺ = p + fΔt
     std::array<GridVectorField, ParticleUpdate::n_grid_fields> grid_fields;
     std::array<bool, ParticleUpdate::n_grid_fields>            field_needed;
-    std::array<bool, ParticleUpdate::n_grid_fields> field_computed;
+    std::array<bool, ParticleUpdate::n_grid_fields>            field_computed;
     TrilinosWrappers::SparseMatrix                             full_mass_matrix;
 
     // Grid velocity conditions: owned local node index and unit normal
@@ -244,11 +246,11 @@ namespace fmpm {
      * the work gravity can do across the mesh). Units: J. */
     double initial_energy_scale = 0;
     /** Σ over outputs of the squared reference errors and norms. */
-    std::array<double, 4>                       error_sums{{0, 0, 0, 0}};
+    std::array<double, 4> error_sums{{0, 0, 0, 0}};
     /** Energy dissipated by the particle updates on this rank in the
      * current step, and the global accumulated sum (seed 003 Eq. 1.46). */
-    double local_dissipation = 0;
-    double dissipated_energy = 0;
+    double                                      local_dissipation = 0;
+    double                                      dissipated_energy = 0;
     std::vector<std::string>                    lost_point_messages;
     std::vector<std::pair<double, std::string>> particle_pvd_records;
     std::vector<std::pair<double, std::string>> grid_pvd_records;

@@ -15,7 +15,8 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/particles/particle_handler.h>
 
-namespace fmpm {
+namespace fmpm
+{
   template <int dim>
   class Simulator;
 

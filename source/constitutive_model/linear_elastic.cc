@@ -2,11 +2,14 @@
 // Copyright (C) 2026 by the fmpm authors
 
 #include <fmpm/constitutive_model/linear_elastic.h>
+#include <fmpm/particle_properties.h>
 
 #include <cmath>
 
-namespace fmpm {
-  namespace ConstitutiveModel {
+namespace fmpm
+{
+  namespace ConstitutiveModel
+  {
     template <int dim>
     void
     LinearElastic<dim>::declare_parameters(ParameterHandler &prm)
@@ -22,6 +25,13 @@ namespace fmpm {
                         Patterns::Double(),
                         "Poisson's ratio nu of the material, in [0, 0.5). "
                         "Units: none.");
+      prm.declare_entry("Strain measure",
+                        defaults.strain_measure,
+                        Patterns::Selection("incremental|total"),
+                        "'incremental': sigma += dt C : sym(L) (classic MPM, "
+                        "no stress from rigid rotation); 'total': sigma = C : "
+                        "(sym(F) - I) (exact for small strains without "
+                        "rotation). Units: none.");
     }
 
 
@@ -32,6 +42,7 @@ namespace fmpm {
     {
       youngs_modulus = prm.get_double("Young's modulus");
       poissons_ratio = prm.get_double("Poisson's ratio");
+      strain_measure = prm.get("Strain measure");
     }
 
 
@@ -61,6 +72,27 @@ namespace fmpm {
       const double lambda = youngs_modulus * poissons_ratio /
                             ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
       const SymmetricTensor<2, 3> identity = unit_symmetric_tensor<3>();
+      if (strain_measure == "incremental")
+        {
+          using Index = PropertyIndex<dim>;
+          for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
+            {
+              const ArrayView<double>    &p = inputs.properties[q];
+              const SymmetricTensor<2, 3> D =
+                symmetrize(inputs.velocity_gradient[q]);
+              const SymmetricTensor<2, 3> old_stress =
+                get_symmetric_tensor3(p, Index::stress);
+              const SymmetricTensor<2, 3> stress =
+                old_stress +
+                inputs.time_step * (lambda * trace(D) * identity + 2 * mu * D);
+              const double J = determinant(inputs.deformation_gradient[q]);
+              outputs.cauchy_stress[q] = stress;
+              outputs.strain_energy_density[q] =
+                p[Index::strain_energy_density] +
+                0.5 * J * ((old_stress + stress) * D) * inputs.time_step;
+            }
+          return;
+        }
       for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
         {
           const SymmetricTensor<2, 3> strain =

@@ -5,8 +5,10 @@
 
 #include <cmath>
 
-namespace fmpm {
-  namespace ConstitutiveModel {
+namespace fmpm
+{
+  namespace ConstitutiveModel
+  {
     template <int dim>
     void
     NeoHookean<dim>::declare_parameters(ParameterHandler &prm)

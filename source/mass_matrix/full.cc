@@ -18,41 +18,53 @@ namespace fmpm
     namespace
     {
       /**
-       * The SPD operator of the solve: on strong nodes S,
-       * ((1 − δ) K + δ m) restricted to S; on weak nodes W, m (so that
-       * v_W = p_W / m_W).
+       * The SPD operator of the solve, on free nodes F:
+       * (1 − δ) (K_FF + diag(c)) + δ m, where c = K 1_W lumps the couplings
+       * to weak nodes W onto the diagonal (so the column sums stay m and
+       * momentum is conserved); on weak and known nodes it is m.
        */
       struct BlendedMass
       {
         const TrilinosWrappers::SparseMatrix &K;
         const GridScalar                     &m;
         const GridScalar                     &known;
+        const GridScalar                     &weak;
+        const GridScalar                     &weak_coupling;
         double                                delta;
-        bool                                  has_weak;
+        bool                                  has_fixed;
         mutable GridScalar                    masked;
+
+        bool
+        is_fixed(const unsigned int i) const
+        {
+          return known.local_element(i) != 0 || weak.local_element(i) != 0;
+        }
 
         void
         vmult(GridScalar &dst, const GridScalar &src) const
         {
           const unsigned int n = m.locally_owned_size();
-          if (!has_weak)
+          if (!has_fixed)
             K.vmult(dst, src);
           else
             {
               masked.reinit(src, true);
               for (unsigned int i = 0; i < n; ++i)
                 masked.local_element(i) =
-                  known.local_element(i) != 0 ? 0. : src.local_element(i);
+                  is_fixed(i) ? 0. : src.local_element(i);
               K.vmult(dst, masked);
             }
           for (unsigned int i = 0; i < n; ++i)
             {
               const double lumped = m.local_element(i) * src.local_element(i);
-              if (has_weak && known.local_element(i) != 0)
+              if (has_fixed && is_fixed(i))
                 dst.local_element(i) = lumped;
-              else if (delta != 0)
+              else
                 dst.local_element(i) =
-                  (1 - delta) * dst.local_element(i) + delta * lumped;
+                  (1 - delta) *
+                    (dst.local_element(i) +
+                     weak_coupling.local_element(i) * src.local_element(i)) +
+                  delta * lumped;
             }
         }
       };
@@ -119,9 +131,9 @@ namespace fmpm
     void
     Full<dim>::parse_parameters(ParameterHandler &prm)
     {
-      tolerance       = prm.get_double("Tolerance");
-      max_iterations  = prm.get_integer("Maximum iterations");
-      lumped_fraction = prm.get_double("Lumped fraction");
+      tolerance           = prm.get_double("Tolerance");
+      max_iterations      = prm.get_integer("Maximum iterations");
+      lumped_fraction     = prm.get_double("Lumped fraction");
       weak_node_threshold = prm.get_double("Weak node threshold");
     }
 
@@ -131,6 +143,7 @@ namespace fmpm
     solve_full_mass_system(const TrilinosWrappers::SparseMatrix &K,
                            const GridScalar                     &m,
                            const GridScalar                     &known,
+                           const GridScalar                     &weak,
                            const GridScalar                     &p,
                            GridScalar                           &v,
                            const double                          tolerance,
@@ -140,42 +153,48 @@ namespace fmpm
     {
       const unsigned int  n = m.locally_owned_size();
       const LumpedInverse preconditioner{m, mass_floor};
-      const bool          has_known =
-        Utilities::MPI::max(known.linfty_norm(),
+      const bool          has_fixed =
+        Utilities::MPI::max(std::max(known.linfty_norm(), weak.linfty_norm()),
                             m.get_partitioner()->get_mpi_communicator()) > 0;
-      const BlendedMass A{K, m, known, delta, has_known, GridScalar()};
-      FullMassSolve     result;
-      const double      norm = p.l2_norm();
-      if (norm == 0)
-        {
-          for (unsigned int i = 0; i < n; ++i)
-            v.local_element(i) = known.local_element(i) != 0 ? v.local_element(i) : 0.;
-          return result;
-        }
+      // c = K 1_W: the couplings of each node to weak nodes.
+      GridScalar weak_coupling(m);
+      weak_coupling = 0;
+      if (weak.linfty_norm() > 0 ||
+          Utilities::MPI::max(weak.linfty_norm(),
+                              m.get_partitioner()->get_mpi_communicator()) > 0)
+        K.vmult(weak_coupling, weak);
+      const BlendedMass A{
+        K, m, known, weak, weak_coupling, delta, has_fixed, GridScalar()};
+      FullMassSolve result;
 
-      // Start from the lumped solution on unknown nodes.
+      // Known values stay; every other node starts from the lumped solution.
       GridScalar rhs(p), v_known(p);
       for (unsigned int i = 0; i < n; ++i)
         {
-          const bool   is_known = known.local_element(i) != 0;
-          const double m_i      = m.local_element(i);
+          const bool   is_known    = known.local_element(i) != 0;
+          const double m_i         = m.local_element(i);
           v_known.local_element(i) = is_known ? v.local_element(i) : 0.;
           if (!is_known)
-            v.local_element(i) = m_i > mass_floor ? p.local_element(i) / m_i : 0.;
+            v.local_element(i) =
+              m_i > mass_floor ? p.local_element(i) / m_i : 0.;
         }
-      if (has_known)
+      if (has_fixed)
         {
-          // Move (1 − δ) K_UK v_K to the right-hand side; the known rows
-          // read m_K v_K = m_K v_K.
+          // Free rows: move (1 − δ) K_FK v_K to the right; known rows read
+          // m_K v_K = m_K v_K; weak rows m_W v_W = p_W.
           GridScalar coupling(p);
           K.vmult(coupling, v_known);
           for (unsigned int i = 0; i < n; ++i)
-            rhs.local_element(i) =
-              known.local_element(i) != 0 ?
-                m.local_element(i) * v_known.local_element(i) :
-                rhs.local_element(i) - (1 - delta) * coupling.local_element(i);
+            if (known.local_element(i) != 0)
+              rhs.local_element(i) =
+                m.local_element(i) * v_known.local_element(i);
+            else if (weak.local_element(i) == 0)
+              rhs.local_element(i) -= (1 - delta) * coupling.local_element(i);
         }
-      SolverControl        control(max_iterations, tolerance * norm, false, false);
+      const double norm = rhs.l2_norm();
+      if (norm == 0)
+        return result;
+      SolverControl control(max_iterations, tolerance * norm, false, false);
       SolverCG<GridScalar> cg(control);
       try
         {
@@ -206,27 +225,18 @@ namespace fmpm
       const unsigned int n         = m.locally_owned_size();
       for (unsigned int b = 0; b < p.n_blocks(); ++b)
         {
-          // Known nodes: components held at zero by a grid condition, and
-          // weak nodes (lumped velocity p/m).
+          // Known nodes: components held at zero by a grid condition.
           known.reinit(m.get_partitioner());
           for (unsigned int i = 0; i < n; ++i)
-            {
-              const double m_i = m.local_element(i);
-              if (zero_mask[b].local_element(i) != 0)
-                {
-                  known.local_element(i)      = 1;
-                  v.block(b).local_element(i) = 0;
-                }
-              else if (weak.size() > 0 && weak.local_element(i) != 0)
-                {
-                  known.local_element(i) = 1;
-                  v.block(b).local_element(i) =
-                    m_i > floor ? p.block(b).local_element(i) / m_i : 0.;
-                }
-            }
+            if (zero_mask[b].local_element(i) != 0)
+              {
+                known.local_element(i)      = 1;
+                v.block(b).local_element(i) = 0;
+              }
           const FullMassSolve result = solve_full_mass_system(matrix(),
                                                               m,
                                                               known,
+                                                              weak,
                                                               p.block(b),
                                                               v.block(b),
                                                               tolerance,
@@ -235,7 +245,8 @@ namespace fmpm
                                                               floor);
           ++n_solves;
           total_iterations += result.iterations;
-          max_iterations_used = std::max(max_iterations_used, result.iterations);
+          max_iterations_used =
+            std::max(max_iterations_used, result.iterations);
           n_lumped_fallbacks += result.converged ? 0 : 1;
         }
     }
@@ -246,22 +257,23 @@ namespace fmpm
     void
     Full<dim>::setup()
     {
-      if (weak_node_threshold <= 0)
-        return;
       const GridScalar &m = this->get_lumped_mass();
       if (weak.size() != m.size() ||
           !weak.get_partitioner()->is_compatible(*m.get_partitioner()))
         weak.reinit(m.get_partitioner());
+      weak = 0;
+      if (weak_node_threshold <= 0)
+        return;
       const double       floor  = this->get_simulator().mass_floor();
       const auto        &range  = m.get_partitioner()->locally_owned_range();
       unsigned long long n_weak = 0;
       for (unsigned int i = 0; i < m.locally_owned_size(); ++i)
         {
           // A node barely touched by points: m̃ᵢᵢ/mᵢ = Σ M S² / Σ M S < τ.
-          const double m_i     = m.local_element(i);
-          const bool   is_weak = m_i > floor &&
-                               matrix().diag_element(range.nth_index_in_set(i)) <
-                                 weak_node_threshold * m_i;
+          const double m_i = m.local_element(i);
+          const bool   is_weak =
+            m_i > floor && matrix().diag_element(range.nth_index_in_set(i)) <
+                             weak_node_threshold * m_i;
           weak.local_element(i) = is_weak ? 1. : 0.;
           n_weak += is_weak;
         }
@@ -276,16 +288,18 @@ namespace fmpm
     Full<dim>::statistics() const
     {
       const MPI_Comm comm = this->get_mpi_communicator();
-      return {{"weak_nodes_per_step",
-               n_setups ? Utilities::MPI::sum(static_cast<double>(n_weak_node_steps), comm) /
-                            n_setups :
-                          0.},
-              {"cg_solves", static_cast<double>(n_solves)},
-              {"cg_iterations_mean",
-               n_solves ? static_cast<double>(total_iterations) / n_solves : 0.},
-              {"cg_iterations_max", static_cast<double>(max_iterations_used)},
-              {"lumped_fallbacks",
-               Utilities::MPI::max(static_cast<double>(n_lumped_fallbacks), comm)}};
+      return {
+        {"weak_nodes_per_step",
+         n_setups ?
+           Utilities::MPI::sum(static_cast<double>(n_weak_node_steps), comm) /
+             n_setups :
+           0.},
+        {"cg_solves", static_cast<double>(n_solves)},
+        {"cg_iterations_mean",
+         n_solves ? static_cast<double>(total_iterations) / n_solves : 0.},
+        {"cg_iterations_max", static_cast<double>(max_iterations_used)},
+        {"lumped_fallbacks",
+         Utilities::MPI::max(static_cast<double>(n_lumped_fallbacks), comm)}};
     }
 
 
@@ -298,10 +312,11 @@ namespace fmpm
       const MPI_Comm         comm        = this->get_mpi_communicator();
       IndexSet               relevant;
       DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
-      TrilinosWrappers::SparsityPattern sparsity(dof_handler.locally_owned_dofs(),
-                                                 dof_handler.locally_owned_dofs(),
-                                                 relevant,
-                                                 comm);
+      TrilinosWrappers::SparsityPattern sparsity(
+        dof_handler.locally_owned_dofs(),
+        dof_handler.locally_owned_dofs(),
+        relevant,
+        comm);
       DoFTools::make_sparsity_pattern(dof_handler,
                                       sparsity,
                                       this->get_constraints(),
@@ -312,14 +327,17 @@ namespace fmpm
 
       // ∫ NᵢNⱼ dx per cell, exact for the (bi/tri)linear map with Gauss(3).
       const FiniteElement<dim> &fe = dof_handler.get_fe();
-      FEValues<dim>             fe_values(fe, QGauss<dim>(3), update_values | update_JxW_values);
-      cell_mass_integrals.assign(dof_handler.get_triangulation().n_active_cells(),
-                                 FullMatrix<double>());
+      FEValues<dim>             fe_values(fe,
+                              QGauss<dim>(3),
+                              update_values | update_JxW_values);
+      cell_mass_integrals.assign(
+        dof_handler.get_triangulation().n_active_cells(), FullMatrix<double>());
       for (const auto &cell : dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
           {
             fe_values.reinit(cell);
-            FullMatrix<double> &local = cell_mass_integrals[cell->active_cell_index()];
+            FullMatrix<double> &local =
+              cell_mass_integrals[cell->active_cell_index()];
             local.reinit(fe.dofs_per_cell, fe.dofs_per_cell);
             for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
               for (unsigned int i = 0; i < fe.dofs_per_cell; ++i)
@@ -344,7 +362,8 @@ namespace fmpm
         if (cell->is_locally_owned())
           {
             double cell_mass = 0;
-            for (const auto &particle : particle_handler.particles_in_cell(cell))
+            for (const auto &particle :
+                 particle_handler.particles_in_cell(cell))
               cell_mass += particle.get_properties()[PropertyIndex<dim>::mass];
             if (cell_mass == 0)
               continue;

@@ -4,8 +4,10 @@
 #include <fmpm/mass_matrix/lumped.h>
 #include <fmpm/simulator.h>
 
-namespace fmpm {
-  namespace MassMatrix {
+namespace fmpm
+{
+  namespace MassMatrix
+  {
     void
     apply_lumped_inverse(const GridScalar      &m,
                          const GridVectorField &p,

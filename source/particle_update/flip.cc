@@ -3,8 +3,10 @@
 
 #include <fmpm/particle_update/flip.h>
 
-namespace fmpm {
-  namespace ParticleUpdate {
+namespace fmpm
+{
+  namespace ParticleUpdate
+  {
     template <int dim>
     void
     Flip<dim>::declare_parameters(ParameterHandler &prm)

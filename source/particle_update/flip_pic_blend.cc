@@ -43,9 +43,9 @@ namespace fmpm
     void
     FlipPicBlend<dim>::update(Batch<dim> &batch) const
     {
-      const double dt    = batch.time_step;
-      const auto  &v_p   = batch.grid[updated_velocity]; // S m̃ₖ⁻¹ p⁺
-      const auto  &v     = batch.grid[velocity];         // S m̃ₖ⁻¹ p
+      const double dt  = batch.time_step;
+      const auto  &v_p = batch.grid[updated_velocity]; // S m̃ₖ⁻¹ p⁺
+      const auto  &v   = batch.grid[velocity];         // S m̃ₖ⁻¹ p
       for (unsigned int q = 0; q < batch.size(); ++q)
         {
           batch.velocity[q] = alpha * batch.velocity[q] + v_p[q] - alpha * v[q];
@@ -53,6 +53,9 @@ namespace fmpm
         }
     }
 
-    FMPM_REGISTER_PARTICLE_UPDATE(FlipPicBlend, "flip pic blend", "The FLIP/PIC blend of seed 000 section 2.3.4: V = alpha V + S m~_k^-1 (p+ - alpha p), X += V(n+1) dt, alpha = FLIP fraction. Known to fail for alpha near 1; for stability studies.")
+    FMPM_REGISTER_PARTICLE_UPDATE(
+      FlipPicBlend,
+      "flip pic blend",
+      "The FLIP/PIC blend of seed 000 section 2.3.4: V = alpha V + S m~_k^-1 (p+ - alpha p), X += V(n+1) dt, alpha = FLIP fraction. Known to fail for alpha near 1; for stability studies.")
   } // namespace ParticleUpdate
 } // namespace fmpm

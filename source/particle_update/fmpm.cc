@@ -29,6 +29,9 @@ namespace fmpm
         }
     }
 
-    FMPM_REGISTER_PARTICLE_UPDATE(Fmpm, "fmpm", "FMPM(k) of seed 000 Table 2.1 / Eq. 2.26: V = v_p, X += (V + v_p) dt/2 with v_p = S m~_k^-1 p+; k is the order of the mass matrix (lumped: FMPM(1), Eq. 2.40).")
+    FMPM_REGISTER_PARTICLE_UPDATE(
+      Fmpm,
+      "fmpm",
+      "FMPM(k) of seed 000 Table 2.1 / Eq. 2.26: V = v_p, X += (V + v_p) dt/2 with v_p = S m~_k^-1 p+; k is the order of the mass matrix (lumped: FMPM(1), Eq. 2.40).")
   } // namespace ParticleUpdate
 } // namespace fmpm

@@ -3,8 +3,10 @@
 
 #include <fmpm/particle_update/pic.h>
 
-namespace fmpm {
-  namespace ParticleUpdate {
+namespace fmpm
+{
+  namespace ParticleUpdate
+  {
     template <int dim>
     std::vector<GridField>
     Pic<dim>::required_fields() const

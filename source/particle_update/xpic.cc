@@ -27,11 +27,15 @@ namespace fmpm
       for (unsigned int q = 0; q < batch.size(); ++q)
         {
           const Tensor<1, dim> V_new = v_k[q] + a[q] * dt;
-          batch.position[q] += (v_m[q] + 0.5 * (V_new - batch.velocity[q])) * dt;
+          batch.position[q] +=
+            (v_m[q] + 0.5 * (V_new - batch.velocity[q])) * dt;
           batch.velocity[q] = V_new;
         }
     }
 
-    FMPM_REGISTER_PARTICLE_UPDATE(Xpic, "xpic", "XPIC(k) of seed 000 Eqs. 2.34-2.35 / Table 2.1: V = S m~_k^-1 p + S m^-1 f dt, X += [S m^-1 p + (V(n+1) - V(n))/2] dt; k is the order of the mass matrix (lumped: XPIC(1), Eq. 2.38).")
+    FMPM_REGISTER_PARTICLE_UPDATE(
+      Xpic,
+      "xpic",
+      "XPIC(k) of seed 000 Eqs. 2.34-2.35 / Table 2.1: V = S m~_k^-1 p + S m^-1 f dt, X += [S m^-1 p + (V(n+1) - V(n))/2] dt; k is the order of the mass matrix (lumped: XPIC(1), Eq. 2.38).")
   } // namespace ParticleUpdate
 } // namespace fmpm

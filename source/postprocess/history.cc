@@ -7,7 +7,8 @@
 
 #include <iomanip>
 
-namespace fmpm {
+namespace fmpm
+{
   template <int dim>
   void
   History<dim>::open(const std::string &file_name,

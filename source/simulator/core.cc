@@ -14,7 +14,8 @@
 #include <filesystem>
 #include <iomanip>
 
-namespace fmpm {
+namespace fmpm
+{
   template <int dim>
   Simulator<dim>::Simulator(const Parameters &parameters_in,
                             ParameterHandler &prm,
@@ -241,13 +242,15 @@ namespace fmpm {
   {
     using namespace ParticleUpdate;
     const std::string &strain_update = parameters.method.strain_update;
-    const bool update_first = (strain_update == "usf" || strain_update == "usavg" ||
-                               strain_update == "usavg+");
+    const bool         update_first =
+      (strain_update == "usf" || strain_update == "usavg" ||
+       strain_update == "usavg+");
     const bool update_last = (strain_update != "usf");
     const bool re_extrapolate =
       (strain_update == "usl+" || strain_update == "usavg+");
-    const bool   average = (strain_update == "usavg" || strain_update == "usavg+");
-    const bool   lumped_strain_velocity =
+    const bool average =
+      (strain_update == "usavg" || strain_update == "usavg+");
+    const bool lumped_strain_velocity =
       (parameters.method.strain_update_mass_matrix == "lumped");
     time_step       = compute_time_step();
     const double dt = time_step;
@@ -286,7 +289,8 @@ namespace fmpm {
     update_particles();
     if (parameters.output.track_dissipation)
       {
-        dissipated_energy += Utilities::MPI::sum(local_dissipation, mpi_communicator);
+        dissipated_energy +=
+          Utilities::MPI::sum(local_dissipation, mpi_communicator);
         local_dissipation = 0;
       }
 
@@ -300,14 +304,16 @@ namespace fmpm {
             particles_to_grid(false);
             apply_velocity_conditions(momentum);
             field_computed[velocity] = field_computed[lumped_velocity] = false;
-            const GridField v = lumped_strain_velocity ? lumped_velocity : velocity;
+            const GridField v =
+              lumped_strain_velocity ? lumped_velocity : velocity;
             compute_field(v);
             update_stresses(grid_fields[v], dt_last);
           }
         else
           {
-            const GridField v =
-              lumped_strain_velocity ? lumped_updated_velocity : updated_velocity;
+            const GridField v = lumped_strain_velocity ?
+                                  lumped_updated_velocity :
+                                  updated_velocity;
             compute_field(v);
             update_stresses(grid_fields[v], dt_last);
           }
@@ -387,7 +393,10 @@ namespace fmpm {
           mass_matrix->solve(momentum, target);
           break;
         case lumped_velocity: // m⁻¹ p
-          MassMatrix::apply_lumped_inverse(lumped_mass, momentum, target, mass_floor_value);
+          MassMatrix::apply_lumped_inverse(lumped_mass,
+                                           momentum,
+                                           target,
+                                           mass_floor_value);
           break;
         case lumped_updated_velocity: // m⁻¹ p⁺
           MassMatrix::apply_lumped_inverse(lumped_mass,
@@ -396,7 +405,10 @@ namespace fmpm {
                                            mass_floor_value);
           break;
         case lumped_acceleration: // m⁻¹ f
-          MassMatrix::apply_lumped_inverse(lumped_mass, force, target, mass_floor_value);
+          MassMatrix::apply_lumped_inverse(lumped_mass,
+                                           force,
+                                           target,
+                                           mass_floor_value);
           break;
         default:
           Assert(false, ExcInternalError());
@@ -448,8 +460,9 @@ namespace fmpm {
       reference_displacement;
     if (parameters.reference.enable)
       {
-        const auto constants = parse_function_constants(
-          parameters.reference.constants, "Reference solution/Function constants");
+        const auto constants =
+          parse_function_constants(parameters.reference.constants,
+                                   "Reference solution/Function constants");
         reference_velocity     = std::make_unique<FunctionParser<dim>>(dim);
         reference_displacement = std::make_unique<FunctionParser<dim>>(dim);
         reference_velocity->initialize(

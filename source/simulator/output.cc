@@ -14,8 +14,10 @@
 #include <iomanip>
 #include <map>
 
-namespace fmpm {
-  namespace {
+namespace fmpm
+{
+  namespace
+  {
     /** JSON string literal. */
     std::string
     quoted(const std::string &text)
@@ -63,15 +65,15 @@ namespace fmpm {
     error_sums[3] += statistics.displacement_reference_squared;
 
     HistoryRow<dim> row;
-    row.step             = timestep_number;
-    row.time             = time;
-    row.dt               = time_step;
-    row.kinetic_energy   = statistics.kinetic_energy;
-    row.strain_energy    = statistics.strain_energy;
-    row.potential_energy = statistics.potential_energy;
-    row.total_energy     = statistics.total_energy();
-    row.momentum         = statistics.momentum;
-    row.mass             = statistics.mass;
+    row.step              = timestep_number;
+    row.time              = time;
+    row.dt                = time_step;
+    row.kinetic_energy    = statistics.kinetic_energy;
+    row.strain_energy     = statistics.strain_energy;
+    row.potential_energy  = statistics.potential_energy;
+    row.total_energy      = statistics.total_energy();
+    row.momentum          = statistics.momentum;
+    row.mass              = statistics.mass;
     row.dissipated_energy = dissipated_energy;
     row.error_velocity_l2 =
       statistics.velocity_reference_squared > 0 ?
@@ -208,7 +210,7 @@ namespace fmpm {
                                 const SimulationFailure     *failure,
                                 const GlobalStatistics<dim> &statistics)
   {
-    const double                  wall = MPI_Wtime() - wall_start;
+    const double                        wall = MPI_Wtime() - wall_start;
     const std::map<std::string, double> mass_matrix_statistics =
       mass_matrix->statistics();
     std::map<std::string, double> phases =
@@ -256,7 +258,8 @@ namespace fmpm {
     out << "  \"lost_points\": " << total_lost_points << ",\n";
     out << "  \"mass_matrix_order\": " << mass_matrix->order() << ",\n";
     for (const auto &entry : mass_matrix_statistics)
-      out << "  " << quoted(entry.first) << ": " << number(entry.second) << ",\n";
+      out << "  " << quoted(entry.first) << ": " << number(entry.second)
+          << ",\n";
     if (parameters.output.track_dissipation)
       out << "  \"dissipated_energy\": " << number(dissipated_energy) << ",\n";
     if (parameters.reference.enable)

@@ -19,7 +19,8 @@
 #include <fstream>
 #include <map>
 
-namespace fmpm {
+namespace fmpm
+{
   template <int dim>
   void
   Simulator<dim>::make_grid()
@@ -123,7 +124,8 @@ namespace fmpm {
 
 
 
-  namespace {
+  namespace
+  {
     /** Whether @p x lies inside the body's shape. */
     template <int dim>
     bool
@@ -208,10 +210,11 @@ namespace fmpm {
             std::ostringstream message;
             e.print_info(message);
             AssertThrow(false,
-                        ExcMessage(where + " = <" +
-                                   parameters.bodies[b].velocity_expression +
-                                   "> is not " + std::to_string(dim) +
-                                   " numbers or expressions: " + message.str()));
+                        ExcMessage(
+                          where + " = <" +
+                          parameters.bodies[b].velocity_expression +
+                          "> is not " + std::to_string(dim) +
+                          " numbers or expressions: " + message.str()));
           }
       }
 
@@ -504,16 +507,16 @@ namespace fmpm {
 
     // A fixed time step must be stable.
     const double stable = minimum_cell_size / max_signal_speed;
-    AssertThrow(!parameters.time.check_stability ||
-                  parameters.time.time_step <= stable,
-                ExcMessage("Time/Time step = " +
-                           std::to_string(parameters.time.time_step) +
-                           " s is above the stable limit h_min / (wave speed "
-                           "+ point speed) = " +
-                           std::to_string(stable) +
-                           " s of this scene. Choose a smaller time step, or "
-                           "set it to 0 and use Time/Courant number (or set Time/Check "
-                           "stability limit = false for a stability study)."));
+    AssertThrow(
+      !parameters.time.check_stability || parameters.time.time_step <= stable,
+      ExcMessage(
+        "Time/Time step = " + std::to_string(parameters.time.time_step) +
+        " s is above the stable limit h_min / (wave speed "
+        "+ point speed) = " +
+        std::to_string(stable) +
+        " s of this scene. Choose a smaller time step, or "
+        "set it to 0 and use Time/Courant number (or set Time/Check "
+        "stability limit = false for a stability study)."));
   }
 
   template class Simulator<2>;

@@ -10,8 +10,10 @@
 #include <cmath>
 #include <sstream>
 
-namespace fmpm {
-  namespace {
+namespace fmpm
+{
+  namespace
+  {
     /**
      * Add a cell's nodal contributions to a ghosted grid vector: directly
      * when no hanging node touches the cell, else through the constraints
@@ -59,8 +61,8 @@ namespace fmpm {
   {
     // F^{n+1} = ΔF F^n with ΔF ≈ exp(L Δt) for a velocity gradient constant
     // over the step (seed 001, computeDeformationGradientFromVelocity).
-    const Tensor<2, 3> I     = unit_symmetric_tensor<3>();
-    const Tensor<2, 3> L_dt  = L * dt;
+    const Tensor<2, 3> I      = unit_symmetric_tensor<3>();
+    const Tensor<2, 3> L_dt   = L * dt;
     const std::string &update = parameters.method.deformation_gradient_update;
     if (update == "first order")
       return I + L_dt;
@@ -77,11 +79,11 @@ namespace fmpm {
         return sum;
       }
     // subcycle: first-order substeps with |L Δt_sub| below the bound.
-    const unsigned int n_sub = std::max(
-      1u,
-      static_cast<unsigned int>(std::ceil(
-        L_dt.norm() / parameters.method.subcycle_strain_increment)));
-    const Tensor<2, 3> step = I + L_dt / static_cast<double>(n_sub);
+    const unsigned int n_sub =
+      std::max(1u,
+               static_cast<unsigned int>(std::ceil(
+                 L_dt.norm() / parameters.method.subcycle_strain_increment)));
+    const Tensor<2, 3> step   = I + L_dt / static_cast<double>(n_sub);
     Tensor<2, 3>       result = I;
     for (unsigned int k = 0; k < n_sub; ++k)
       result = step * result;
@@ -281,14 +283,14 @@ namespace fmpm {
         fields.push_back(f);
 
     ParticleUpdate::Batch<dim> batch;
-    batch.time_step = time_step;
+    batch.time_step                = time_step;
     const bool   track_dissipation = parameters.output.track_dissipation;
     const double grid_damping      = parameters.method.grid_damping;
     const double particle_damping  = parameters.method.particle_damping;
     std::vector<Tensor<1, dim>> old_velocity, damping_velocity;
     std::vector<Point<dim>>     old_position;
-    std::array<double, n> S;
-    double                speed = 0;
+    std::array<double, n>       S;
+    double                      speed = 0;
 
     for (const auto &cell : triangulation.active_cell_iterators())
       {
@@ -336,7 +338,8 @@ namespace fmpm {
         const std::vector<Tensor<1, dim>> *V_n = &batch.velocity;
         if (particle_damping != 0)
           {
-            damping_velocity.assign(batch.velocity.begin(), batch.velocity.end());
+            damping_velocity.assign(batch.velocity.begin(),
+                                    batch.velocity.end());
             V_n = &damping_velocity;
           }
 
@@ -350,7 +353,8 @@ namespace fmpm {
             {
               Tensor<1, dim> A_damp;
               if (grid_damping != 0)
-                A_damp += grid_damping * batch.grid[ParticleUpdate::velocity][p];
+                A_damp +=
+                  grid_damping * batch.grid[ParticleUpdate::velocity][p];
               if (particle_damping != 0)
                 A_damp += particle_damping * (*V_n)[p];
               batch.velocity[p] -= A_damp * time_step;
@@ -364,15 +368,17 @@ namespace fmpm {
             unsigned int p_index = 0;
             for (const auto &particle : particles)
               {
-                const double M = particle.get_properties()[Index::mass];
+                const double         M = particle.get_properties()[Index::mass];
                 const Tensor<1, dim> a_dt =
                   batch.grid[ParticleUpdate::acceleration][p_index] * time_step;
-                const Tensor<1, dim> &v_g = batch.grid[ParticleUpdate::velocity][p_index];
-                const Tensor<1, dim>  dV =
+                const Tensor<1, dim> &v_g =
+                  batch.grid[ParticleUpdate::velocity][p_index];
+                const Tensor<1, dim> dV =
                   batch.velocity[p_index] - old_velocity[p_index];
                 const Tensor<1, dim> dX_dt =
                   (batch.position[p_index] - old_position[p_index]) / time_step;
-                local_dissipation += M * (a_dt * (v_g + 0.5 * a_dt) - dV * dX_dt);
+                local_dissipation +=
+                  M * (a_dt * (v_g + 0.5 * a_dt) - dV * dX_dt);
                 ++p_index;
               }
           }

@@ -12,6 +12,7 @@
 #include <fmpm/constitutive_model/linear_elastic.h>
 #include <fmpm/constitutive_model/neo_hookean.h>
 #include <fmpm/parameters.h>
+#include <fmpm/particle_properties.h>
 
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
@@ -243,6 +244,7 @@ namespace
   {
     constexpr int                               dim = TypeParam::value;
     fmpm::ConstitutiveModel::LinearElastic<dim> model;
+    model.strain_measure = "total";
     model.youngs_modulus = 7.0e4;
     model.poissons_ratio = 0.27;
     const double E = model.youngs_modulus, nu = model.poissons_ratio;
@@ -353,3 +355,77 @@ namespace
     }
   }
 } // namespace
+
+
+
+namespace
+{
+  // The incremental linear elastic form: sigma += dt C : sym(L) from the
+  // stored stress; a rigid rotation rate (skew L) adds no stress; the stored
+  // energy grows by J (sigma_old + sigma_new)/2 : D dt.
+  template <int dim>
+  void
+  check_incremental_linear_elastic()
+  {
+    using Index = fmpm::PropertyIndex<dim>;
+    fmpm::ConstitutiveModel::LinearElastic<dim> model; // incremental
+    model.youngs_modulus = 200;
+    model.poissons_ratio = 0.25;
+    const double mu      = 200 / (2 * 1.25);
+    const double lambda  = 200 * 0.25 / (1.25 * 0.5);
+
+    fmpm::ConstitutiveModel::StressUpdateInputs  inputs;
+    fmpm::ConstitutiveModel::StressUpdateOutputs outputs;
+    inputs.resize(2);
+    outputs.resize(2);
+    inputs.time_step = 0.01;
+    std::vector<std::vector<double>> storage(
+      2, std::vector<double>(Index::n_core_properties, 0.));
+    SymmetricTensor<2, 3> sigma_old;
+    sigma_old[0][0] = 1.5;
+    sigma_old[0][1] = -0.5;
+    for (unsigned int q = 0; q < 2; ++q)
+      {
+        inputs.properties[q] = make_array_view(storage[q]);
+        fmpm::set_symmetric_tensor3(inputs.properties[q],
+                                    Index::stress,
+                                    sigma_old);
+        inputs.properties[q][Index::strain_energy_density] = 0.1;
+        inputs.deformation_gradient[q] = unit_symmetric_tensor<3>();
+      }
+    Tensor<2, 3> L;
+    L[0][0]                     = 0.3;
+    L[0][1]                     = 0.2;
+    L[1][0]                     = 0.1; // sym part 0.15, skew part 0.05
+    inputs.velocity_gradient[0] = L;
+    Tensor<2, 3> spin; // pure rotation rate
+    spin[0][1]                  = 1.0;
+    spin[1][0]                  = -1.0;
+    inputs.velocity_gradient[1] = spin;
+    model.update_stress(inputs, outputs);
+
+    SymmetricTensor<2, 3> D;
+    D[0][0] = 0.3;
+    D[0][1] = 0.15;
+    const SymmetricTensor<2, 3> expected =
+      sigma_old +
+      0.01 * (lambda * trace(D) * unit_symmetric_tensor<3>() + 2 * mu * D);
+    EXPECT_LT((outputs.cauchy_stress[0] - expected).norm(),
+              1e-12 * expected.norm());
+    EXPECT_NEAR(outputs.strain_energy_density[0],
+                0.1 + 0.5 * ((sigma_old + expected) * D) * 0.01,
+                1e-14);
+    EXPECT_LT((outputs.cauchy_stress[1] - sigma_old).norm(), 1e-14);
+    EXPECT_NEAR(outputs.strain_energy_density[1], 0.1, 1e-14);
+  }
+} // namespace
+
+TEST(LinearElasticIncremental, TwoD)
+{
+  check_incremental_linear_elastic<2>();
+}
+
+TEST(LinearElasticIncremental, ThreeD)
+{
+  check_incremental_linear_elastic<3>();
+}

@@ -10,9 +10,9 @@
 
 #include <deal.II/base/parameter_handler.h>
 
-#include <gtest/gtest.h>
-
 #include <random>
+
+#include <gtest/gtest.h>
 
 namespace
 {
@@ -32,10 +32,10 @@ namespace
       {
         for (unsigned int d = 0; d < 2; ++d)
           {
-            batch.velocity[q][d]                    = r(rng);
-            batch.position[q][d]                    = r(rng);
-            batch.grid[lumped_velocity][q][d]       = r(rng); // S m⁻¹ p
-            batch.grid[lumped_acceleration][q][d]   = 10 * r(rng); // S m⁻¹ f
+            batch.velocity[q][d]                  = r(rng);
+            batch.position[q][d]                  = r(rng);
+            batch.grid[lumped_velocity][q][d]     = r(rng);      // S m⁻¹ p
+            batch.grid[lumped_acceleration][q][d] = 10 * r(rng); // S m⁻¹ f
           }
         // Lumped mass: m̃ₖ⁻¹ = m⁻¹, so the scene's fields equal the lumped ones.
         batch.grid[velocity][q]     = batch.grid[lumped_velocity][q];
@@ -43,13 +43,16 @@ namespace
         batch.grid[lumped_updated_velocity][q] =
           batch.grid[lumped_velocity][q] +
           batch.time_step * batch.grid[lumped_acceleration][q]; // S m⁻¹ p⁺
-        batch.grid[updated_velocity][q] = batch.grid[lumped_updated_velocity][q];
+        batch.grid[updated_velocity][q] =
+          batch.grid[lumped_updated_velocity][q];
       }
     return batch;
   }
 
   Batch<2>
-  run(const std::string &name, const Batch<2> &input, const std::string &settings = "")
+  run(const std::string &name,
+      const Batch<2>    &input,
+      const std::string &settings = "")
   {
     ParameterHandler prm;
     Registry<2>::instance().declare_parameters(prm);
@@ -72,7 +75,8 @@ TEST(ParticleUpdate, FmpmOneIsEquation240)
     {
       const Tensor<1, 2> Sm_p_plus = in.grid[lumped_updated_velocity][q];
       EXPECT_LT((out.velocity[q] - Sm_p_plus).norm(), 1e-15);
-      const Point<2> X = in.position[q] + 0.5 * (Sm_p_plus + in.velocity[q]) * dt;
+      const Point<2> X =
+        in.position[q] + 0.5 * (Sm_p_plus + in.velocity[q]) * dt;
       EXPECT_LT((out.position[q] - X).norm(), 1e-15);
     }
 }
@@ -99,9 +103,9 @@ TEST(ParticleUpdate, XpicOneIsEquation238)
 
 TEST(ParticleUpdate, FmpmLumpedGivesPicVelocityNotPicPosition)
 {
-  const Batch<2> in   = random_batch(20);
-  const Batch<2> fmpm = run("fmpm", in);
-  const Batch<2> pic  = run("pic", in);
+  const Batch<2> in                  = random_batch(20);
+  const Batch<2> fmpm                = run("fmpm", in);
+  const Batch<2> pic                 = run("pic", in);
   double         position_difference = 0;
   for (unsigned int q = 0; q < 20; ++q)
     {
@@ -115,14 +119,18 @@ TEST(ParticleUpdate, FmpmLumpedGivesPicVelocityNotPicPosition)
 
 TEST(ParticleUpdate, FlipColumnsOfTable21)
 {
-  const Batch<2> in = random_batch(20);
-  const double   dt = in.time_step;
-  const Batch<2> flip  = run("flip", in);
-  const Batch<2> flip1 = run("flip", in, "subsection Flip\nset Position update psi = 1\nend\n");
+  const Batch<2> in   = random_batch(20);
+  const double   dt   = in.time_step;
+  const Batch<2> flip = run("flip", in);
+  const Batch<2> flip1 =
+    run("flip", in, "subsection Flip\nset Position update psi = 1\nend\n");
   const Batch<2> fmpm0 = run("fmpm0", in);
   const Batch<2> mid   = run("flip midpoint", in);
   const Batch<2> end   = run("flip end velocity", in);
-  const Batch<2> blend = run("flip pic blend", in, "subsection Flip pic blend\nset FLIP fraction = 0.7\nend\n");
+  const Batch<2> blend =
+    run("flip pic blend",
+        in,
+        "subsection Flip pic blend\nset FLIP fraction = 0.7\nend\n");
   for (unsigned int q = 0; q < 20; ++q)
     {
       const Tensor<1, 2> a   = in.grid[acceleration][q];
@@ -133,10 +141,12 @@ TEST(ParticleUpdate, FlipColumnsOfTable21)
       EXPECT_LT((flip.velocity[q] - (V + a * dt)).norm(), 1e-15);
       EXPECT_LT((flip.position[q] - (X + v_p * dt)).norm(), 1e-15);
       // ψ = 1 and FMPM(0): X += (v_p − ½ a dt) dt (Eq. 2.28, Table 2.1).
-      EXPECT_LT((flip1.position[q] - (X + (v_p - 0.5 * dt * a) * dt)).norm(), 1e-15);
+      EXPECT_LT((flip1.position[q] - (X + (v_p - 0.5 * dt * a) * dt)).norm(),
+                1e-15);
       EXPECT_EQ(fmpm0.position[q], flip1.position[q]);
       // Eq. 2.33: X += (V + ½ a dt) dt.
-      EXPECT_LT((mid.position[q] - (X + (V + 0.5 * dt * a) * dt)).norm(), 1e-15);
+      EXPECT_LT((mid.position[q] - (X + (V + 0.5 * dt * a) * dt)).norm(),
+                1e-15);
       // Seed 003 Eq. 1.64: X += V^(n+1) dt.
       EXPECT_LT((end.position[q] - (X + (V + a * dt) * dt)).norm(), 1e-15);
       // Seed 000 §2.3.4: V = αV + S m⁻¹(p⁺ − αp), X += V^(n+1) dt.

@@ -13,12 +13,14 @@
 #include <memory>
 #include <vector>
 
-namespace fmpm {
+namespace fmpm
+{
   /**
    * @defgroup ConstitutiveModels Constitutive models
    * Stress from deformation, one plugin per material.
    */
-  namespace ConstitutiveModel {
+  namespace ConstitutiveModel
+  {
     using namespace dealii;
 
     /**

@@ -6,13 +6,21 @@
 
 #include <fmpm/constitutive_model/interface.h>
 
-namespace fmpm {
-  namespace ConstitutiveModel {
+namespace fmpm
+{
+  namespace ConstitutiveModel
+  {
     /**
-     * @brief Small-strain isotropic linear elasticity, for verification:
-     * \f$\sigma = \lambda\,\mathrm{tr}(\varepsilon) I + 2\mu\varepsilon\f$
-     * with \f$\varepsilon = \mathrm{sym}(F) - I\f$ (total-strain form, so the
-     * result does not depend on the number of steps).
+     * @brief Small-strain isotropic linear elasticity, for verification, in
+     * one of two forms:
+     * - 'incremental' (default, the classic MPM form of Sulsky et al.):
+     *   \f$\sigma^{n+1} = \sigma^n + \Delta t\,(\lambda\,\mathrm{tr}(D) I +
+     *   2\mu D)\f$ with \f$D = \mathrm{sym}(L)\f$, so that rigid rotations
+     *   create no stress; the stored energy grows by the stress power
+     *   \f$J\,\bar\sigma : D\,\Delta t\f$ (trapezoidal in σ);
+     * - 'total': \f$\sigma = \lambda\,\mathrm{tr}(\varepsilon) I +
+     *   2\mu\varepsilon\f$ with \f$\varepsilon = \mathrm{sym}(F) - I\f$,
+     *   exact for small strains without rotation (energy ½σ:ε).
      *
      * @ingroup ConstitutiveModels
      */
@@ -40,6 +48,8 @@ namespace fmpm {
       double youngs_modulus = 1.0e6;
       /** Poisson's ratio nu. */
       double poissons_ratio = 0.3;
+      /** "incremental" or "total". */
+      std::string strain_measure = "incremental";
     };
   } // namespace ConstitutiveModel
 } // namespace fmpm

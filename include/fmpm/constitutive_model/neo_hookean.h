@@ -6,8 +6,10 @@
 
 #include <fmpm/constitutive_model/interface.h>
 
-namespace fmpm {
-  namespace ConstitutiveModel {
+namespace fmpm
+{
+  namespace ConstitutiveModel
+  {
     /**
      * @brief Compressible neo-Hookean hyperelasticity, seed 004 Eq. (18):
      * \f$W = \frac{G}{2}(I_1 J^{-2/3} - 3) + \frac{K}{2}(\frac{1}{2}(J^2-1)

@@ -23,16 +23,20 @@ namespace fmpm
     };
 
     /**
-     * @brief Solve ((1 − δ) K + δ m) v = p on the nodes where @p known is 0
-     * with CG, preconditioned by the lumped inverse m⁻¹; on nodes where
-     * @p known is 1, v keeps its input value and the other rows see it as
-     * given (Dirichlet). Stops at |residual| <= tolerance |p|. On breakdown or
-     * no convergence, v = m⁻¹p on the unknown nodes and converged = false.
+     * @brief Solve ((1 − δ) K' + δ m) v = p with CG, preconditioned by the
+     * lumped inverse m⁻¹. On nodes where @p known is 1, v keeps its input
+     * value and the other rows see it as given (Dirichlet). On nodes where
+     * @p weak is 1, K' is lumped: row and column become m_i, and their
+     * couplings move onto the neighbours' diagonals, so K' keeps the column
+     * sums m of K = m̃ and the extrapolated momentum Σ M S v stays Σ p.
+     * Stops at |residual| <= tolerance |rhs|. On breakdown or no convergence,
+     * v = m⁻¹p on the unknown nodes and converged = false.
      */
     FullMassSolve
     solve_full_mass_system(const TrilinosWrappers::SparseMatrix &K,
                            const GridScalar                     &m,
                            const GridScalar                     &known,
+                           const GridScalar                     &weak,
                            const GridScalar                     &p,
                            GridScalar                           &v,
                            const double                          tolerance,
@@ -49,9 +53,10 @@ namespace fmpm
      * per cell, a point that just entered a cell at a body edge): there
      * m̃ᵢᵢ/mᵢ = Σ M S²/Σ M S is small and the exact solve returns huge nodal
      * velocities. Remedies the scene chooses, all reported in summary.json:
-     * - weak nodes: nodes with m̃ᵢᵢ < τ mᵢ take the lumped velocity
-     *   vᵢ = pᵢ/mᵢ and the others solve m̃_SS v_S = p_S − m̃_SW v_W (τ =
-     *   'Weak node threshold', 0 switches it off);
+     * - weak nodes: nodes with m̃ᵢᵢ < τ mᵢ are lumped: their row and
+     *   column of m̃ become mᵢ and their couplings move onto the
+     *   neighbours' diagonals, which keeps the column sums and so momentum
+     *   (τ = 'Weak node threshold', 0 switches it off);
      * - a lumped fraction δ solves ((1 − δ) m̃ + δ m) v = p, SPD for δ > 0;
      * - when CG breaks down or does not converge, the field falls back to
      *   the lumped matrix.
@@ -108,12 +113,12 @@ namespace fmpm
       }
 
     private:
-      mutable unsigned long long n_solves          = 0;
-      mutable unsigned long long total_iterations  = 0;
+      mutable unsigned long long n_solves            = 0;
+      mutable unsigned long long total_iterations    = 0;
       mutable unsigned int       max_iterations_used = 0;
-      mutable unsigned long long n_lumped_fallbacks = 0;
+      mutable unsigned long long n_lumped_fallbacks  = 0;
       /** 1 on weak nodes (owned entries), else 0. */
-      GridScalar         weak;
+      GridScalar weak;
       /** Scratch: 1 on nodes whose velocity is known in the current solve. */
       mutable GridScalar known;
       unsigned long long n_weak_node_steps = 0;

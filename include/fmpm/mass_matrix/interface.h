@@ -11,12 +11,14 @@
 #include <map>
 #include <string>
 
-namespace fmpm {
+namespace fmpm
+{
   /**
    * @defgroup MassMatrices Mass matrices
    * The maps from grid momenta to grid velocities, v = m̃ₖ⁻¹ p.
    */
-  namespace MassMatrix {
+  namespace MassMatrix
+  {
     /**
      * @brief Interface of mass matrices: how grid velocities follow from grid
      * momenta (seed 000 Eqs. 1.5-1.6, 1.22-1.23).

@@ -6,8 +6,10 @@
 
 #include <fmpm/mass_matrix/interface.h>
 
-namespace fmpm {
-  namespace MassMatrix {
+namespace fmpm
+{
+  namespace MassMatrix
+  {
     /**
      * @brief The lumped mass matrix m = diag(SᵀM), seed 000 Eq. 1.6:
      * v = m⁻¹p node by node.

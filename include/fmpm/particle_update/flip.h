@@ -6,8 +6,10 @@
 
 #include <fmpm/particle_update/interface.h>
 
-namespace fmpm {
-  namespace ParticleUpdate {
+namespace fmpm
+{
+  namespace ParticleUpdate
+  {
     /**
      * @brief FLIP(Std), seed 000 Eqs. 2.27-2.28 and Table 2.1:
      * V += a Δt, X += (v_p − ψ/2 a Δt) Δt with a = S m̃ₖ⁻¹ f and

@@ -11,7 +11,8 @@ namespace fmpm
   namespace ParticleUpdate
   {
     /**
-     * @brief Modified FLIP update #2 of seed 003 Eqs. 1.63-1.64: V += a Δt, X += V^(n+1) Δt. Known to perform poorly; kept for stability studies.
+     * @brief Modified FLIP update #2 of seed 003 Eqs. 1.63-1.64: V += a Δt, X
+     * += V^(n+1) Δt. Known to perform poorly; kept for stability studies.
      *
      * @ingroup ParticleUpdates
      */

@@ -11,7 +11,9 @@ namespace fmpm
   namespace ParticleUpdate
   {
     /**
-     * @brief FLIP with the Lagrangian midpoint position update of seed 000 Eq. 2.33 (seed 003 Eq. 1.58, second form): V += a Δt, X += (V^(n) + a Δt/2) Δt. Known to perform poorly; kept for stability studies.
+     * @brief FLIP with the Lagrangian midpoint position update of seed 000
+     * Eq. 2.33 (seed 003 Eq. 1.58, second form): V += a Δt, X += (V^(n) + a
+     * Δt/2) Δt. Known to perform poorly; kept for stability studies.
      *
      * @ingroup ParticleUpdates
      */

@@ -11,7 +11,9 @@ namespace fmpm
   namespace ParticleUpdate
   {
     /**
-     * @brief The FLIP/PIC blend of seed 000 §2.3.4 (Stomakhin et al.): V = α V + S m̃ₖ⁻¹(p⁺ − α p), X += V^(n+1) Δt, with α the FLIP fraction. Its position update is the known-bad one; kept for stability studies.
+     * @brief The FLIP/PIC blend of seed 000 §2.3.4 (Stomakhin et al.): V = α V
+     * + S m̃ₖ⁻¹(p⁺ − α p), X += V^(n+1) Δt, with α the FLIP fraction. Its
+     * position update is the known-bad one; kept for stability studies.
      *
      * @ingroup ParticleUpdates
      */

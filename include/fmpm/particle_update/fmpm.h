@@ -11,7 +11,9 @@ namespace fmpm
   namespace ParticleUpdate
   {
     /**
-     * @brief FMPM(k), seed 000 Eq. 2.26 and Table 2.1: V = v_p, X += (V + v_p) Δt/2 with v_p = S m̃ₖ⁻¹ p⁺. With the lumped mass matrix this is FMPM(1), Eq. 2.40.
+     * @brief FMPM(k), seed 000 Eq. 2.26 and Table 2.1: V = v_p, X += (V + v_p)
+     * Δt/2 with v_p = S m̃ₖ⁻¹ p⁺. With the lumped mass matrix this is FMPM(1),
+     * Eq. 2.40.
      *
      * @ingroup ParticleUpdates
      */

@@ -12,13 +12,15 @@
 #include <array>
 #include <vector>
 
-namespace fmpm {
+namespace fmpm
+{
   /**
    * @defgroup ParticleUpdates Particle updates
    * The columns of seed 000 Table 2.1: how material points get their new
    * velocity and position from the grid.
    */
-  namespace ParticleUpdate {
+  namespace ParticleUpdate
+  {
     using namespace dealii;
 
     /**

@@ -6,8 +6,10 @@
 
 #include <fmpm/particle_update/interface.h>
 
-namespace fmpm {
-  namespace ParticleUpdate {
+namespace fmpm
+{
+  namespace ParticleUpdate
+  {
     /**
      * @brief PIC(Std), seed 000 Table 2.1: V = v_p, X += v_p Δt with
      * v_p = S m̃ₖ⁻¹ p⁺.

@@ -11,7 +11,9 @@ namespace fmpm
   namespace ParticleUpdate
   {
     /**
-     * @brief PIC velocity update with the Lagrangian midpoint position update of seed 003 Eq. 1.67 (second form): V = v_p, X += (V^(n) + V^(n+1)) Δt/2. With the lumped mass matrix this equals FMPM(1) (seed 000 Eq. 2.40).
+     * @brief PIC velocity update with the Lagrangian midpoint position update
+     * of seed 003 Eq. 1.67 (second form): V = v_p, X += (V^(n) + V^(n+1)) Δt/2.
+     * With the lumped mass matrix this equals FMPM(1) (seed 000 Eq. 2.40).
      *
      * @ingroup ParticleUpdates
      */

@@ -11,7 +11,9 @@ namespace fmpm
   namespace ParticleUpdate
   {
     /**
-     * @brief XPIC(k), seed 000 Eqs. 2.34-2.35 (Table 2.1): V = S m̃ₖ⁻¹ p + S m⁻¹ f Δt, X += [S m⁻¹ p + (V^(n+1) − V^(n))/2] Δt. With the lumped mass matrix this is XPIC(1), Eq. 2.38.
+     * @brief XPIC(k), seed 000 Eqs. 2.34-2.35 (Table 2.1): V = S m̃ₖ⁻¹ p + S m⁻¹
+     * f Δt, X += [S m⁻¹ p + (V^(n+1) − V^(n))/2] Δt. With the lumped mass
+     * matrix this is XPIC(1), Eq. 2.38.
      *
      * @ingroup ParticleUpdates
      */

@@ -11,7 +11,8 @@
 #include <string>
 #include <vector>
 
-namespace fmpm {
+namespace fmpm
+{
   using namespace dealii;
 
   /** @brief One row of history.csv. */
@@ -63,7 +64,7 @@ namespace fmpm {
     std::vector<HistoryRow<dim>>   all_rows;
     std::unique_ptr<std::ofstream> file;
     bool                           with_errors      = false;
-    bool with_dissipation = false;
+    bool                           with_dissipation = false;
   };
 } // namespace fmpm
 
