@@ -6,6 +6,7 @@
 #include <fmpm/parameters.h>
 #include <fmpm/particle_update/interface.h>
 
+#include <deal.II/base/numbers.h>
 #include <deal.II/base/utilities.h>
 
 #include <fstream>
@@ -134,7 +135,8 @@ namespace fmpm
   std::map<std::string, double>
   parse_function_constants(const std::string &text, const std::string &where)
   {
-    std::map<std::string, double> constants;
+    // pi is always available in the expressions.
+    std::map<std::string, double> constants{{"pi", numbers::PI}};
     for (const auto &entry : Utilities::split_string_list(text, ','))
       {
         const auto pair = Utilities::split_string_list(entry, '=');
@@ -355,6 +357,19 @@ namespace fmpm
                       join(std::vector<double>{0, 0, 0}, dim),
                       point_pattern(dim),
                       "Gravitational acceleration b. Units: m/s^2.");
+    prm.declare_entry("Acceleration",
+                      "",
+                      Patterns::Anything(),
+                      "An additional body acceleration b(x, y, z, t) at the "
+                      "current point position, as dim FunctionParser "
+                      "expressions separated by ';' (e.g. the body force of "
+                      "a manufactured solution); empty for none. Its work is "
+                      "not in the energy balance. Units: m/s^2.");
+    prm.declare_entry("Function constants",
+                      "",
+                      Patterns::Anything(),
+                      "Constants for the 'Acceleration' expressions, e.g. "
+                      "'A=0.01, c=2'. Units: as used.");
     prm.leave_subsection();
 
     const BodyParameters body;
@@ -577,7 +592,9 @@ namespace fmpm
 
 
     prm.enter_subsection("Body force");
-    gravity = get_doubles(prm, "Gravity");
+    gravity                     = get_doubles(prm, "Gravity");
+    body_acceleration           = prm.get("Acceleration");
+    body_acceleration_constants = prm.get("Function constants");
     prm.leave_subsection();
 
     prm.enter_subsection("Time");

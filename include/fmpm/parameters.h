@@ -160,11 +160,14 @@ namespace fmpm
     std::vector<MaterialParameters> materials;
     std::vector<BodyParameters>     bodies;
     std::vector<double>             gravity{0, 0, 0};
-    OutputParameters                output;
-    FailureParameters               failure;
-    ReferenceSolutionParameters     reference;
-    bool                            test_mode  = false;
-    std::string                     timer_type = "summary";
+    /** Extra body acceleration b(x, t) (FunctionParser), empty for none. */
+    std::string                 body_acceleration;
+    std::string                 body_acceleration_constants;
+    OutputParameters            output;
+    FailureParameters           failure;
+    ReferenceSolutionParameters reference;
+    bool                        test_mode  = false;
+    std::string                 timer_type = "summary";
 
     /**
      * @brief Declare everything for a scene of size @p size, including the

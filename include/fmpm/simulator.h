@@ -15,6 +15,7 @@
 #include <fmpm/simulator_access.h>
 
 #include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/function.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -148,6 +149,10 @@ namespace fmpm
     particles_to_grid(const bool with_forces);
     void
     compute_forces();
+    /** Gravity plus the scene's body acceleration b(x, t) at x, now. */
+    Tensor<1, dim>
+    body_acceleration_at(const Point<dim>     &x,
+                         const Tensor<1, dim> &gravity) const;
     void
     apply_velocity_conditions(GridVectorField &field) const;
     /** Compute a nodal field (once per step) with BCs, ghosts, constraints. */
@@ -218,8 +223,10 @@ namespace fmpm
     std::vector<GridScalar> zero_velocity_mask;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
-                                                    constitutive_models;
-    std::unique_ptr<MassMatrix::Interface<dim>>     mass_matrix;
+                                                constitutive_models;
+    std::unique_ptr<MassMatrix::Interface<dim>> mass_matrix;
+    /** The scene's extra body acceleration b(x, t), or nullptr. */
+    std::unique_ptr<Function<dim>>                  body_acceleration;
     std::unique_ptr<ParticleUpdate::Interface<dim>> particle_update;
 
     History<dim> history;

@@ -254,6 +254,8 @@ namespace fmpm
       (parameters.method.strain_update_mass_matrix == "lumped");
     time_step       = compute_time_step();
     const double dt = time_step;
+    if (body_acceleration)
+      body_acceleration->set_time(time);
     field_computed.fill(false);
 
     // 1. Extrapolate mass and momentum (and, when the stresses are not

@@ -465,6 +465,32 @@ namespace fmpm
       parameters.method.particle_update, prm);
     prm.leave_subsection();
 
+    if (!parameters.body_acceleration.empty())
+      {
+        auto function = std::make_unique<FunctionParser<dim>>(dim);
+        try
+          {
+            function->initialize(
+              FunctionParser<dim>::default_variable_names() + ",t",
+              to_function_expressions(parameters.body_acceleration),
+              parse_function_constants(parameters.body_acceleration_constants,
+                                       "Body force/Function constants"),
+              true);
+          }
+        catch (const ExceptionBase &e)
+          {
+            std::ostringstream message;
+            e.print_info(message);
+            AssertThrow(false,
+                        ExcMessage(
+                          "Body force/Acceleration = <" +
+                          parameters.body_acceleration + "> is not " +
+                          std::to_string(dim) +
+                          " expressions in x, y, z, t: " + message.str()));
+          }
+        body_acceleration = std::move(function);
+      }
+
     field_needed.fill(false);
     field_needed[ParticleUpdate::updated_velocity] = true;
     for (const auto field : particle_update->required_fields())

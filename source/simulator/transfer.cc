@@ -93,6 +93,21 @@ namespace fmpm
 
 
   template <int dim>
+  Tensor<1, dim>
+  Simulator<dim>::body_acceleration_at(const Point<dim>     &x,
+                                       const Tensor<1, dim> &gravity) const
+  {
+    if (!body_acceleration)
+      return gravity;
+    Tensor<1, dim> b = gravity;
+    for (unsigned int d = 0; d < dim; ++d)
+      b[d] += body_acceleration->value(x, d);
+    return b;
+  }
+
+
+
+  template <int dim>
   void
   Simulator<dim>::particles_to_grid(const bool with_forces)
   {
@@ -163,6 +178,8 @@ namespace fmpm
             if (with_forces)
               {
                 // f = −Σ V_p σ_p G_p + Σ M_p S_p b  (Eq. 2.11, τ/ρ₀ M = σ V)
+                const Tensor<1, dim> body_force =
+                  body_acceleration_at(particle.get_location(), gravity);
                 const double V = p[Index::volume];
                 double       sigma[dim][dim];
                 for (unsigned int a = 0; a < dim; ++a)
@@ -178,7 +195,7 @@ namespace fmpm
                 for (unsigned int i = 0; i < n; ++i)
                   for (unsigned int a = 0; a < dim; ++a)
                     {
-                      double f = M * S[i] * gravity[a];
+                      double f = M * S[i] * body_force[a];
                       for (unsigned int b = 0; b < dim; ++b)
                         f -= V * sigma[a][b] * G[i][b];
                       cell_force[a][i] += f;
@@ -252,10 +269,12 @@ namespace fmpm
             const double                V = p[Index::volume];
             const SymmetricTensor<2, 3> sigma =
               get_symmetric_tensor3(p, Index::stress);
+            const Tensor<1, dim> body_force =
+              body_acceleration_at(particle.get_location(), gravity);
             for (unsigned int i = 0; i < n; ++i)
               for (unsigned int a = 0; a < dim; ++a)
                 {
-                  double f = M * S[i] * gravity[a];
+                  double f = M * S[i] * body_force[a];
                   for (unsigned int b = 0; b < dim; ++b)
                     f -= V * sigma[a][b] * G[i][b];
                   cell_force[a][i] += f;
