@@ -3,6 +3,8 @@
 
 #include <fmpm/grid_transfer.h>
 
+#include <cmath>
+
 namespace fmpm
 {
   template <int dim>
@@ -15,11 +17,13 @@ namespace fmpm
                 ExcMessage("GridTransfer needs an FE_Q(1) DoFHandler."));
     cells.clear();
     cells.resize(dof_handler.get_triangulation().n_active_cells());
+    has_data.assign(cells.size(), false);
     std::vector<types::global_dof_index> dofs(n_nodes);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           CellData &data = cells[cell->active_cell_index()];
+          has_data[cell->active_cell_index()] = true;
           cell->get_dof_indices(dofs);
           data.has_constraints = false;
           for (unsigned int i = 0; i < n_nodes; ++i)

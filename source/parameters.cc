@@ -517,6 +517,18 @@ namespace fmpm
                       "tests). Units: none.");
     prm.leave_subsection();
 
+    prm.enter_subsection("Performance");
+    prm.declare_entry("Fast point sorting",
+                      "true",
+                      Patterns::Bool(),
+                      "After each step, move only the material points that "
+                      "left their cell (their reference coordinates are kept "
+                      "up to date during the particle update); false runs "
+                      "deal.II's full sort of every point every step. The "
+                      "physics is the same. Used on one MPI rank; several "
+                      "ranks always use deal.II's sort. Units: none.");
+    prm.leave_subsection();
+
     prm.enter_subsection("Timer");
     prm.declare_entry("Type",
                       "summary",
@@ -682,6 +694,10 @@ namespace fmpm
 
     prm.enter_subsection("Test");
     test_mode = prm.get_bool("Enable");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Performance");
+    fast_point_sorting = prm.get_bool("Fast point sorting");
     prm.leave_subsection();
 
     prm.enter_subsection("Timer");

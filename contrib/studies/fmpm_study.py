@@ -45,6 +45,13 @@ from pathlib import Path
 #: Name of the axis that sets the number of MPI ranks instead of a parameter.
 MPI_AXIS = "MPI ranks"
 
+#: Name of the axis (or linked member) that only names runs in charts
+#: (``chart method = Label``); it is not written to the parameter file.
+LABEL_AXIS = "Label"
+
+#: Pseudo-parameters that are not fmpm parameters.
+NOT_PARAMETERS = (MPI_AXIS, LABEL_AXIS)
+
 #: The parameter the runner sets itself in every override file.
 OUTPUT_DIRECTORY = "Output/Directory"
 
@@ -56,6 +63,9 @@ CHART_KEYS = {
     "error": "summary.json key plotted as the error",
     "stability_x": "parameter on the x axis of the stability map",
     "stability_y": "parameter on the y axis of the stability map",
+    "energy_resolution": "resolution n of the runs in the energy history "
+                         "(default: the finest per method)",
+    "energy_history": "'off' to skip the energy history chart",
 }
 
 KEYWORDS = ("base", "title", "axis", "linked", "set", "chart",
@@ -69,14 +79,23 @@ SUMMARY_COLUMNS = [
     "n_dofs", "n_steps", "n_mpi_ranks", "wall_seconds",
     "particle_steps_per_second", "error_velocity_l2",
     "error_displacement_l2", "energy_error", "final_kinetic_energy",
-    "final_strain_energy",
+    "final_strain_energy", "final_total_energy", "initial_total_energy",
+    "dissipated_energy",
 ]
 
 #: Columns written by the runner itself after the summary columns.
 RUNNER_COLUMNS = ["exit_code", "elapsed_seconds"]
 
 CHART_FILES = ["error_vs_wall_time.png", "convergence.png",
-               "stability_map.png", "energy_history.png"]
+               "stability_map.png", "stability_limits.png",
+               "energy_history.png"]
+
+#: Files kept in a run directory by --prune (the rest, e.g. fmpm's log and
+#: parameter echo, is deleted once the results are collected).
+KEPT_RUN_FILES = ("override.prm", "run.json", "summary.json", "history.csv")
+
+#: Reference-solution errors whose convergence orders are always reported.
+ERROR_KEYS = ("error_velocity_l2", "error_displacement_l2")
 
 
 # ---------------------------------------------------------------------------
@@ -136,10 +155,13 @@ class Run:
     settings: dict   # path -> value written to override.prm
     mpi_ranks: int
     directory: Path
+    shown: tuple = None  # the swept values in the label (None: all)
 
     def label(self):
-        """Short label of the swept values, e.g. ``flip 32,2``."""
-        return " ".join(re.sub(r"\s+", "", v) for v in self.swept.values())
+        """Short label of the swept values, e.g. ``flip 32,2``; a linked
+        group with a Label member shows only the label."""
+        values = self.swept.values() if self.shown is None else self.shown
+        return " ".join(re.sub(r"\s+", "", v) for v in values)
 
 
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
@@ -428,15 +450,21 @@ def expand_runs(study, output_dir):
     runs = []
     combos = itertools.product(*(axis.values for axis in study.axes))
     for index, combo in enumerate(combos, start=1):
-        swept = {}
+        swept, shown = {}, []
         for axis, values in zip(study.axes, combo):
             swept.update(zip(axis.paths, values))
-        settings = {k: v for k, v in study.fixed.items() if k != MPI_AXIS}
-        settings.update((k, v) for k, v in swept.items() if k != MPI_AXIS)
+            if LABEL_AXIS in axis.paths:
+                shown.append(values[axis.paths.index(LABEL_AXIS)])
+            else:
+                shown.extend(values)
+        settings = {k: v for k, v in study.fixed.items()
+                    if k not in NOT_PARAMETERS}
+        settings.update((k, v) for k, v in swept.items()
+                        if k not in NOT_PARAMETERS)
         ranks = int(swept.get(MPI_AXIS, study.fixed.get(MPI_AXIS, "1")))
         run_id = f"run_{index:04d}"
         runs.append(Run(index, run_id, swept, settings, ranks,
-                        output_dir / run_id))
+                        output_dir / run_id, tuple(shown)))
     return runs
 
 
@@ -832,11 +860,13 @@ class ChartData:
                 return None
         return 1.0 / n
 
-    def error(self, row):
-        """The error of a completed run, if positive."""
+    def error(self, row, key=None):
+        """The error (``key``, default the chart's) of a completed run, if
+        positive."""
         if not str(row["status"]).startswith("completed"):
             return None
-        error = to_float(row.get(self.error_key))
+        key = key or self.error_key
+        error = to_float(row.get(key, row["_summary"].get(key)))
         return error if error and error > 0 else None
 
 
@@ -856,11 +886,12 @@ def fit_order(points):
     return sxy / sxx
 
 
-def convergence_points(data):
-    """Return {method: [(h, error), ...]} sorted by h, for completed runs."""
+def convergence_points(data, key=None):
+    """Return {method: [(h, error), ...]} sorted by h, for completed runs
+    (error ``key``, default the chart's error)."""
     points = {}
     for row in data.rows:
-        h, error = data.cell_size(row), data.error(row)
+        h, error = data.cell_size(row), data.error(row, key)
         if h and h > 0 and error:
             points.setdefault(data.method(row), []).append((h, error))
     return {m: sorted(p) for m, p in points.items()}
@@ -871,6 +902,32 @@ def convergence_orders(data):
     error data."""
     return [(method, fit_order(points), len(points))
             for method, points in convergence_points(data).items()]
+
+
+def finest_pair_order(points):
+    """Order from the two smallest cell sizes of sorted (h, error) points
+    (the asymptotic order when the coarse points are pre-asymptotic)."""
+    if len(points) < 2 or points[0][0] == points[1][0]:
+        return None
+    return fit_order(points[:2])
+
+
+def convergence_table(data):
+    """Rows of convergence_orders.csv: per method the least-squares order
+    of the chart's error, the order from the two finest resolutions, and
+    the least-squares orders of the other reference errors."""
+    others = [k for k in ERROR_KEYS if k != data.error_key]
+    extra = {k: convergence_points(data, k) for k in others}
+    table = []
+    for method, points in convergence_points(data).items():
+        row = {"method": method, "order": fit_order(points),
+               "n_points": len(points),
+               "order_finest_pair": finest_pair_order(points)}
+        for key in others:
+            other = extra[key].get(method, [])
+            row[f"order_{key}"] = fit_order(other) if other else None
+        table.append(row)
+    return table
 
 
 def pareto_front(points):
@@ -915,6 +972,31 @@ def import_pyplot():
     return pyplot
 
 
+#: Marker and line style cycles, so that curves on top of each other stay
+#: distinguishable.
+_MARKERS = ["o", "s", "^", "v", "D", "P", "X", "*", "h", "<", ">", "p"]
+_LINESTYLES = ["-", "--", "-.", ":"]
+
+
+def _style(number, markers=True):
+    """Plot keyword arguments of the curve with this index."""
+    style = {"color": f"C{number % 10}",
+             "linestyle": _LINESTYLES[(number // 10 + number) % 4]
+             if not markers else _LINESTYLES[number // 10 % 4]}
+    if markers:
+        style["marker"] = _MARKERS[number % len(_MARKERS)]
+        style["markersize"] = 6 if number < 10 else 5
+    return style
+
+
+def _legend(fig, ax, count):
+    """A legend inside the axes for a few curves, else to the right."""
+    if count <= 5:
+        ax.legend(fontsize=8)
+        return
+    ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5))
+
+
 def _error_label(data):
     return f"error ({data.error_key})"
 
@@ -934,12 +1016,12 @@ def chart_error_vs_wall_time(plt, data, path):
                 (key if key is not None else wall, wall, error, row))
     if not series:
         return f"no completed run with both '{data.error_key}' and wall time"
-    fig, ax = plt.subplots(figsize=(7, 5))
+    fig, ax = plt.subplots(figsize=(7 if len(series) <= 5 else 9, 5))
     everything = []
-    for method, points in series.items():
+    for number, (method, points) in enumerate(series.items()):
         points.sort(key=lambda p: p[0])
-        ax.plot([p[1] for p in points], [p[2] for p in points], "o-",
-                label=method)
+        ax.plot([p[1] for p in points], [p[2] for p in points],
+                label=method, **_style(number))
         everything.extend((p[1], p[2]) for p in points)
     front = sorted(everything[i] for i in pareto_front(everything))
     ax.plot([p[0] for p in front], [p[1] for p in front], "k--", lw=1,
@@ -953,9 +1035,9 @@ def chart_error_vs_wall_time(plt, data, path):
     ax.set_ylabel(_error_label(data))
     ax.set_title(_title(data, "error against wall time"))
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    _legend(fig, ax, len(series) + 1)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return None
 
@@ -967,12 +1049,12 @@ def chart_convergence(plt, data, path):
     points = convergence_points(data)
     if not points:
         return f"no completed run with '{data.error_key}' and a resolution"
-    fig, ax = plt.subplots(figsize=(7, 5))
-    for method, pts in points.items():
+    fig, ax = plt.subplots(figsize=(7 if len(points) <= 5 else 9, 5))
+    for number, (method, pts) in enumerate(points.items()):
         order = fit_order(pts)
-        label = method if order is None else f"{method} (order {order:.1f})"
-        line, = ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-",
-                        label=label)
+        label = method if order is None else f"{method} (order {order:.2f})"
+        line, = ax.plot([p[0] for p in pts], [p[1] for p in pts],
+                        label=label, **_style(number))
         if order is not None:
             # Dashed least-squares line through the geometric mean.
             mean_x = sum(math.log(p[0]) for p in pts) / len(pts)
@@ -986,11 +1068,12 @@ def chart_convergence(plt, data, path):
     ax.set_xlabel(f"cell size {h_text} (n from "
                   f"{data.study.charts['x_resolution']})")
     ax.set_ylabel(_error_label(data))
-    ax.set_title(_title(data, "convergence (dashed: least-squares fit)"))
+    ax.set_title(_title(data, "convergence (thin dashed: least-squares "
+                        "fit)"))
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    _legend(fig, ax, len(points))
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return None
 
@@ -1022,32 +1105,164 @@ def _failure_note(row):
     return "failed"
 
 
-def chart_stability_map(plt, data, path):
-    """Stable/unstable map over two parameters, one subplot per method."""
+def stability_cells(data):
+    """Group the runs for the stability charts.
+
+    Returns (x_path, y_path, {panel: {(x, y): [rows]}}) or a string saying
+    what is missing.  Panels are the methods, unless the method is the
+    stability_x or stability_y parameter itself (e.g. ``chart method =
+    Label`` and ``chart stability_y = Label``): then there is one panel.
+    """
     x_path = data.study.charts.get("stability_x")
     y_path = data.study.charts.get("stability_y")
     if not x_path or not y_path:
         return "no 'chart stability_x' and 'chart stability_y' in the study"
+    split = data.study.charts.get("method") not in (x_path, y_path)
     cells = {}
     for row in data.rows:
         x, y = data.value(row, x_path), data.value(row, y_path)
         if x is None or y is None or row["status"] == "not run":
             continue
-        cells.setdefault(data.method(row), {}).setdefault((x, y), []).append(
-            row)
+        panel = data.method(row) if split else ""
+        cells.setdefault(panel, {}).setdefault((x, y), []).append(row)
     if not cells:
         return (f"no run has values for both '{x_path}' and '{y_path}' "
                 "(sweep or set them)")
+    return x_path, y_path, cells
+
+
+def _is_stable(runs):
+    return all(str(r["status"]).startswith("completed") for r in runs)
+
+
+def stability_limits(data):
+    """Per panel and stability_y value, the largest stable stability_x
+    below the smallest unstable one (numeric stability_x only).
+
+    Returns a list of dicts (panel, y, largest_stable, smallest_unstable,
+    n_runs); empty when the study has no stability chart keys or
+    stability_x is not numeric.
+    """
+    grouped = stability_cells(data)
+    if isinstance(grouped, str):
+        return []
+    _, _, cells = grouped
+    limits = []
+    for panel, grid in cells.items():
+        ys = _sorted_values([y for _, y in grid])
+        for y in ys:
+            column = {}
+            for (x, y2), runs in grid.items():
+                if y2 == y:
+                    value = to_float(first_number(x)) if _NUMBER.fullmatch(
+                        x.strip()) else None
+                    if value is None:
+                        return []
+                    column.setdefault(value, []).extend(runs)
+            xs = sorted(column)
+            unstable = [x for x in xs if not _is_stable(column[x])]
+            first_bad = unstable[0] if unstable else None
+            stable = [x for x in xs if _is_stable(column[x])
+                      and (first_bad is None or x < first_bad)]
+            limits.append({"panel": panel, "y": y,
+                           "largest_stable": stable[-1] if stable else None,
+                           "smallest_unstable": first_bad,
+                           "n_runs": sum(len(r) for r in column.values())})
+    return limits
+
+
+def write_stability_limits(path, data, limits):
+    """Write stability_limits.csv (one row per panel and y value)."""
+    x_path = data.study.charts["stability_x"]
+    y_path = data.study.charts["stability_y"]
+    with open(path, "w", newline="") as stream:
+        writer = csv.writer(stream)
+        writer.writerow(["method", y_path, f"largest stable {x_path}",
+                         f"smallest unstable {x_path}", "n_runs"])
+        for item in limits:
+            writer.writerow([
+                item["panel"], item["y"],
+                "" if item["largest_stable"] is None
+                else f"{item['largest_stable']:g}",
+                "" if item["smallest_unstable"] is None
+                else f"{item['smallest_unstable']:g}", item["n_runs"]])
+
+
+def chart_stability_limits(plt, data, path):
+    """The stability limit (between the largest stable and the smallest
+    unstable stability_x) against stability_y, one line per panel."""
+    limits = stability_limits(data)
+    if not limits:
+        return ("no stability chart keys, or stability_x is not numeric")
+    ys = _sorted_values([item["y"] for item in limits])
+    numeric_y = all(_NUMBER.fullmatch(y.strip()) for y in ys)
+    fig, ax = plt.subplots(figsize=(max(5.0, 1.5 + 0.8 * len(ys)), 4.5))
+    panels = list(dict.fromkeys(item["panel"] for item in limits))
+    tested = [x for item in limits for x in (item["largest_stable"],
+                                             item["smallest_unstable"])
+              if x is not None]
+    top = max(tested) if tested else 1.0
+    for number, panel in enumerate(panels):
+        items = [i for i in limits if i["panel"] == panel]
+        offset = (number - (len(panels) - 1) / 2) * 0.08
+        positions, lows, highs, known = [], [], [], []
+        for item in items:
+            x = (float(item["y"]) if numeric_y else ys.index(item["y"]))
+            positions.append(x if numeric_y else x + offset)
+            lows.append(item["largest_stable"] or 0.0)
+            highs.append(item["smallest_unstable"])
+            known.append(item["largest_stable"] is not None)
+        colour = f"C{number % 10}"
+        for x, low, high in zip(positions, lows, highs):
+            if high is None:  # stable everywhere tested: an arrow up
+                ax.annotate("", xy=(x, top * 1.08), xytext=(x, low),
+                            arrowprops=dict(arrowstyle="->", color=colour))
+            else:
+                ax.plot([x, x], [low, high], color=colour, lw=6,
+                        alpha=0.5, solid_capstyle="butt")
+        # A point between the two values; none where no value was stable
+        # (the limit is below the range) or none unstable (above it).
+        middle = [0.5 * (lo + hi) if hi is not None and ok else None
+                  for lo, hi, ok in zip(lows, highs, known)]
+        ax.plot([x for x, m in zip(positions, middle) if m is not None],
+                [m for m in middle if m is not None], "o-", color=colour,
+                label=panel or "stability limit")
+    if not numeric_y:
+        ax.set_xticks(range(len(ys)))
+        ax.set_xticklabels(ys, rotation=30 if len(ys) > 5 else 0,
+                           ha="right" if len(ys) > 5 else "center")
+    ax.set_xlabel(data.study.charts["stability_y"])
+    ax.set_ylabel(f"critical {data.study.charts['stability_x']}")
+    ax.set_ylim(0, top * 1.12)
+    ax.set_title(_title(data, "stability limit (bar: between the largest "
+                        "stable and the smallest unstable value; arrow: "
+                        "stable everywhere)"), fontsize=9)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return None
+
+
+def chart_stability_map(plt, data, path):
+    """Stable/unstable map over two parameters, one subplot per method."""
+    grouped = stability_cells(data)
+    if isinstance(grouped, str):
+        return grouped
+    x_path, y_path, cells = grouped
     xs = _sorted_values([k[0] for c in cells.values() for k in c])
     ys = _sorted_values([k[1] for c in cells.values() for k in c])
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
     colours = ListedColormap(["#d9d9d9", "#4caf50", "#e53935"])
     count = len(cells)
-    columns = min(count, 3)
+    label_width = 0.08 * max(len(str(y)) for y in ys)
+    width = max(4.0, min(14.0, 1.8 + label_width + 0.7 * len(xs)))
+    height = max(3.0, 1.6 + 0.45 * len(ys))
+    columns = max(1, min(count, 3, int(16 // width)))
     rows_ = math.ceil(count / columns)
-    width = max(4.0, 1.8 + 0.9 * len(xs))
-    height = max(3.0, 1.6 + 0.5 * len(ys))
+    note_size = 8 if len(xs) <= 10 else 6
     fig, axes = plt.subplots(rows_, columns, squeeze=False,
                              figsize=(width * columns, height * rows_ + 1.0))
     for ax, (method, grid) in zip(axes.flat, cells.items()):
@@ -1060,20 +1275,23 @@ def chart_stability_map(plt, data, path):
             if failed:
                 first = min(failed, key=_failure_time_key)
                 ax.text(j, i, _failure_note(first), ha="center",
-                        va="center", fontsize=8, color="white")
+                        va="center", fontsize=note_size, color="white")
         ax.imshow(image, cmap=colours, vmin=0, vmax=2, origin="lower",
                   aspect="auto")
         ax.set_xticks(range(len(xs)))
         ax.set_xticklabels(xs, rotation=45 if len(xs) > 6 else 0)
         ax.set_yticks(range(len(ys)))
         ax.set_yticklabels(ys)
+        if not all(_NUMBER.fullmatch(str(y).strip()) for y in ys):
+            ax.invert_yaxis()  # labels read top-down in the study's order
         ax.set_xticks([j - 0.5 for j in range(len(xs) + 1)], minor=True)
         ax.set_yticks([i - 0.5 for i in range(len(ys) + 1)], minor=True)
         ax.grid(which="minor", color="white", linewidth=2)
         ax.tick_params(which="minor", length=0)
         ax.set_xlabel(x_path)
         ax.set_ylabel(y_path)
-        ax.set_title(method)
+        if method:
+            ax.set_title(method)
     for ax in list(axes.flat)[count:]:
         ax.axis("off")
     fig.legend(handles=[Patch(color="#4caf50", label="stable"),
@@ -1082,20 +1300,25 @@ def chart_stability_map(plt, data, path):
                         Patch(color="#d9d9d9", label="no run")],
                loc="lower center", ncol=3, fontsize=8)
     fig.suptitle(_title(data, "stability map"))
-    fig.tight_layout(rect=(0, 0.06, 1, 1))
-    fig.savefig(path, dpi=120)
+    fig.tight_layout(rect=(0, 0.05 / rows_, 1, 1 - 0.06 / rows_))
+    fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return None
 
 
-def read_history(path):
-    """Return (times, total energies) from a history.csv, or None."""
+def read_history(path, with_dissipation=False):
+    """Return (times, total energies) from a history.csv, or None.
+
+    With ``with_dissipation``, return (times, energies, dissipated) where
+    dissipated is the list of the ``dissipated_energy`` column (None when
+    the history has no such column).
+    """
     try:
         with open(path, newline="") as stream:
             rows = list(csv.DictReader(stream))
     except OSError:
         return None
-    times, energies = [], []
+    times, energies, dissipated = [], [], []
     for row in rows:
         t = to_float(row.get("time"))
         energy = to_float(row.get("total_energy"))
@@ -1106,55 +1329,116 @@ def read_history(path):
         if t is not None and energy is not None:
             times.append(t)
             energies.append(energy)
-    return (times, energies) if times else None
+            dissipated.append(to_float(row.get("dissipated_energy")))
+    if not times:
+        return None
+    if not with_dissipation:
+        return times, energies
+    if None in dissipated:
+        dissipated = None
+    return times, energies, dissipated
 
 
 def chart_energy_history(plt, data, path):
     """Total energy against time, one run per method (finest resolution)."""
+    if data.study.charts.get("energy_history", "on").lower() in (
+            "off", "no", "false"):
+        return "'chart energy_history = off' in the study"
     chosen = {}
+    wanted = to_float(data.study.charts.get("energy_resolution"))
     for row in data.rows:
-        history = read_history(row["_run"].directory / "history.csv")
-        if history is None:
+        n = data.resolution(row) or 0
+        if wanted is not None and n != wanted:
+            continue
+        history = read_history(row["_run"].directory / "history.csv",
+                               with_dissipation=True)
+        if history is None or not history[1][0]:
             continue
         method = data.method(row)
-        n = data.resolution(row) or 0
         if method not in chosen or n > chosen[method][0]:
             chosen[method] = (n, row, history)
     if not chosen:
         return "no run left a history.csv with time and energies"
-    fig, ax = plt.subplots(figsize=(7, 5))
-    values = [e for _, _, (_, energies) in chosen.values() for e in energies]
+    fig, ax = plt.subplots(figsize=(7.5 if len(chosen) <= 5 else 9.5, 5))
+    values = [e / energies[0] for _, _, (_, energies, _) in chosen.values()
+              for e in energies]
     if min(values) > 0 and max(values) > 1e3 * min(values):
         ax.set_yscale("log")  # a blown-up run would flatten the others
-    for method, (n, row, (times, energies)) in chosen.items():
+    balance = False
+    for number, (method, (n, row, (times, energies, dissipated))) in \
+            enumerate(chosen.items()):
         label = method
         if "x_resolution" in data.study.charts:
             label += f", n = {n:g}"
-        if str(row["status"]).startswith("failed"):
-            label += f" ({row['status']})"
-        ax.plot(times, energies, label=label)
+        status = str(row["status"])
+        failed_at = to_float(row.get("failure_time"))
+        if status.startswith("failed"):
+            label += (f" (failed at t = {failed_at:.3g})"
+                      if failed_at is not None
+                      else f" ({_short_status(status)})")
+        e0 = energies[0]
+        style = _style(number, markers=False)
+        if dissipated is not None:
+            style["linestyle"] = "-"
+        line, = ax.plot(times, [e / e0 for e in energies], label=label,
+                        **style)
+        if dissipated is not None:
+            balance = True
+            ax.plot(times, [(e + d) / e0 for e, d in zip(energies,
+                                                         dissipated)],
+                    ":", color=line.get_color(), lw=1.2)
     ax.set_xlabel("time [s]")
-    ax.set_ylabel("total energy (kinetic + strain)")
+    ylabel = "total energy (kinetic + strain) / initial"
+    if balance:
+        ylabel += "\n(dotted: energy + dissipated energy)"
+    ax.set_ylabel(ylabel)
     what = "energy history"
     if "x_resolution" in data.study.charts:
-        what += " (finest resolution per method)"
+        what += (" (finest resolution per method)" if wanted is None
+                 else f" (n = {wanted:g})")
     ax.set_title(_title(data, what))
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
+    _legend(fig, ax, len(chosen))
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return None
 
 
-def write_convergence_orders(path, orders):
-    """Write convergence_orders.csv: method, order, n_points."""
+def _short_status(status, limit=40):
+    """A failure status shortened for a legend."""
+    return status if len(status) <= limit else status[:limit - 3] + "..."
+
+
+def prune_run_directories(runs):
+    """Delete every file of the run directories except KEPT_RUN_FILES;
+    return how many were deleted."""
+    removed = 0
+    for run in runs:
+        if not run.directory.is_dir():
+            continue
+        for entry in run.directory.iterdir():
+            if entry.name in KEPT_RUN_FILES:
+                continue
+            if entry.is_dir():
+                shutil.rmtree(entry)
+            else:
+                entry.unlink()
+            removed += 1
+    return removed
+
+
+def write_convergence_orders(path, table):
+    """Write convergence_orders.csv: method, order (least squares, chart
+    error), n_points, order_finest_pair, order_<other error key>..."""
+    columns = list(table[0]) if table else ["method", "order", "n_points"]
     with open(path, "w", newline="") as stream:
         writer = csv.writer(stream)
-        writer.writerow(["method", "order", "n_points"])
-        for method, order, count in orders:
-            writer.writerow([method, "" if order is None else f"{order:.4f}",
-                             count])
+        writer.writerow(columns)
+        for row in table:
+            writer.writerow([f"{row[c]:.4f}" if isinstance(row[c], float)
+                             else ("" if row[c] is None else row[c])
+                             for c in columns])
 
 
 def draw_charts(data, output_dir):
@@ -1166,7 +1450,8 @@ def draw_charts(data, output_dir):
                     "(apt-get install python3-matplotlib)"
                     for name in CHART_FILES}
     drawers = [chart_error_vs_wall_time, chart_convergence,
-               chart_stability_map, chart_energy_history]
+               chart_stability_map, chart_stability_limits,
+               chart_energy_history]
     drawn, skipped = [], {}
     for name, drawer in zip(CHART_FILES, drawers):
         target = output_dir / name
@@ -1206,6 +1491,10 @@ def parse_arguments(argv):
                         help="kill a run after this many seconds")
     parser.add_argument("--no-charts", action="store_true", help="write "
                         "results.csv and convergence_orders.csv only")
+    parser.add_argument("--prune", action="store_true", help="after "
+                        "collecting the results, delete every file of the "
+                        "run directories except " + ", ".join(KEPT_RUN_FILES)
+                        + " (fmpm's log, parameter echo, VTU output)")
     arguments = parser.parse_args(argv)
     if arguments.jobs < 1:
         parser.error("--jobs must be at least 1")
@@ -1296,10 +1585,18 @@ def main(argv=None):
         return 1
 
     data = ChartData(study, rows)
-    orders = convergence_orders(data)
-    if "x_resolution" in study.charts and orders:
+    table = convergence_table(data)
+    if "x_resolution" in study.charts and table:
         write_convergence_orders(output_dir / "convergence_orders.csv",
-                                 orders)
+                                 table)
+    limits = stability_limits(data)
+    if limits:
+        write_stability_limits(output_dir / "stability_limits.csv", data,
+                               limits)
+    if arguments.prune:
+        removed = prune_run_directories(runs)
+        print(f"Pruned the run directories ({removed} files removed; kept "
+              f"{', '.join(KEPT_RUN_FILES)}).")
     if arguments.no_charts:
         print("Charts not drawn (--no-charts).")
         return 0

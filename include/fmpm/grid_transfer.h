@@ -121,8 +121,63 @@ namespace fmpm
         G[i] = inverse_jacobian_transpose * G[i];
     }
 
+    /**
+     * @brief Reference coordinates of the real point @p x in a cell, from a
+     * starting guess @p xi (the point's old reference coordinates): exact
+     * for parallelograms/parallelepipeds, Newton iterations of the
+     * multilinear map otherwise.
+     */
+    static Point<dim>
+    reference_point(const CellData &cell, const Point<dim> &x, Point<dim> xi)
+    {
+      std::array<double, n_nodes>         S;
+      std::array<Tensor<1, dim>, n_nodes> dS;
+      for (unsigned int iteration = 0; iteration < (cell.is_affine ? 1 : 8);
+           ++iteration)
+        {
+          values(xi, S);
+          Point<dim> x_xi;
+          for (unsigned int i = 0; i < n_nodes; ++i)
+            x_xi += S[i] * cell.vertex[i];
+          Tensor<2, dim> inverse_jacobian_transpose =
+            cell.inverse_jacobian_transpose;
+          if (!cell.is_affine)
+            {
+              reference_gradients(xi, dS);
+              Tensor<2, dim> J;
+              for (unsigned int i = 0; i < n_nodes; ++i)
+                J += outer_product(cell.vertex[i], dS[i]);
+              inverse_jacobian_transpose = transpose(invert(J));
+            }
+          const Tensor<1, dim> step =
+            transpose(inverse_jacobian_transpose) * (x - x_xi);
+          xi += step;
+          if (step.norm() < 1e-13)
+            break;
+        }
+      return xi;
+    }
+
+    /** @brief Whether @p xi lies in the reference cell. */
+    static bool
+    is_inside(const Point<dim> &xi)
+    {
+      for (unsigned int d = 0; d < dim; ++d)
+        if (xi[d] < -1e-12 || xi[d] > 1 + 1e-12)
+          return false;
+      return true;
+    }
+
+    /** @brief Whether the data of a cell is cached (locally owned cell). */
+    bool
+    has_cell_data(const unsigned int active_cell_index) const
+    {
+      return active_cell_index < has_data.size() && has_data[active_cell_index];
+    }
+
   private:
     std::vector<CellData> cells;
+    std::vector<bool>     has_data;
   };
 } // namespace fmpm
 

@@ -166,8 +166,10 @@ namespace fmpm
     OutputParameters            output;
     FailureParameters           failure;
     ReferenceSolutionParameters reference;
-    bool                        test_mode  = false;
-    std::string                 timer_type = "summary";
+    bool                        test_mode = false;
+    /** Move only the points that left their cell (else deal.II's sort). */
+    bool        fast_point_sorting = true;
+    std::string timer_type         = "summary";
 
     /**
      * @brief Declare everything for a scene of size @p size, including the

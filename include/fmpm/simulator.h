@@ -26,6 +26,7 @@
 #include <deal.II/particles/particle_handler.h>
 
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -221,6 +222,14 @@ namespace fmpm
     std::vector<NodeCondition> node_conditions;
     /** Per component: 1 on owned nodes whose component is held at zero. */
     std::vector<GridScalar> zero_velocity_mask;
+    /** Cells around each vertex, for finding the new cell of a moved point. */
+    std::vector<std::set<typename Triangulation<dim>::active_cell_iterator>>
+      vertex_to_cells;
+    /** Points whose new position left their cell in this step. */
+    std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
+      points_that_left_their_cell;
+    /** New reference location of each point (traversal order), or -1. */
+    std::vector<Point<dim>> new_reference_locations;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
                                                 constitutive_models;

@@ -97,6 +97,7 @@ namespace fmpm
       reinit_field(field);
 
     transfer.reinit(dof_handler, constraints, *partitioner);
+    vertex_to_cells = GridTools::vertex_to_cell_map(triangulation);
 
     if (mass_matrix && mass_matrix->needs_full_mass_matrix())
       {

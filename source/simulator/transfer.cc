@@ -302,7 +302,13 @@ namespace fmpm
         fields.push_back(f);
 
     ParticleUpdate::Batch<dim> batch;
-    batch.time_step                = time_step;
+    batch.time_step = time_step;
+    new_reference_locations.clear();
+    new_reference_locations.reserve(
+      particle_handler.n_locally_owned_particles());
+    Point<dim> outside_marker;
+    for (unsigned int d = 0; d < dim; ++d)
+      outside_marker[d] = -1;
     const bool   track_dissipation = parameters.output.track_dissipation;
     const double grid_damping      = parameters.method.grid_damping;
     const double particle_damping  = parameters.method.particle_damping;
@@ -404,10 +410,13 @@ namespace fmpm
 
         // Scatter the new V and X.
         q = 0;
-        for (auto &particle : particles)
+        for (auto particle_iterator = particles.begin();
+             particle_iterator != particles.end();
+             ++particle_iterator)
           {
-            const Tensor<1, dim> &V  = batch.velocity[q];
-            const double          V2 = V * V;
+            auto                 &particle = *particle_iterator;
+            const Tensor<1, dim> &V        = batch.velocity[q];
+            const double          V2       = V * V;
             if (!std::isfinite(V2) && local_failure.empty())
               {
                 std::ostringstream message;
@@ -418,7 +427,19 @@ namespace fmpm
               }
             speed = std::max(speed, std::sqrt(V2));
             set_vector<dim>(particle.get_properties(), Index::velocity, V);
+            // The new reference location, set after the strain update (which
+            // still uses the shape functions of the step's start); only
+            // points that left their cell need sorting.
+            const Point<dim> xi = GridTransfer<dim>::reference_point(
+              data, batch.position[q], particle.get_reference_location());
             particle.set_location(batch.position[q]);
+            if (GridTransfer<dim>::is_inside(xi))
+              new_reference_locations.push_back(xi);
+            else
+              {
+                new_reference_locations.push_back(outside_marker);
+                points_that_left_their_cell.push_back(particle_iterator);
+              }
             ++q;
           }
       }
@@ -552,7 +573,106 @@ namespace fmpm
   Simulator<dim>::sort_particles_into_cells()
   {
     TimerOutput::Scope timer(computing_timer, "sort points into cells");
-    particle_handler.sort_particles_into_subdomains_and_cells();
+    // The particle update kept the reference locations of the points that
+    // stayed in their cells. Move the others to the locally owned cell that
+    // now holds them, searching the cells around the old cell's vertices. If
+    // a point went to another rank's cell, or could not be found nearby, or
+    // left the mesh, deal.II's full sort handles every point (and reports
+    // lost points).
+    if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+      {
+        points_that_left_their_cell.clear();
+        particle_handler.sort_particles_into_subdomains_and_cells();
+        return;
+      }
+    struct Move
+    {
+      typename Triangulation<dim>::active_cell_iterator cell;
+      Point<dim>                                        x, xi;
+      types::particle_index                             id;
+      std::vector<double>                               properties;
+    };
+    // Points that stayed in their cell: the reference locations computed in
+    // the particle update (same traversal order).
+    {
+      unsigned int index = 0;
+      for (const auto &cell : triangulation.active_cell_iterators())
+        if (cell->is_locally_owned())
+          for (auto &particle : particle_handler.particles_in_cell(cell))
+            {
+              const Point<dim> &xi = new_reference_locations[index++];
+              if (xi[0] != -1)
+                particle.set_reference_location(xi);
+            }
+    }
+
+    std::vector<Move> moves;
+    bool              need_full_sort = false;
+    Point<dim>        center;
+    for (unsigned int d = 0; d < dim; ++d)
+      center[d] = 0.5;
+    for (const auto &particle : points_that_left_their_cell)
+      {
+        const auto       old_cell = particle->get_surrounding_cell();
+        const Point<dim> x        = particle->get_location();
+        bool             found    = false;
+        for (const unsigned int v : old_cell->vertex_indices())
+          {
+            for (const auto &candidate :
+                 vertex_to_cells[old_cell->vertex_index(v)])
+              {
+                if (candidate == old_cell || !candidate->is_locally_owned())
+                  continue;
+                const Point<dim> xi = GridTransfer<dim>::reference_point(
+                  transfer.cell_data(candidate->active_cell_index()),
+                  x,
+                  center);
+                if (GridTransfer<dim>::is_inside(xi))
+                  {
+                    const auto p = particle->get_properties();
+                    moves.push_back(
+                      Move{candidate,
+                           x,
+                           xi,
+                           particle->get_id(),
+                           std::vector<double>(p.begin(), p.end())});
+                    found = true;
+                    break;
+                  }
+              }
+            if (found)
+              break;
+          }
+        if (!found)
+          need_full_sort = true;
+      }
+    // One reduction: does any rank need the full sort, did any rank move
+    // points (then the handler's cached counts must be updated, together).
+    const unsigned int local_flags[2] = {need_full_sort ? 1u : 0u,
+                                         moves.empty() ? 0u : 1u};
+    unsigned int global_flags[2] = {0, 0};
+    Utilities::MPI::max(make_array_view(local_flags),
+                        mpi_communicator,
+                        make_array_view(global_flags));
+    // On several ranks deal.II's sort also exchanges the points that changed
+    // rank; mixing it with local moves is not safe in deal.II 9.4, so the
+    // fast path is used on one rank only (see doc/benchmarks.md).
+    if (global_flags[0] != 0 || !parameters.fast_point_sorting ||
+        Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+      particle_handler.sort_particles_into_subdomains_and_cells();
+    else if (global_flags[1] != 0)
+      {
+        if (!points_that_left_their_cell.empty())
+          particle_handler.remove_particles(points_that_left_their_cell);
+        for (const auto &move : moves)
+          particle_handler.insert_particle(move.x,
+                                           move.xi,
+                                           move.id,
+                                           move.cell,
+                                           make_array_view(move.properties));
+        particle_handler.update_cached_numbers();
+      }
+    points_that_left_their_cell.clear();
   }
 
   template class Simulator<2>;

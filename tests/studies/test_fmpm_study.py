@@ -503,6 +503,83 @@ class FailureTest(TempDirTest):
         self.assertIn("not found", result.stderr)
 
 
+class ExtensionTest(TempDirTest):
+    """The Label pseudo-parameter, stability limits, the extra convergence
+    columns and --prune."""
+
+    LABEL_STUDY = """\
+        base = base.prm
+        linked method Label = FLIP | PIC | FMPM
+        linked method Method/Particle update = flip | pic | fmpm
+        axis Time/Courant number = 0.4 | 0.7 | 0.9 | 1.2
+        chart method = Label
+        chart stability_x = Time/Courant number
+        chart stability_y = Label
+        """
+
+    def test_label_is_not_written_to_the_parameter_file(self):
+        parsed = self.parse(self.LABEL_STUDY)
+        runs = study.expand_runs(parsed, self.dir / "out")
+        self.assertEqual(len(runs), 12)
+        self.assertEqual(runs[0].swept["Label"], "FLIP")
+        self.assertNotIn("Label", runs[0].settings)
+        text = study.format_override(runs[0].settings, runs[0].directory)
+        self.assertNotIn("Label", text)
+        self.assertIn("set Particle update = flip", text)
+        self.assertEqual(runs[0].label(), "FLIP 0.4")
+
+    def test_stability_limits_in_one_panel_and_prune(self):
+        self.write_study(self.LABEL_STUDY)
+        result = self.run_cli("test.study", "--jobs", "2", "--prune")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        out = self.dir / "study_test"
+        _, rows = self.read_csv(out / "stability_limits.csv")
+        limits = {r["Label"]: (r["largest stable Time/Courant number"],
+                               r["smallest unstable Time/Courant number"])
+                  for r in rows}
+        # fake thresholds: flip 0.6, pic 1.0, fmpm 0.8
+        self.assertEqual(limits, {"FLIP": ("0.4", "0.7"),
+                                  "PIC": ("0.9", "1.2"),
+                                  "FMPM": ("0.7", "0.9")})
+        self.assertEqual({r["method"] for r in rows}, {""})
+        for name in ("stability_map.png", "stability_limits.png"):
+            self.assertGreater((out / name).stat().st_size, 1000, name)
+        self.assertIn("Pruned the run directories", result.stdout)
+        kept = sorted(p.name for p in (out / "run_0001").iterdir())
+        self.assertEqual(kept, sorted(["override.prm", "run.json",
+                                       "summary.json", "history.csv"]))
+        # Resuming after pruning still skips the finished runs.
+        again = self.run_cli("test.study", "--no-charts")
+        self.assertIn("Skipped 12 of 12 runs", again.stdout)
+
+    def test_stable_everywhere_has_no_unstable_value(self):
+        self.write_study(self.LABEL_STUDY.replace("| 1.2", ""))
+        result = self.run_cli("test.study", "--no-charts")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        _, rows = self.read_csv(self.dir / "study_test" /
+                                "stability_limits.csv")
+        pic = [r for r in rows if r["Label"] == "PIC"][0]
+        self.assertEqual(pic["largest stable Time/Courant number"], "0.9")
+        self.assertEqual(pic["smallest unstable Time/Courant number"], "")
+
+    def test_convergence_table_has_finest_pair_and_displacement(self):
+        self.write_study(CONVERGENCE_STUDY, "conv.study")
+        result = self.run_cli("conv.study", "--no-charts")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        columns, rows = self.read_csv(self.dir / "study_conv" /
+                                      "convergence_orders.csv")
+        self.assertEqual(columns, ["method", "order", "n_points",
+                                   "order_finest_pair",
+                                   "order_error_displacement_l2"])
+        for row in rows:
+            expected = fake.ORDER[row["method"]]
+            self.assertAlmostEqual(float(row["order_finest_pair"]),
+                                   expected, delta=0.05)
+            self.assertAlmostEqual(
+                float(row["order_error_displacement_l2"]), expected,
+                delta=0.05)
+
+
 class HelperTest(unittest.TestCase):
     """Small pure functions."""
 
@@ -514,6 +591,11 @@ class HelperTest(unittest.TestCase):
         points = [(h, 3.0 * h ** 1.5) for h in (0.5, 0.25, 0.125)]
         self.assertAlmostEqual(study.fit_order(points), 1.5)
         self.assertIsNone(study.fit_order([(0.5, 1.0), (0.5, 2.0)]))
+
+    def test_finest_pair_order(self):
+        points = [(0.125, 0.125 ** 2), (0.25, 0.25 ** 2), (0.5, 1.0)]
+        self.assertAlmostEqual(study.finest_pair_order(points), 2.0)
+        self.assertIsNone(study.finest_pair_order(points[:1]))
 
 
 if __name__ == "__main__":

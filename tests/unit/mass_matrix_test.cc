@@ -310,17 +310,27 @@ TEST(MassMatrix, HeldNodesStayAtTheirValues)
   cloud.m_tilde.vmult(residual, v);
   residual -= cloud.p.block(0);
   for (unsigned int i = 0; i < cloud.m.size(); ++i)
-    if (known.local_element(i) != 0)
-      EXPECT_EQ(v.local_element(i), 0.25);
-    else
-      EXPECT_LT(std::abs(residual.local_element(i)),
-                1e-9 * cloud.p.block(0).l2_norm());
+    {
+      if (known.local_element(i) != 0)
+        {
+          EXPECT_EQ(v.local_element(i), 0.25);
+        }
+      else
+        {
+          EXPECT_LT(std::abs(residual.local_element(i)),
+                    1e-9 * cloud.p.block(0).l2_norm());
+        }
+    }
 
   std::vector<fmpm::GridScalar> mask(2, known);
   fmpm::GridVectorField         w = cloud.new_field();
   fmpm::MassMatrix::apply_fmpm_inverse(
     cloud.m_tilde, cloud.m, cloud.p, w, 4, 0, &mask);
   for (unsigned int i = 0; i < cloud.m.size(); ++i)
-    if (known.local_element(i) != 0)
-      EXPECT_EQ(w.block(1).local_element(i), 0.0);
+    {
+      if (known.local_element(i) != 0)
+        {
+          EXPECT_EQ(w.block(1).local_element(i), 0.0);
+        }
+    }
 }
