@@ -282,3 +282,47 @@ TEST(WholeRun, VibratingBarEnergyByMethod)
   EXPECT_LT(velocity_error["flip lumped"], 0.02);
   EXPECT_GT(velocity_error["pic lumped"], 0.03);
 }
+
+
+
+namespace
+{
+  /** Reads the Simulator's lumped nodal masses through SimulatorAccess. */
+  template <int dim>
+  class NodalMassProbe : public fmpm::SimulatorAccess<dim>
+  {
+  public:
+    double
+    total_nodal_mass() const
+    {
+      return this->get_lumped_mass().l1_norm();
+    }
+  };
+} // namespace
+
+
+
+// The particle-to-grid extrapolation m = SᵀM conserves the total mass to
+// round-off (after a few steps of the colliding disks, on a mesh with cells
+// of three different sizes the points have crossed).
+TEST(WholeRun, MassExtrapolationConservesMass)
+{
+  auto sources =
+    fmpm::load_scene_sources({parameter_dir + "colliding_disks.prm"});
+  sources.emplace_back(
+    "overrides",
+    output_overrides("output-mass") +
+      "subsection Time\n set Maximum number of steps = 7\nend\n");
+  ParameterHandler prm;
+  fmpm::Parameters parameters;
+  fmpm::read_scene(sources, prm, parameters);
+  fmpm::Simulator<2> simulator(parameters, prm, MPI_COMM_WORLD);
+  simulator.run();
+  NodalMassProbe<2> probe;
+  probe.initialize_simulator(simulator);
+  const double total_point_mass = simulator.get_history().back().mass;
+  EXPECT_NEAR(probe.total_nodal_mass(),
+              total_point_mass,
+              1e-12 * total_point_mass);
+  EXPECT_GT(total_point_mass, 0);
+}
