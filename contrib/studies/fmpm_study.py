@@ -65,7 +65,8 @@ CHART_KEYS = {
     "stability_y": "parameter on the y axis of the stability map",
     "energy_resolution": "resolution n of the runs in the energy history "
                          "(default: the finest per method)",
-    "energy_history": "'off' to skip the energy history chart",
+    "skip": "charts not to draw, by file stem, separated by ',' (e.g. "
+            "'energy_history, stability_limits')",
 }
 
 KEYWORDS = ("base", "title", "axis", "linked", "set", "chart",
@@ -1341,9 +1342,6 @@ def read_history(path, with_dissipation=False):
 
 def chart_energy_history(plt, data, path):
     """Total energy against time, one run per method (finest resolution)."""
-    if data.study.charts.get("energy_history", "on").lower() in (
-            "off", "no", "false"):
-        return "'chart energy_history = off' in the study"
     chosen = {}
     wanted = to_float(data.study.charts.get("energy_resolution"))
     for row in data.rows:
@@ -1453,10 +1451,15 @@ def draw_charts(data, output_dir):
                chart_stability_map, chart_stability_limits,
                chart_energy_history]
     drawn, skipped = [], {}
+    unwanted = {part.strip().removesuffix(".png") for part in
+                data.study.charts.get("skip", "").split(",") if part.strip()}
     for name, drawer in zip(CHART_FILES, drawers):
         target = output_dir / name
         if target.exists():
             target.unlink()  # never leave a stale chart behind
+        if name.removesuffix(".png") in unwanted:
+            skipped[name] = "'chart skip' in the study"
+            continue
         reason = drawer(plt, data, target)
         if reason:
             skipped[name] = reason

@@ -552,6 +552,20 @@ class ExtensionTest(TempDirTest):
         again = self.run_cli("test.study", "--no-charts")
         self.assertIn("Skipped 12 of 12 runs", again.stdout)
 
+    def test_chart_skip(self):
+        self.write_study(self.LABEL_STUDY + "chart skip = stability_limits, "
+                         "energy_history.png\n")
+        result = self.run_cli("test.study")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        out = self.dir / "study_test"
+        self.assertTrue((out / "stability_map.png").is_file())
+        self.assertFalse((out / "stability_limits.png").exists())
+        self.assertFalse((out / "energy_history.png").exists())
+        self.assertIn("Chart skipped: stability_limits.png: 'chart skip'",
+                      result.stdout)
+        # The CSV file is still written.
+        self.assertTrue((out / "stability_limits.csv").is_file())
+
     def test_stable_everywhere_has_no_unstable_value(self):
         self.write_study(self.LABEL_STUDY.replace("| 1.2", ""))
         result = self.run_cli("test.study", "--no-charts")
