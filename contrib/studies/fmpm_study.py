@@ -24,6 +24,7 @@ study file or command line, 1 when no run produced a summary.
 
 import argparse
 import ast
+import bisect
 import concurrent.futures
 import csv
 import itertools
@@ -70,7 +71,15 @@ CHART_KEYS = {
 }
 
 KEYWORDS = ("base", "title", "axis", "linked", "set", "chart",
+            "reference", "reference columns",
             "quick axis", "quick linked", "quick set")
+
+#: Run id and directory name of the converged fine reference run.
+REFERENCE_ID = "reference"
+
+#: history.csv columns compared with the reference run by default.
+DEFAULT_REFERENCE_COLUMNS = ("kinetic_energy", "strain_energy",
+                             "total_energy")
 
 DEFAULT_ERROR_KEY = "error_velocity_l2"
 
@@ -139,6 +148,15 @@ class Study:
     fixed: dict
     charts: dict
     cell_size: object = None  # compiled expression in n, or None
+    reference: dict = None    # overrides of the reference run, or None
+    reference_columns: tuple = DEFAULT_REFERENCE_COLUMNS
+
+    @property
+    def reference_keys(self):
+        """results.csv columns of the errors against the reference run."""
+        if self.reference is None:
+            return []
+        return [f"error_reference_{c}" for c in self.reference_columns]
 
     @property
     def swept_paths(self):
@@ -275,6 +293,8 @@ def parse_study(path, quick=False):
     cell_size = None
     quick_axes = []     # (line, group or None, path, values)
     quick_sets = []     # (line, path, value)
+    reference = None
+    reference_columns = DEFAULT_REFERENCE_COLUMNS
 
     for number, raw in enumerate(lines, start=1):
         text = raw.split("#", 1)[0].strip()
@@ -285,12 +305,29 @@ def parse_study(path, quick=False):
         rest = match.group(3) if match else ""
         if match and match.group(1):
             keyword = "quick " + keyword
+        columns = re.match(r"columns\s*(=.*)$", rest)
+        if keyword == "reference" and columns:
+            keyword, rest = "reference columns", columns.group(1)
         if keyword not in KEYWORDS:
             shown = text.split()[0] if text.split() else text
             raise StudyError(path, number, f"unknown keyword '{shown}'; "
                              f"allowed: {', '.join(KEYWORDS)}")
 
-        if keyword in ("base", "title"):
+        if keyword == "reference":
+            if reference is not None:
+                raise StudyError(path, number, "'reference' given twice")
+            if not rest.startswith("="):
+                raise StudyError(path, number, "expected 'reference = "
+                                 "PATH = VALUE | PATH = VALUE ...'")
+            reference = _parse_reference(rest[1:], path, number)
+        elif keyword == "reference columns":
+            reference_columns = tuple(
+                c.strip() for c in rest[1:].split(",") if c.strip())
+            if not reference_columns:
+                raise StudyError(path, number, "'reference columns' has no "
+                                 "history.csv column, e.g. "
+                                 "'reference columns = kinetic_energy'")
+        elif keyword in ("base", "title"):
             if not rest.startswith("="):
                 raise StudyError(path, number, f"expected '{keyword} = ...'")
             value = rest[1:].strip()
@@ -405,7 +442,29 @@ def parse_study(path, quick=False):
             raise StudyError(path, number, f"'{name}' is both set and swept")
 
     return Study(path=path, base=base, title=title or path.stem, axes=axes,
-                 fixed=fixed, charts=charts, cell_size=cell_size)
+                 fixed=fixed, charts=charts, cell_size=cell_size,
+                 reference=reference, reference_columns=reference_columns)
+
+
+def _parse_reference(text, path, line):
+    """Parse ``PATH = VALUE | PATH = VALUE`` of a ``reference`` line into a
+    dict, or raise StudyError."""
+    overrides = {}
+    for part in text.split("|"):
+        if "=" not in part:
+            raise StudyError(path, line, f"reference: '{part.strip()}' is "
+                             "not 'PATH = VALUE' (pairs separated by '|')")
+        name, value = (s.strip() for s in part.split("=", 1))
+        if not name:
+            raise StudyError(path, line, "reference: a pair has no "
+                             "parameter before '='")
+        if name in (OUTPUT_DIRECTORY, LABEL_AXIS):
+            raise StudyError(path, line, f"reference: '{name}' cannot be "
+                             "set for the reference run")
+        if name == MPI_AXIS:
+            _check_mpi_value(value, path, line)
+        overrides[name] = value
+    return overrides
 
 
 def _apply_quick(path, axes, axis_of_path, quick_axes, apply):
@@ -467,6 +526,20 @@ def expand_runs(study, output_dir):
         runs.append(Run(index, run_id, swept, settings, ranks,
                         output_dir / run_id, tuple(shown)))
     return runs
+
+
+def reference_run(study, output_dir):
+    """The converged fine reference run (the base with the study's fixed
+    settings and the ``reference`` overrides) in ``<out>/reference``, or
+    None when the study has no ``reference`` line."""
+    if study.reference is None:
+        return None
+    settings = dict(study.fixed)
+    settings.update(study.reference)
+    ranks = int(settings.get(MPI_AXIS, "1"))
+    settings = {k: v for k, v in settings.items() if k not in NOT_PARAMETERS}
+    return Run(0, REFERENCE_ID, {}, settings, ranks,
+               Path(output_dir).resolve() / REFERENCE_ID, (REFERENCE_ID,))
 
 
 # ---------------------------------------------------------------------------
@@ -581,6 +654,17 @@ def run_is_done(run, override_text):
         return True
     record = read_json(run.directory / "run.json")
     return bool(record and is_final_status(record.get("runner_status")))
+
+
+def reference_is_done(run, override_text):
+    """True when the reference run completed with the same parameters."""
+    try:
+        if (run.directory / "override.prm").read_text() != override_text:
+            return False
+    except OSError:
+        return False
+    summary = read_json(run.directory / "summary.json") or {}
+    return str(summary.get("status", "")).startswith("completed")
 
 
 class Runner:
@@ -741,10 +825,15 @@ def execute_runs(runs, runner, override_texts, jobs, total):
 # Results
 # ---------------------------------------------------------------------------
 
-def collect_results(study, runs):
+def collect_results(study, runs, reference=None):
     """Return one dict per run with the results.csv columns (strings or
     numbers; '' for missing values) plus private ``_run`` and ``_summary``
-    entries used by the charts."""
+    entries used by the charts.
+
+    With a ``reference`` run (see :func:`reference_run`) that completed,
+    completed runs without an analytical ``error_velocity_l2`` get the
+    ``error_reference_<column>`` errors of :func:`reference_errors`."""
+    histories = reference_histories(study, reference)
     rows = []
     for run in runs:
         summary = read_json(run.directory / "summary.json") or {}
@@ -764,6 +853,12 @@ def collect_results(study, runs):
         if row["exit_code"] is None:
             row["exit_code"] = ""
         row["elapsed_seconds"] = record.get("elapsed_seconds", "")
+        for key in study.reference_keys:
+            row[key] = ""
+        if histories and str(row["status"]).startswith("completed") and (
+                to_float(summary.get("error_velocity_l2")) is None):
+            row.update(reference_errors(
+                study, run.directory / "history.csv", histories))
         row["_run"] = run
         row["_summary"] = summary
         rows.append(row)
@@ -773,10 +868,93 @@ def collect_results(study, runs):
 def result_columns(study):
     """The results.csv header."""
     columns = ["run_id"] + study.swept_paths + SUMMARY_COLUMNS
+    columns += [k for k in study.reference_keys if k not in columns]
     error_key = study.charts.get("error", DEFAULT_ERROR_KEY)
     if error_key not in columns:
         columns.append(error_key)
     return columns + RUNNER_COLUMNS
+
+
+def read_history_series(path, columns):
+    """Return {column: ([times], [values])} of a history.csv (rows with a
+    missing or non-finite time or value left out), or None."""
+    try:
+        with open(path, newline="") as stream:
+            rows = list(csv.DictReader(stream))
+    except OSError:
+        return None
+    series = {}
+    for column in columns:
+        pairs = [(to_float(r.get("time")), to_float(r.get(column)))
+                 for r in rows]
+        pairs = sorted((t, v) for t, v in pairs
+                       if t is not None and v is not None)
+        if pairs:
+            series[column] = ([t for t, _ in pairs], [v for _, v in pairs])
+    return series
+
+
+def relative_l2_difference(times, values, ref_times, ref_values):
+    """sqrt(sum (a - r)^2 / sum r^2) over the run's times within the
+    reference's time range, r linearly interpolated; None when no time is
+    in range or the reference is zero there."""
+    if not ref_times:
+        return None
+    first, last = ref_times[0], ref_times[-1]
+    slack = 1e-9 * max(abs(first), abs(last), last - first, 1e-300)
+    difference = norm = 0.0
+    used = 0
+    for t, a in zip(times, values):
+        if t < first - slack or t > last + slack:
+            continue
+        t = min(max(t, first), last)
+        i = bisect.bisect_left(ref_times, t)
+        if i < len(ref_times) and ref_times[i] == t:
+            r = ref_values[i]
+        else:
+            t0, t1 = ref_times[i - 1], ref_times[i]
+            w = (t - t0) / (t1 - t0)
+            r = (1 - w) * ref_values[i - 1] + w * ref_values[i]
+        difference += (a - r) ** 2
+        norm += r ** 2
+        used += 1
+    if not used or norm <= 0:
+        return None
+    return math.sqrt(difference / norm)
+
+
+def reference_histories(study, reference):
+    """The reference run's history series, or None (with a message) when
+    there is no reference run or it did not complete."""
+    if reference is None:
+        return None
+    summary = read_json(reference.directory / "summary.json") or {}
+    status = str(summary.get("status", "not run"))
+    series = None
+    if status.startswith("completed"):
+        series = read_history_series(reference.directory / "history.csv",
+                                     study.reference_columns)
+        if not series:
+            status = "completed, but without a usable history.csv"
+    if not series:
+        print(f"Reference run {reference.directory}: {status}; no "
+              "error_reference_* columns.", file=sys.stderr)
+        return None
+    return series
+
+
+def reference_errors(study, history_path, references):
+    """{error_reference_<column>: relative L2 difference} of one run's
+    history.csv against the reference series ('' where unavailable)."""
+    series = read_history_series(history_path, study.reference_columns) or {}
+    errors = {}
+    for column, key in zip(study.reference_columns, study.reference_keys):
+        error = None
+        if column in series and column in references:
+            error = relative_l2_difference(*series[column],
+                                           *references[column])
+        errors[key] = "" if error is None else error
+    return errors
 
 
 def write_csv(path, columns, rows):
@@ -917,7 +1095,8 @@ def convergence_table(data):
     """Rows of convergence_orders.csv: per method the least-squares order
     of the chart's error, the order from the two finest resolutions, and
     the least-squares orders of the other reference errors."""
-    others = [k for k in ERROR_KEYS if k != data.error_key]
+    others = [k for k in list(ERROR_KEYS) + data.study.reference_keys
+              if k != data.error_key]
     extra = {k: convergence_points(data, k) for k in others}
     table = []
     for method, points in convergence_points(data).items():
@@ -1542,6 +1721,7 @@ def main(argv=None):
     stem = Path(arguments.study).stem + ("_quick" if arguments.quick else "")
     output_dir = Path(arguments.output or f"study_{stem}").resolve()
     runs = expand_runs(study, output_dir)
+    reference = reference_run(study, output_dir)
     print(f"Study '{study.title}': {len(runs)} runs over "
           f"{len(study.axes)} axes, output in {output_dir}")
 
@@ -1562,10 +1742,21 @@ def main(argv=None):
         if len(todo) < len(runs):
             print(f"Skipped {len(runs) - len(todo)} of {len(runs)} runs "
                   "already done (delete a run directory to redo it).")
+        total = len(runs)
+        if reference is not None:
+            total += 1
+            texts[REFERENCE_ID] = format_override(
+                reference.settings, reference.directory,
+                f"Written by fmpm_study.py: reference run of "
+                f"{study.path.name}")
+            if reference_is_done(reference, texts[REFERENCE_ID]):
+                print("Skipped the reference run (already completed).")
+            else:
+                todo.insert(0, reference)  # the longest: start it first
         runner = Runner(fmpm_command, study.base, arguments.timeout)
         signal.signal(signal.SIGTERM, _interrupt)
         try:
-            execute_runs(todo, runner, texts, arguments.jobs, len(runs))
+            execute_runs(todo, runner, texts, arguments.jobs, total)
         except KeyboardInterrupt:
             print("\nInterrupted; unfinished runs will be redone next time.",
                   file=sys.stderr)
@@ -1575,7 +1766,7 @@ def main(argv=None):
               "to plot from", file=sys.stderr)
         return 1
 
-    rows = collect_results(study, runs)
+    rows = collect_results(study, runs, reference)
     write_csv(output_dir / "results.csv", result_columns(study), rows)
     statuses = [str(row["status"]) for row in rows]
     completed = sum(s.startswith("completed") for s in statuses)
@@ -1597,7 +1788,8 @@ def main(argv=None):
         write_stability_limits(output_dir / "stability_limits.csv", data,
                                limits)
     if arguments.prune:
-        removed = prune_run_directories(runs)
+        removed = prune_run_directories(runs + ([reference] if reference
+                                                else []))
         print(f"Pruned the run directories ({removed} files removed; kept "
               f"{', '.join(KEPT_RUN_FILES)}).")
     if arguments.no_charts:

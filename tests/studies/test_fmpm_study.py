@@ -594,6 +594,138 @@ class ExtensionTest(TempDirTest):
                 delta=0.05)
 
 
+REFERENCE_STUDY = """\
+base = base.prm
+axis Method/Particle update = flip | fmpm
+axis Mesh/Subdivisions = 8, 1 | 16, 1 | 32, 1
+set Test/No analytical = true
+reference = Mesh/Subdivisions = 1024, 1 | Time/Courant number = 0.2
+reference columns = kinetic_energy, total_energy
+chart x_resolution = Mesh/Subdivisions
+chart method = Method/Particle update
+chart error = error_reference_kinetic_energy
+"""
+
+
+class ReferenceRunTest(TempDirTest):
+    """Without an analytical solution, errors against a fine reference."""
+
+    @staticmethod
+    def expected_error(method, n, n_ref=1024):
+        """The relative L2 kinetic-energy difference of the fake's run at
+        resolution n against its (exact) reference at n_ref."""
+        order, constant = fake.ORDER[method], fake.CONSTANT[method]
+        ref_term = fake.CONSTANT["flip"] * (1 / n_ref) ** fake.ORDER["flip"]
+        steps = 2 * n + 1
+        difference = norm = 0.0
+        for step in range(steps + 1):
+            s = study.math.sin(2 * study.math.pi * step / steps)
+            ref = 1 + ref_term * s
+            difference += (1 + constant * (1 / n) ** order * s - ref) ** 2
+            norm += ref ** 2
+        return (difference / norm) ** 0.5
+
+    def test_errors_against_the_reference_run(self):
+        self.write_study(REFERENCE_STUDY, "ref.study")
+        result = self.run_cli("ref.study", "--output", "out")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        out = self.dir / "out"
+        self.assertEqual(self.invocations(), 7)
+        self.assertIn("[1/7] reference reference ... completed",
+                      result.stdout)
+        override = (out / "reference" / "override.prm").read_text()
+        self.assertIn("set Subdivisions = 1024, 1", override)
+        self.assertIn("set Courant number = 0.2", override)
+        self.assertIn("set No analytical = true", override)
+
+        columns, rows = self.read_csv(out / "results.csv")
+        self.assertIn("error_reference_kinetic_energy", columns)
+        self.assertIn("error_reference_total_energy", columns)
+        self.assertNotIn("error_reference_strain_energy", columns)
+        self.assertEqual(len(rows), 6)  # the reference is no study run
+        for row in rows:
+            method = row["Method/Particle update"]
+            n = int(row["Mesh/Subdivisions"].split(",")[0])
+            self.assertEqual(row["error_velocity_l2"], "")
+            self.assertAlmostEqual(
+                float(row["error_reference_kinetic_energy"]),
+                self.expected_error(method, n), delta=1e-3 *
+                self.expected_error(method, n))
+            self.assertLess(float(row["error_reference_total_energy"]),
+                            1e-12)
+        _, orders = self.read_csv(out / "convergence_orders.csv")
+        found = {row["method"]: float(row["order"]) for row in orders}
+        self.assertEqual(set(found), {"flip", "fmpm"})
+        for method, order in found.items():
+            self.assertAlmostEqual(order, fake.ORDER[method], delta=0.05)
+        self.assertTrue((out / "convergence.png").is_file())
+        self.assertTrue((out / "error_vs_wall_time.png").is_file())
+
+        # Resuming skips the completed reference; --plot-only reuses it.
+        again = self.run_cli("ref.study", "--output", "out")
+        self.assertEqual(again.returncode, 0, again.stderr)
+        self.assertIn("Skipped the reference run", again.stdout)
+        self.assertEqual(self.invocations(), 7)
+        plot = self.run_cli("ref.study", "--output", "out", "--plot-only",
+                            "--no-charts")
+        self.assertEqual(plot.returncode, 0, plot.stderr)
+        _, replotted = self.read_csv(out / "results.csv")
+        self.assertEqual(replotted, rows)
+
+        # Without a completed reference there are no reference errors.
+        shutil.rmtree(out / "reference")
+        plot = self.run_cli("ref.study", "--output", "out", "--plot-only",
+                            "--no-charts")
+        self.assertEqual(plot.returncode, 0, plot.stderr)
+        self.assertIn("no error_reference_* columns", plot.stderr)
+        _, rows = self.read_csv(out / "results.csv")
+        self.assertEqual({r["error_reference_kinetic_energy"] for r in rows},
+                         {""})
+
+    def test_analytical_errors_take_precedence(self):
+        self.write_study(REFERENCE_STUDY.replace(
+            "set Test/No analytical = true\n", ""), "ref.study")
+        result = self.run_cli("ref.study", "--output", "out", "--no-charts")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        _, rows = self.read_csv(self.dir / "out" / "results.csv")
+        for row in rows:
+            self.assertNotEqual(row["error_velocity_l2"], "")
+            self.assertEqual(row["error_reference_kinetic_energy"], "")
+
+    def test_parsing(self):
+        parsed = self.parse("""\
+            base = base.prm
+            set Time/End time = 0.5
+            reference = Mesh/Subdivisions=80, 80 | Time/Courant number=0.2
+            """)
+        self.assertEqual(parsed.reference, {"Mesh/Subdivisions": "80, 80",
+                                            "Time/Courant number": "0.2"})
+        self.assertEqual(parsed.reference_columns,
+                         study.DEFAULT_REFERENCE_COLUMNS)
+        run = study.reference_run(parsed, self.dir / "out")
+        self.assertEqual(run.directory, (self.dir / "out" /
+                                         "reference").resolve())
+        self.assertEqual(run.settings["Time/End time"], "0.5")
+        self.assertEqual(run.settings["Mesh/Subdivisions"], "80, 80")
+        for body, message in (
+                ("reference = Mesh/Subdivisions", "not 'PATH = VALUE'"),
+                ("reference = Output/Directory = x", "cannot be set"),
+                ("reference columns =", "no history.csv column"),
+                ("reference = A = 1\nreference = B = 2", "given twice")):
+            with self.assertRaises(study.StudyError) as caught:
+                self.parse("base = base.prm\n" + body + "\n")
+            self.assertIn(message, str(caught.exception))
+
+    def test_relative_l2_difference_interpolates(self):
+        ref_t, ref_v = [0.0, 1.0, 2.0], [1.0, 3.0, 5.0]  # r(t) = 1 + 2t
+        value = study.relative_l2_difference([0.5, 1.5, 3.0],
+                                             [2.0, 4.0 + 0.4, 99.0],
+                                             ref_t, ref_v)
+        self.assertAlmostEqual(value, (0.16 / (4.0 + 16.0)) ** 0.5)
+        self.assertIsNone(study.relative_l2_difference([3.0], [1.0],
+                                                       ref_t, ref_v))
+
+
 class HelperTest(unittest.TestCase):
     """Small pure functions."""
 
