@@ -9,6 +9,7 @@
 #include <deal.II/base/numbers.h>
 #include <deal.II/base/utilities.h>
 
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -200,6 +201,18 @@ namespace fmpm
                       Patterns::Integer(1, 1000),
                       "How many materials the scene has; each is described "
                       "in a subsection 'Material N'. Units: none.");
+    prm.declare_entry("Number of moving walls",
+                      std::to_string(defaults.n_moving_walls),
+                      Patterns::Integer(0, 1000),
+                      "How many prescribed-velocity conditions (moving walls, "
+                      "pistons) the scene has; each is described in "
+                      "'Boundary conditions/Moving wall N'. Units: none.");
+    prm.declare_entry("Number of tractions",
+                      std::to_string(defaults.n_tractions),
+                      Patterns::Integer(0, 1000),
+                      "How many traction loads the scene has; each is "
+                      "described in 'Boundary conditions/Traction N'. "
+                      "Units: none.");
   }
 
 
@@ -207,9 +220,11 @@ namespace fmpm
   void
   SceneSize::parse_parameters(ParameterHandler &prm)
   {
-    dimension   = prm.get_integer("Dimension");
-    n_bodies    = prm.get_integer("Number of bodies");
-    n_materials = prm.get_integer("Number of materials");
+    dimension      = prm.get_integer("Dimension");
+    n_bodies       = prm.get_integer("Number of bodies");
+    n_materials    = prm.get_integer("Number of materials");
+    n_moving_walls = prm.get_integer("Number of moving walls");
+    n_tractions    = prm.get_integer("Number of tractions");
   }
 
 
@@ -269,6 +284,97 @@ namespace fmpm
                         Patterns::List(Patterns::Integer(0, 255)),
                         "Boundary ids on which the normal grid velocity is "
                         "zero (free slip, symmetry). Units: none.");
+      prm.declare_entry(
+        "Method",
+        "constrained",
+        Patterns::Selection("constrained|lumped|velocity|unlumped 1|"
+                            "unlumped 2|collection full|collection partial"),
+        "How velocity conditions are imposed when the mass matrix is not "
+        "lumped (seed 000 Sec. 2.4): 'constrained': lumped momentum and "
+        "force changes, and the condition values are known values of every "
+        "full-mass solve (the least-squares problem with the conditions as "
+        "constraints); 'lumped': Eq. 2.52 only; 'velocity': Eq. 2.53, grid "
+        "velocities corrected after each solve; 'unlumped 1': Eqs. "
+        "2.54-2.55, m~ times the lumped velocity change; 'unlumped 2': Eq. "
+        "2.56, the mass matrix times the full-mass velocity change; "
+        "'collection full': forces on the condition nodes from the "
+        "n_BC x n_BC system (n_BC + 1 mass-matrix solves per stage); "
+        "'collection partial': those forces with a lumped mass matrix. All "
+        "reduce to 'lumped' with a lumped mass matrix except 'unlumped 1' "
+        "(as seed 000 remarks). Units: none.");
+      const MovingWallParameters wall;
+      for (unsigned int w = 0; w < size.n_moving_walls; ++w)
+        {
+          prm.enter_subsection(numbered_subsection("Moving wall", w));
+          prm.declare_entry("Boundary ids",
+                            "",
+                            Patterns::List(Patterns::Integer(0, 255)),
+                            "Boundary ids whose nodes move with the wall; "
+                            "leave empty to use 'Box lower/upper corner'. "
+                            "Units: none.");
+          prm.declare_entry("Box lower corner",
+                            "",
+                            Patterns::List(Patterns::Double(), 0, dim, ","),
+                            "Lower corner of the box region of the wall at "
+                            "t = 0 (empty with 'Boundary ids'); the box moves "
+                            "with the wall and material points do not enter "
+                            "it. Units: m.");
+          prm.declare_entry("Box upper corner",
+                            "",
+                            Patterns::List(Patterns::Double(), 0, dim, ","),
+                            "Upper corner of the box region at t = 0. "
+                            "Units: m.");
+          prm.declare_entry("Direction",
+                            join(wall.direction, dim),
+                            point_pattern(dim),
+                            "Direction n of the prescribed velocity component "
+                            "(normalized); other components are free. "
+                            "Units: none.");
+          prm.declare_entry("Velocity",
+                            wall.velocity,
+                            Patterns::Anything(),
+                            "Velocity v(t) along the direction, a "
+                            "FunctionParser expression in t (e.g. "
+                            "'v0*min(t/t0, 1)'). Units: m/s.");
+          prm.declare_entry("Function constants",
+                            "",
+                            Patterns::Anything(),
+                            "Constants for 'Velocity', e.g. 'v0=0.1'. Units: "
+                            "as used.");
+          prm.leave_subsection();
+        }
+      for (unsigned int n = 0; n < size.n_tractions; ++n)
+        {
+          prm.enter_subsection(numbered_subsection("Traction", n));
+          prm.declare_entry("Box lower corner",
+                            join(std::vector<double>{0, 0, 0}, dim),
+                            point_pattern(dim),
+                            "Lower corner of the box that selects the loaded "
+                            "material points (at t = 0). Units: m.");
+          prm.declare_entry("Box upper corner",
+                            join(std::vector<double>{0, 0, 0}, dim),
+                            point_pattern(dim),
+                            "Upper corner of that box. Units: m.");
+          prm.declare_entry("Traction",
+                            join(std::vector<double>{0, 0, 0}, dim),
+                            Patterns::Anything(),
+                            "Traction vector t(t) with its load curve: dim "
+                            "numbers separated by ',' or dim expressions in "
+                            "t separated by ';' (e.g. '-p0*min(t/t0,1); 0'). "
+                            "Each selected point gets the force t times its "
+                            "face area (Eq. 2.10, f_T). Units: Pa.");
+          prm.declare_entry("Normal axis",
+                            "0",
+                            Patterns::Integer(0, dim - 1),
+                            "Axis of the loaded face's normal; a point's face "
+                            "area is the product of its initial side lengths "
+                            "along the other axes. Units: none.");
+          prm.declare_entry("Function constants",
+                            "",
+                            Patterns::Anything(),
+                            "Constants for 'Traction'. Units: as used.");
+          prm.leave_subsection();
+        }
     }
     prm.leave_subsection();
 
@@ -370,6 +476,30 @@ namespace fmpm
                       Patterns::Anything(),
                       "Constants for the 'Acceleration' expressions, e.g. "
                       "'A=0.01, c=2'. Units: as used.");
+    prm.enter_subsection("Rotating frame");
+    prm.declare_entry("Enable",
+                      "false",
+                      Patterns::Bool(),
+                      "Solve in a frame rotating with angular velocity w(t) "
+                      "about 'Center': the body acceleration gains the "
+                      "centrifugal -w x (w x r), Coriolis -2 w x V and Euler "
+                      "-dw/dt x r terms (seed 001, computing the body "
+                      "force). Units: none.");
+    prm.declare_entry("Angular velocity",
+                      "0; 0; 0",
+                      Patterns::Anything(),
+                      "w(t): three numbers separated by ',' or three "
+                      "expressions in t separated by ';' (in 2D only the z "
+                      "component acts). Units: 1/s.");
+    prm.declare_entry("Center",
+                      join(std::vector<double>{0, 0, 0}, dim),
+                      point_pattern(dim),
+                      "Centre of rotation. Units: m.");
+    prm.declare_entry("Function constants",
+                      "",
+                      Patterns::Anything(),
+                      "Constants for 'Angular velocity'. Units: as used.");
+    prm.leave_subsection();
     prm.leave_subsection();
 
     const BodyParameters body;
@@ -416,6 +546,15 @@ namespace fmpm
                           Patterns::Anything(),
                           "Constants for the 'Initial velocity' expressions, "
                           "e.g. 'v0=0.1, beta=1.5708'. Units: as used.");
+        prm.declare_entry("Initial stress from gravity",
+                          "false",
+                          Patterns::Bool(),
+                          "Start with the stress in equilibrium with gravity "
+                          "(seed 001, initializeStressWithBodyForce): "
+                          "sigma = -rho |g| depth along g, with lateral "
+                          "stresses of uniaxial strain, so that a column "
+                          "under gravity starts at rest. Depth is measured "
+                          "from the body's top surface. Units: none.");
         prm.leave_subsection();
       }
 
@@ -583,6 +722,61 @@ namespace fmpm
       boundary_conditions.fixed.push_back(static_cast<types::boundary_id>(id));
     for (const double id : get_doubles(prm, "Roller boundary ids"))
       boundary_conditions.roller.push_back(static_cast<types::boundary_id>(id));
+    boundary_conditions.method = prm.get("Method");
+    boundary_conditions.moving_walls.resize(size.n_moving_walls);
+    for (unsigned int w = 0; w < size.n_moving_walls; ++w)
+      {
+        const std::string where =
+          "Boundary conditions/" + numbered_subsection("Moving wall", w);
+        prm.enter_subsection(numbered_subsection("Moving wall", w));
+        auto &wall = boundary_conditions.moving_walls[w];
+        for (const double id : get_doubles(prm, "Boundary ids"))
+          wall.boundary_ids.push_back(static_cast<types::boundary_id>(id));
+        wall.box_lower = get_doubles(prm, "Box lower corner");
+        wall.box_upper = get_doubles(prm, "Box upper corner");
+        wall.direction = get_doubles(prm, "Direction");
+        wall.velocity  = prm.get("Velocity");
+        wall.constants = prm.get("Function constants");
+        prm.leave_subsection();
+        const bool has_box = !wall.box_lower.empty() || !wall.box_upper.empty();
+        AssertThrow(wall.boundary_ids.empty() != !has_box,
+                    ExcMessage(where + ": set either 'Boundary ids' or both "
+                                       "'Box lower corner' and 'Box upper "
+                                       "corner', not both and not neither."));
+        if (has_box)
+          {
+            AssertThrow(wall.box_lower.size() == dim &&
+                          wall.box_upper.size() == dim,
+                        ExcMessage(where +
+                                   "/Box lower corner and Box upper "
+                                   "corner need " +
+                                   std::to_string(dim) + " numbers each."));
+            for (unsigned int d = 0; d < dim; ++d)
+              AssertThrow(wall.box_upper[d] > wall.box_lower[d],
+                          ExcMessage(where + "/Box upper corner must be above "
+                                             "Box lower corner in every "
+                                             "direction."));
+          }
+        double norm = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          norm += wall.direction[d] * wall.direction[d];
+        AssertThrow(norm > 0,
+                    ExcMessage(where + "/Direction must not be zero."));
+        for (unsigned int d = 0; d < dim; ++d)
+          wall.direction[d] /= std::sqrt(norm);
+      }
+    boundary_conditions.tractions.resize(size.n_tractions);
+    for (unsigned int n = 0; n < size.n_tractions; ++n)
+      {
+        prm.enter_subsection(numbered_subsection("Traction", n));
+        auto &traction       = boundary_conditions.tractions[n];
+        traction.box_lower   = get_doubles(prm, "Box lower corner");
+        traction.box_upper   = get_doubles(prm, "Box upper corner");
+        traction.traction    = prm.get("Traction");
+        traction.normal_axis = prm.get_integer("Normal axis");
+        traction.constants   = prm.get("Function constants");
+        prm.leave_subsection();
+      }
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
@@ -607,6 +801,12 @@ namespace fmpm
     gravity                     = get_doubles(prm, "Gravity");
     body_acceleration           = prm.get("Acceleration");
     body_acceleration_constants = prm.get("Function constants");
+    prm.enter_subsection("Rotating frame");
+    rotating_frame.enable           = prm.get_bool("Enable");
+    rotating_frame.angular_velocity = prm.get("Angular velocity");
+    rotating_frame.center           = get_doubles(prm, "Center");
+    rotating_frame.constants        = prm.get("Function constants");
+    prm.leave_subsection();
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
@@ -656,6 +856,8 @@ namespace fmpm
         bodies[b].points_per_cell     = prm.get_integer("Points per cell");
         bodies[b].velocity_expression = prm.get("Initial velocity");
         bodies[b].function_constants  = prm.get("Function constants");
+        bodies[b].initial_stress_from_gravity =
+          prm.get_bool("Initial stress from gravity");
         prm.leave_subsection();
         AssertThrow(bodies[b].material < size.n_materials,
                     ExcMessage(where + "/Material = " +

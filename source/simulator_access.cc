@@ -78,9 +78,16 @@ namespace fmpm
 
   template <int dim>
   const std::vector<GridScalar> &
-  SimulatorAccess<dim>::get_zero_velocity_mask() const
+  SimulatorAccess<dim>::get_known_velocity_mask() const
   {
-    return get_simulator().zero_velocity_mask;
+    return get_simulator().known_velocity_mask;
+  }
+
+  template <int dim>
+  const std::vector<GridScalar> &
+  SimulatorAccess<dim>::get_known_velocity_values() const
+  {
+    return get_simulator().known_velocity_value;
   }
 
   template <int dim>

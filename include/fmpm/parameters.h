@@ -25,9 +25,11 @@ namespace fmpm
    */
   struct SceneSize
   {
-    unsigned int dimension   = 2;
-    unsigned int n_bodies    = 1;
-    unsigned int n_materials = 1;
+    unsigned int dimension      = 2;
+    unsigned int n_bodies       = 1;
+    unsigned int n_materials    = 1;
+    unsigned int n_moving_walls = 0;
+    unsigned int n_tractions    = 0;
 
     static void
     declare_parameters(ParameterHandler &prm);
@@ -47,11 +49,55 @@ namespace fmpm
     unsigned int              global_refinement = 0;
   };
 
-  /** @brief Grid velocity conditions per boundary id. */
+  /**
+   * @brief A prescribed grid velocity v(t) along a direction n̂ on boundary
+   * ids or on the nodes inside a box (which moves with the wall): rigid
+   * moving walls and pistons.
+   */
+  struct MovingWallParameters
+  {
+    std::vector<types::boundary_id> boundary_ids;
+    /** Box region (empty when the wall is given by boundary ids). */
+    std::vector<double> box_lower, box_upper;
+    /** Unit direction n̂ of the prescribed velocity component. */
+    std::vector<double> direction{1, 0, 0};
+    /** v(t) (FunctionParser in t). Units: m/s. */
+    std::string velocity = "0";
+    std::string constants;
+  };
+
+  /** @brief A traction t(t) on the material points inside a box. */
+  struct TractionParameters
+  {
+    std::vector<double> box_lower, box_upper;
+    /** dim expressions of t separated by ';' (or numbers). Units: Pa. */
+    std::string traction;
+    /** Axis of the loaded face's normal: the point's face area is the
+     * product of its initial side lengths in the other directions. */
+    unsigned int normal_axis = 0;
+    std::string  constants;
+  };
+
+  /** @brief Grid velocity conditions, how they are imposed, tractions. */
   struct BoundaryConditionParameters
   {
     std::vector<types::boundary_id> fixed;
     std::vector<types::boundary_id> roller;
+    /** constrained, lumped, velocity, unlumped 1, unlumped 2, collection
+     * full, collection partial (seed 000 §2.4). */
+    std::string                       method = "constrained";
+    std::vector<MovingWallParameters> moving_walls;
+    std::vector<TractionParameters>   tractions;
+  };
+
+  /** @brief Body force in a rotating frame (seed 001, body force). */
+  struct RotatingFrameParameters
+  {
+    bool enable = false;
+    /** ω(t): 3 expressions of t separated by ';' (or numbers). Units: 1/s. */
+    std::string         angular_velocity = "0; 0; 0";
+    std::vector<double> center{0, 0, 0};
+    std::string         constants;
   };
 
   /** @brief Time stepping. */
@@ -103,6 +149,8 @@ namespace fmpm
     std::string velocity_expression;
     /** "name=value, ..." for the expressions. */
     std::string function_constants;
+    /** Start with the stress in equilibrium with gravity (lithostatic). */
+    bool initial_stress_from_gravity = false;
   };
 
   /**
@@ -163,6 +211,7 @@ namespace fmpm
     /** Extra body acceleration b(x, t) (FunctionParser), empty for none. */
     std::string                 body_acceleration;
     std::string                 body_acceleration_constants;
+    RotatingFrameParameters     rotating_frame;
     OutputParameters            output;
     FailureParameters           failure;
     ReferenceSolutionParameters reference;

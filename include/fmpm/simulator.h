@@ -13,9 +13,11 @@
 #include <fmpm/particle_update/interface.h>
 #include <fmpm/postprocess/history.h>
 #include <fmpm/simulator_access.h>
+#include <fmpm/velocity_conditions.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/function.h>
+#include <deal.II/base/function_parser.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -25,6 +27,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/particles/particle_handler.h>
 
+#include <array>
 #include <memory>
 #include <set>
 #include <string>
@@ -118,6 +121,34 @@ namespace fmpm
       return mass_floor_value;
     }
 
+    /** @brief A grid field of the last step (for tests). */
+    const GridVectorField &
+    get_grid_field(const ParticleUpdate::GridField field) const
+    {
+      return grid_fields[field];
+    }
+
+    /** @brief The velocity conditions (for tests). */
+    const VelocityConditions<dim> &
+    get_velocity_conditions() const
+    {
+      return velocity_conditions;
+    }
+
+    /** @brief The material points (for tests). */
+    const Particles::ParticleHandler<dim> &
+    get_particle_handler() const
+    {
+      return particle_handler;
+    }
+
+    /** @brief Reaction forces of the last step per label. */
+    const std::vector<Tensor<1, dim>> &
+    get_reaction_forces() const
+    {
+      return reaction_forces;
+    }
+
     /** @brief Statistics of the material points now (collective). */
     GlobalStatistics<dim>
     compute_statistics() const;
@@ -150,12 +181,26 @@ namespace fmpm
     particles_to_grid(const bool with_forces);
     void
     compute_forces();
-    /** Gravity plus the scene's body acceleration b(x, t) at x, now. */
+    /** Gravity, the scene's b(x, t) and the rotating frame's terms at a
+     * point at x moving with V. */
     Tensor<1, dim>
     body_acceleration_at(const Point<dim>     &x,
+                         const Tensor<1, dim> &V,
                          const Tensor<1, dim> &gravity) const;
+    /** Traction force t(t) A_p of a point (zero if it has none). */
+    Tensor<1, dim>
+    traction_force_of(const ArrayView<const double> &properties) const;
+    /** The grid operators the velocity-condition methods use. */
+    typename VelocityConditions<dim>::Operators
+    velocity_condition_operators() const;
+    /** Stage P/F of the velocity conditions on a momentum-like field. */
     void
-    apply_velocity_conditions(GridVectorField &field) const;
+    impose_velocity_conditions(GridVectorField             &q,
+                               const double                 t,
+                               std::vector<Tensor<1, dim>> *impulse);
+    /** Set the initial stress of bodies that ask for it (gravity). */
+    void
+    initialize_stress_from_gravity();
     /** Compute a nodal field (once per step) with BCs, ghosts, constraints. */
     void
     compute_field(const ParticleUpdate::GridField field);
@@ -211,17 +256,32 @@ namespace fmpm
     std::array<bool, ParticleUpdate::n_grid_fields>            field_computed;
     TrilinosWrappers::SparseMatrix                             full_mass_matrix;
 
-    // Grid velocity conditions: owned local node index and unit normal
-    // (for rollers) or an empty normal (fixed: all components).
-    struct NodeCondition
-    {
-      unsigned int   local_index;
-      bool           fixed_all;
-      Tensor<1, dim> normal;
-    };
-    std::vector<NodeCondition> node_conditions;
-    /** Per component: 1 on owned nodes whose component is held at zero. */
-    std::vector<GridScalar> zero_velocity_mask;
+    /** Grid velocity conditions and the method imposing them. */
+    VelocityConditions<dim> velocity_conditions;
+    /** Per component: 1 on owned nodes whose component is known in the
+     * mass-matrix solves (constrained method), and the known values. */
+    std::vector<GridScalar> known_velocity_mask;
+    std::vector<GridScalar> known_velocity_value;
+    /** Time at which the current momenta p are (t^n, or t^{n+1} after the
+     * re-extrapolation of USL+/USAVG+). */
+    double momentum_time = 0;
+    /** Impulse each reaction label gave the material in this step, and the
+     * resulting reaction forces (global). */
+    std::vector<Tensor<1, dim>> step_impulse;
+    std::vector<Tensor<1, dim>> reaction_forces;
+    /** Traction load curves t(t), and the slots holding a point's traction
+     * (index + 1, 0 for none) and face area. */
+    std::vector<std::unique_ptr<FunctionParser<1>>> traction_functions;
+    unsigned int traction_index_slot = numbers::invalid_unsigned_int;
+    /** Angular velocity ω(t) of the rotating frame, or nullptr. */
+    std::unique_ptr<FunctionParser<1>> angular_velocity;
+    /** Work done on the material by moving walls and tractions since the
+     * start (energy balance), and Σ|dW|. Units: J. */
+    double external_work        = 0;
+    double external_work_scale  = 0;
+    double local_traction_power = 0;
+    /** Corrections Δv (of v) and Δv⁺ (of v⁺) per node condition. */
+    std::array<std::vector<double>, 2> velocity_corrections;
     /** Cells around each vertex, for finding the new cell of a moved point. */
     std::vector<std::set<typename Triangulation<dim>::active_cell_iterator>>
       vertex_to_cells;

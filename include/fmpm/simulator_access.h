@@ -70,12 +70,15 @@ namespace fmpm
     const TrilinosWrappers::SparseMatrix &
     get_full_mass_matrix() const;
     /**
-     * Per velocity component, 1 on locally owned nodes where a grid
-     * condition holds that component at zero (axis-aligned fixed or roller
-     * conditions), else 0.
+     * Per velocity component, 1 on locally owned nodes whose component is a
+     * known value in mass-matrix solves (Boundary conditions/Method =
+     * constrained: axis-aligned conditions), else 0.
      */
     const std::vector<GridScalar> &
-    get_zero_velocity_mask() const;
+    get_known_velocity_mask() const;
+    /** The known values where the mask is 1 (set before each solve). */
+    const std::vector<GridScalar> &
+    get_known_velocity_values() const;
     double
     get_time() const;
     double

@@ -15,15 +15,17 @@ namespace fmpm
                        GridVectorField                      &v,
                        const unsigned int                    k,
                        const double                          mass_floor,
-                       const std::vector<GridScalar>        *zero_mask)
+                       const std::vector<GridScalar>        *zero_mask,
+                       const std::vector<GridScalar>        *known_values)
     {
-      // v_1 = m⁻¹ p
+      // v_1 = m⁻¹ p; known components hold their values in every sweep.
       apply_lumped_inverse(m, p, v, mass_floor);
       if (zero_mask)
         for (unsigned int b = 0; b < p.n_blocks(); ++b)
           for (unsigned int i = 0; i < m.locally_owned_size(); ++i)
             if ((*zero_mask)[b].local_element(i) != 0)
-              v.block(b).local_element(i) = 0;
+              v.block(b).local_element(i) =
+                known_values ? (*known_values)[b].local_element(i) : 0.;
       if (k == 1)
         return;
       GridScalar         m_tilde_v(m.get_partitioner());
@@ -81,7 +83,25 @@ namespace fmpm
                          v,
                          k,
                          this->get_simulator().mass_floor(),
-                         &this->get_zero_velocity_mask());
+                         &this->get_known_velocity_mask(),
+                         &this->get_known_velocity_values());
+    }
+
+
+
+    template <int dim>
+    void
+    Fmpm<dim>::vmult(const GridVectorField &v, GridVectorField &p) const
+    {
+      // m̃ (the assembled full mass matrix) stands in for m̃_k, as seed 000
+      // suggests for the unlumped boundary-condition methods.
+      if (k == 1)
+        {
+          Interface<dim>::vmult(v, p);
+          return;
+        }
+      for (unsigned int b = 0; b < v.n_blocks(); ++b)
+        this->get_full_mass_matrix().vmult(p.block(b), v.block(b));
     }
 
     FMPM_REGISTER_MASS_MATRIX(

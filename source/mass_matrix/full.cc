@@ -221,7 +221,8 @@ namespace fmpm
     {
       const GridScalar  &m         = this->get_lumped_mass();
       const double       floor     = this->get_simulator().mass_floor();
-      const auto        &zero_mask = this->get_zero_velocity_mask();
+      const auto        &zero_mask = this->get_known_velocity_mask();
+      const auto        &values    = this->get_known_velocity_values();
       const unsigned int n         = m.locally_owned_size();
       for (unsigned int b = 0; b < p.n_blocks(); ++b)
         {
@@ -231,7 +232,7 @@ namespace fmpm
             if (zero_mask[b].local_element(i) != 0)
               {
                 known.local_element(i)      = 1;
-                v.block(b).local_element(i) = 0;
+                v.block(b).local_element(i) = values[b].local_element(i);
               }
           const FullMassSolve result = solve_full_mass_system(matrix(),
                                                               m,

@@ -11,11 +11,13 @@ namespace fmpm
 {
   template <int dim>
   void
-  History<dim>::open(const std::string &file_name,
-                     const bool         is_root,
-                     const bool         errors,
-                     const bool         dissipation)
+  History<dim>::open(const std::string              &file_name,
+                     const bool                      is_root,
+                     const bool                      errors,
+                     const bool                      dissipation,
+                     const std::vector<std::string> &reaction_labels)
   {
+    n_reactions      = reaction_labels.size();
     with_errors      = errors;
     with_dissipation = dissipation;
     all_rows.clear();
@@ -34,6 +36,9 @@ namespace fmpm
       *file << ",error_velocity_l2,error_displacement_l2";
     if (with_dissipation)
       *file << ",dissipated_energy";
+    for (const auto &label : reaction_labels)
+      for (unsigned int d = 0; d < dim; ++d)
+        *file << ",reaction_" << label << '_' << "xyz"[d];
     *file << '\n';
     file->flush();
   }
@@ -57,6 +62,9 @@ namespace fmpm
       *file << ',' << row.error_velocity_l2 << ',' << row.error_displacement_l2;
     if (with_dissipation)
       *file << ',' << row.dissipated_energy;
+    for (unsigned int r = 0; r < n_reactions; ++r)
+      for (unsigned int d = 0; d < dim; ++d)
+        *file << ',' << (r < row.reactions.size() ? row.reactions[r][d] : 0.);
     *file << '\n';
     file->flush();
   }

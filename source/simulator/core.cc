@@ -68,6 +68,7 @@ namespace fmpm
       });
     create_material_points();
     setup_boundary_conditions();
+    initialize_stress_from_gravity();
 
     // Nodes with less than a tiny fraction of a typical point mass are empty.
     double min_point_mass = std::numeric_limits<double>::max();
@@ -144,7 +145,8 @@ namespace fmpm
     history.open(parameters.output.directory + "/history.csv",
                  is_root,
                  parameters.reference.enable,
-                 parameters.output.track_dissipation);
+                 parameters.output.track_dissipation,
+                 velocity_conditions.labels());
 
     pcout << "fmpm: " << dim << "D, "
           << Utilities::MPI::n_mpi_processes(mpi_communicator)
@@ -258,13 +260,24 @@ namespace fmpm
     // at t^n, measured on the manufactured solution).
     if (body_acceleration)
       body_acceleration->set_time(time + 0.5 * dt);
+    if (angular_velocity)
+      angular_velocity->set_time(time + 0.5 * dt);
+    for (auto &traction : traction_functions)
+      traction->set_time(time + 0.5 * dt);
     field_computed.fill(false);
+    if (velocity_conditions.has_moving_boxes())
+      velocity_conditions.setup_nodes(dof_handler,
+                                      *lumped_mass.get_partitioner());
+    for (auto &impulse : step_impulse)
+      impulse = Tensor<1, dim>();
 
     // 1. Extrapolate mass and momentum (and, when the stresses are not
     //    updated first, the forces from the last stresses):
-    //    m = SᵀM, p = SᵀMV, f (Eqs. 2.14-2.15). Velocity conditions on p.
+    //    m = SᵀM, p = SᵀMV, f (Eqs. 2.14-2.15). Velocity conditions on p
+    //    (seed 000 §2.1.1).
     particles_to_grid(!update_first);
-    apply_velocity_conditions(momentum);
+    momentum_time = time;
+    impose_velocity_conditions(momentum, time, nullptr);
 
     // 2. USF / USAVG: update stresses with v = m̃ₖ⁻¹p (Δt/2 for USAVG),
     //    then extrapolate the forces.
@@ -276,17 +289,37 @@ namespace fmpm
         compute_forces();
       }
 
-    // 3.-4. Velocity conditions on forces; p⁺ = p + fΔt (Eq. 2.16), with the
-    //    conditions imposed again.
+    // 3.-4. p⁺ = p + (f + f^(BC))Δt (Eqs. 2.16, 2.42): the conditions'
+    //    forces f^(BC) make p⁺ satisfy them at t + Δt (§2.1.3), and f
+    //    includes them. The velocity method corrects the velocities
+    //    instead (re-imposition after the momentum update, §2.1.4).
     {
       TimerOutput::Scope timer(computing_timer, "grid solve");
-      apply_velocity_conditions(force);
       updated_momentum = momentum;
       updated_momentum.add(dt, force);
-      apply_velocity_conditions(updated_momentum);
+      impose_velocity_conditions(updated_momentum, time + dt, &step_impulse);
+      force = updated_momentum;
+      force.add(-1., momentum);
+      force *= 1. / dt;
+      const bool velocity_method_reactions =
+        velocity_conditions.get_method() ==
+          VelocityConditions<dim>::Method::velocity &&
+        !velocity_conditions.labels().empty();
       for (unsigned int f = 0; f < n_grid_fields; ++f)
-        if (field_needed[f])
+        if (field_needed[f] || (velocity_method_reactions &&
+                                (f == updated_velocity || f == velocity)))
           compute_field(static_cast<GridField>(f));
+      // Velocity method: f^(b) = m̃ a^(b) with a^(b)Δt = Δv⁺ − Δv, whose
+      // sum over nodes is Σ m_j a_j^(b) (columns of m̃ sum to m).
+      if (velocity_method_reactions)
+        for (unsigned int c = 0; c < velocity_corrections[1].size(); ++c)
+          {
+            const auto &condition = velocity_conditions.node_conditions()[c];
+            step_impulse[condition.source] +=
+              lumped_mass.local_element(condition.local_index) *
+              (velocity_corrections[1][c] - velocity_corrections[0][c]) *
+              condition.normal;
+          }
     }
 
     // 5. Particle update (Table 2.1).
@@ -306,7 +339,8 @@ namespace fmpm
         if (re_extrapolate)
           {
             particles_to_grid(false);
-            apply_velocity_conditions(momentum);
+            momentum_time = time + dt;
+            impose_velocity_conditions(momentum, time + dt, nullptr);
             field_computed[velocity] = field_computed[lumped_velocity] = false;
             const GridField v =
               lumped_strain_velocity ? lumped_velocity : velocity;
@@ -324,6 +358,30 @@ namespace fmpm
       }
 
     sort_particles_into_cells();
+
+    // Reaction forces: the impulse each boundary gave in this step over Δt.
+    if (!step_impulse.empty())
+      {
+        std::vector<double> values;
+        for (const auto &impulse : step_impulse)
+          for (unsigned int d = 0; d < dim; ++d)
+            values.push_back(impulse[d] / dt);
+        Utilities::MPI::sum(values, mpi_communicator, values);
+        for (unsigned int s = 0; s < reaction_forces.size(); ++s)
+          for (unsigned int d = 0; d < dim; ++d)
+            reaction_forces[s][d] = values[s * dim + d];
+      }
+    // External work: moving walls (reaction · n̂ v(t + Δt/2) Δt) and
+    // tractions (Σ F_p · V_p Δt).
+    {
+      double work =
+        velocity_conditions.wall_work(reaction_forces, time, dt) +
+        Utilities::MPI::sum(local_traction_power, mpi_communicator) * dt;
+      local_traction_power = 0;
+      external_work += work;
+      external_work_scale += std::abs(work);
+    }
+    velocity_conditions.advance_walls(time, dt);
 
     time += dt;
     ++timestep_number;
@@ -385,6 +443,31 @@ namespace fmpm
       return;
     TimerOutput::Scope timer(computing_timer, "grid solve");
     GridVectorField   &target = grid_fields[field];
+    // The time of the field's velocities (acceleration: over the step).
+    const double t_begin = momentum_time, t_end = time + time_step;
+    const double t_field =
+      (field == updated_velocity || field == lumped_updated_velocity) ? t_end :
+                                                                        t_begin;
+    const bool is_acceleration =
+      (field == acceleration || field == lumped_acceleration);
+    if (velocity_conditions.uses_known_values())
+      {
+        velocity_conditions.known_values(t_field,
+                                         known_velocity_mask,
+                                         known_velocity_value);
+        if (is_acceleration)
+          {
+            // Known accelerations: (v_b(t + Δt) − v_b(t)) / Δt.
+            std::vector<GridScalar> mask_end(known_velocity_mask),
+              value_end(known_velocity_value);
+            velocity_conditions.known_values(t_end, mask_end, value_end);
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                known_velocity_value[d].sadd(-1., 1., value_end[d]);
+                known_velocity_value[d] *= 1. / time_step;
+              }
+          }
+      }
     switch (field)
       {
         case updated_velocity: // v⁺ = m̃ₖ⁻¹ p⁺
@@ -417,7 +500,24 @@ namespace fmpm
         default:
           Assert(false, ExcInternalError());
       }
-    apply_velocity_conditions(target);
+    // Lumped fields satisfy the conditions exactly; full-mass fields where
+    // the method promises it (constrained, velocity: Eq. 2.53).
+    const bool is_lumped =
+      (field == lumped_velocity || field == lumped_updated_velocity ||
+       field == lumped_acceleration);
+    if (is_lumped || velocity_conditions.corrects_velocities())
+      {
+        if (is_acceleration)
+          velocity_conditions.correct_accelerations(target, t_begin, t_end);
+        else
+          velocity_conditions.correct_velocities(target,
+                                                 t_field,
+                                                 field == updated_velocity ?
+                                                   &velocity_corrections[1] :
+                                                 field == velocity ?
+                                                   &velocity_corrections[0] :
+                                                   nullptr);
+      }
     constraints.distribute(target);
     target.update_ghost_values();
     field_computed[field] = true;
@@ -426,26 +526,45 @@ namespace fmpm
 
 
   template <int dim>
-  void
-  Simulator<dim>::apply_velocity_conditions(GridVectorField &field) const
+  typename VelocityConditions<dim>::Operators
+  Simulator<dim>::velocity_condition_operators() const
   {
-    for (const auto &condition : node_conditions)
-      {
-        if (condition.fixed_all)
-          for (unsigned int d = 0; d < dim; ++d)
-            field.block(d).local_element(condition.local_index) = 0;
-        else
-          {
-            double normal_component = 0;
-            for (unsigned int d = 0; d < dim; ++d)
-              normal_component +=
-                field.block(d).local_element(condition.local_index) *
-                condition.normal[d];
-            for (unsigned int d = 0; d < dim; ++d)
-              field.block(d).local_element(condition.local_index) -=
-                normal_component * condition.normal[d];
-          }
-      }
+    typename VelocityConditions<dim>::Operators operators;
+    operators.lumped_mass = &lumped_mass;
+    operators.mass_floor  = mass_floor_value;
+    operators.solve = [this](const GridVectorField &p, GridVectorField &v) {
+      mass_matrix->solve(p, v);
+    };
+    operators.forward = [this](const GridVectorField &v, GridVectorField &p) {
+      GridVectorField v_ghosted(v);
+      v_ghosted.update_ghost_values();
+      mass_matrix->vmult(v_ghosted, p);
+    };
+    operators.full_mass = [this](const GridVectorField &v, GridVectorField &p) {
+      for (unsigned int d = 0; d < dim; ++d)
+        full_mass_matrix.vmult(p.block(d), v.block(d));
+    };
+    return operators;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::impose_velocity_conditions(
+    GridVectorField             &q,
+    const double                 t,
+    std::vector<Tensor<1, dim>> *impulse)
+  {
+    // With the constrained method the solves inside a method hold no known
+    // values (the method is then lumped on momenta anyway).
+    if (velocity_conditions.uses_known_values())
+      for (unsigned int d = 0; d < dim; ++d)
+        known_velocity_mask[d] = 0;
+    velocity_conditions.impose_on_momenta(q,
+                                          t,
+                                          velocity_condition_operators(),
+                                          impulse);
   }
 
 
@@ -548,18 +667,20 @@ namespace fmpm
     // energy makes the reference the initial total, which may be of any
     // sign, so the bound is on the growth relative to the initial kinetic +
     // strain energy scale.
-    const double scale =
-      std::max(std::abs(initial_total_energy), initial_energy_scale);
+    const double scale = std::max({std::abs(initial_total_energy),
+                                   initial_energy_scale,
+                                   external_work_scale});
     if (!std::isfinite(E))
       throw SimulationFailure("total energy is not finite (NaN or Inf)",
                               timestep_number,
                               time);
-    if (E - initial_total_energy >
+    if (E - initial_total_energy - external_work >
         (parameters.failure.energy_growth_limit - 1) * scale)
       {
         std::ostringstream message;
         message << "total energy grew from " << initial_total_energy << " to "
-                << E << " J, past Failure detection/Energy growth limit = "
+                << E << " J (external work " << external_work
+                << " J), past Failure detection/Energy growth limit = "
                 << parameters.failure.energy_growth_limit;
         throw SimulationFailure(message.str(), timestep_number, time);
       }

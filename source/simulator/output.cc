@@ -75,6 +75,7 @@ namespace fmpm
     row.momentum          = statistics.momentum;
     row.mass              = statistics.mass;
     row.dissipated_energy = dissipated_energy;
+    row.reactions         = reaction_forces;
     row.error_velocity_l2 =
       statistics.velocity_reference_squared > 0 ?
         std::sqrt(statistics.velocity_error_squared /

@@ -99,7 +99,8 @@ namespace fmpm
     transfer.reinit(dof_handler, constraints, *partitioner);
     vertex_to_cells = GridTools::vertex_to_cell_map(triangulation);
 
-    if (mass_matrix && mass_matrix->needs_full_mass_matrix())
+    if (mass_matrix && (mass_matrix->needs_full_mass_matrix() ||
+                        velocity_conditions.needs_full_mass_matrix()))
       {
         TrilinosWrappers::SparsityPattern sparsity(locally_owned_dofs,
                                                    locally_owned_dofs,
@@ -329,110 +330,47 @@ namespace fmpm
   void
   Simulator<dim>::setup_boundary_conditions()
   {
-    node_conditions.clear();
-    const auto                  &bc = parameters.boundary_conditions;
-    std::set<types::boundary_id> mesh_ids;
-    for (const auto id : triangulation.get_boundary_ids())
-      mesh_ids.insert(id);
-    for (const auto id : bc.fixed)
-      AssertThrow(mesh_ids.count(id),
-                  ExcMessage("Boundary conditions/Fixed boundary ids names "
-                             "boundary id " +
-                             std::to_string(id) +
-                             ", which the mesh does not have."));
-    for (const auto id : bc.roller)
-      AssertThrow(mesh_ids.count(id),
-                  ExcMessage("Boundary conditions/Roller boundary ids names "
-                             "boundary id " +
-                             std::to_string(id) +
-                             ", which the mesh does not have."));
-
-    const auto &partitioner = *lumped_mass.get_partitioner();
-    // For each condition (boundary id) and owned node: the summed outward
-    // face normals of the faces with that id around the node.
-    std::map<std::pair<types::boundary_id, types::global_dof_index>,
-             Tensor<1, dim>>
-                                         normals;
-    std::vector<types::global_dof_index> dofs(fe.dofs_per_cell);
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (!cell->is_artificial())
-        {
-          cell->get_dof_indices(dofs);
-          for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary())
-              {
-                const types::boundary_id id = cell->face(f)->boundary_id();
-                const bool               is_fixed =
-                  std::find(bc.fixed.begin(), bc.fixed.end(), id) !=
-                  bc.fixed.end();
-                const bool is_roller =
-                  std::find(bc.roller.begin(), bc.roller.end(), id) !=
-                  bc.roller.end();
-                if (!is_fixed && !is_roller)
-                  continue;
-                // Outward unit normal of the (planar or nearly planar) face.
-                const auto     face = cell->face(f);
-                Tensor<1, dim> normal;
-                if (dim == 2)
-                  {
-                    const Tensor<1, dim> t = face->vertex(1) - face->vertex(0);
-                    normal[0]              = t[1];
-                    normal[1]              = -t[0];
-                  }
-                else
-                  {
-                    const Tensor<1, dim> d1 = face->vertex(3) - face->vertex(0);
-                    const Tensor<1, dim> d2 = face->vertex(2) - face->vertex(1);
-                    Tensor<1, 3>         a, b;
-                    for (unsigned int d = 0; d < dim; ++d)
-                      {
-                        a[d] = d1[d];
-                        b[d] = d2[d];
-                      }
-                    const Tensor<1, 3> n = cross_product_3d(a, b);
-                    for (unsigned int d = 0; d < dim; ++d)
-                      normal[d] = n[d];
-                  }
-                if (normal * (face->center() - cell->center()) < 0)
-                  normal = -normal;
-                normal /= normal.norm();
-                for (unsigned int v = 0; v < face->n_vertices(); ++v)
-                  {
-                    const types::global_dof_index dof =
-                      face->vertex_dof_index(v, 0);
-                    if (!locally_owned_dofs.is_element(dof))
-                      continue;
-                    const types::boundary_id key_id =
-                      is_fixed ? numbers::invalid_boundary_id : id;
-                    normals[std::make_pair(key_id, dof)] += normal;
-                  }
-              }
-        }
-    for (const auto &entry : normals)
-      {
-        NodeCondition condition;
-        condition.local_index = partitioner.global_to_local(entry.first.second);
-        condition.fixed_all =
-          (entry.first.first == numbers::invalid_boundary_id);
-        condition.normal = entry.second;
-        if (!condition.fixed_all)
-          condition.normal /= condition.normal.norm();
-        node_conditions.push_back(condition);
-      }
-
-    // Components held at zero velocity on axis-aligned conditions: the full
-    // mass matrix solves treat them as known (Dirichlet) values, the least
-    // squares problem of seed 000 Eq. 1.49.
-    zero_velocity_mask.resize(dim);
+    velocity_conditions.setup_nodes(dof_handler,
+                                    *lumped_mass.get_partitioner());
+    known_velocity_mask.resize(dim);
+    known_velocity_value.resize(dim);
     for (unsigned int d = 0; d < dim; ++d)
       {
-        zero_velocity_mask[d].reinit(lumped_mass.get_partitioner());
-        zero_velocity_mask[d] = 0;
+        known_velocity_mask[d].reinit(lumped_mass.get_partitioner());
+        known_velocity_value[d].reinit(lumped_mass.get_partitioner());
       }
-    for (const auto &condition : node_conditions)
-      for (unsigned int d = 0; d < dim; ++d)
-        if (condition.fixed_all || std::abs(condition.normal[d]) > 1 - 1e-12)
-          zero_velocity_mask[d].local_element(condition.local_index) = 1;
+    step_impulse.assign(velocity_conditions.labels().size(), Tensor<1, dim>());
+    reaction_forces = step_impulse;
+
+    // Tractions: mark the points inside each box with the traction's index
+    // and their face area (product of the initial side lengths across the
+    // face normal).
+    if (traction_index_slot != numbers::invalid_unsigned_int)
+      for (auto &particle : particle_handler)
+        {
+          const auto       p = particle.get_properties();
+          const Point<dim> X(
+            get_vector<dim>(p, PropertyIndex<dim>::initial_position));
+          for (unsigned int n = 0;
+               n < parameters.boundary_conditions.tractions.size();
+               ++n)
+            {
+              const auto &traction =
+                parameters.boundary_conditions.tractions[n];
+              bool inside = true;
+              for (unsigned int d = 0; d < dim; ++d)
+                inside = inside && X[d] >= traction.box_lower[d] &&
+                         X[d] <= traction.box_upper[d];
+              if (!inside)
+                continue;
+              double area = 1;
+              for (unsigned int d = 0; d < dim; ++d)
+                if (d != traction.normal_axis)
+                  area *= 2 * p[PropertyIndex<dim>::initial_half_length + d];
+              p[traction_index_slot]     = n + 1;
+              p[traction_index_slot + 1] = area;
+            }
+        }
   }
 
 
@@ -492,6 +430,58 @@ namespace fmpm
         body_acceleration = std::move(function);
       }
 
+    velocity_conditions.initialize(parameters, mpi_communicator);
+    const auto &tractions = parameters.boundary_conditions.tractions;
+    if (!tractions.empty())
+      traction_index_slot = particle_properties.request("traction", 2);
+    for (unsigned int n = 0; n < tractions.size(); ++n)
+      {
+        const std::string where =
+          "Boundary conditions/" + numbered_subsection("Traction", n);
+        auto function = std::make_unique<FunctionParser<1>>(dim);
+        try
+          {
+            function->initialize(
+              "x,t",
+              to_function_expressions(tractions[n].traction),
+              parse_function_constants(tractions[n].constants,
+                                       where + "/Function constants"),
+              true);
+          }
+        catch (const std::exception &e)
+          {
+            AssertThrow(false,
+                        ExcMessage(where + "/Traction = <" +
+                                   tractions[n].traction + "> is not " +
+                                   std::to_string(dim) +
+                                   " expressions in t: " + error_message(e)));
+          }
+        traction_functions.push_back(std::move(function));
+      }
+    if (parameters.rotating_frame.enable)
+      {
+        angular_velocity = std::make_unique<FunctionParser<1>>(3);
+        try
+          {
+            angular_velocity->initialize(
+              "x,t",
+              to_function_expressions(
+                parameters.rotating_frame.angular_velocity),
+              parse_function_constants(
+                parameters.rotating_frame.constants,
+                "Body force/Rotating frame/Function constants"),
+              true);
+          }
+        catch (const std::exception &e)
+          {
+            AssertThrow(false,
+                        ExcMessage(
+                          "Body force/Rotating frame/Angular velocity = <" +
+                          parameters.rotating_frame.angular_velocity +
+                          "> is not 3 expressions in t: " + error_message(e)));
+          }
+      }
+
     field_needed.fill(false);
     field_needed[ParticleUpdate::updated_velocity] = true;
     for (const auto field : particle_update->required_fields())
@@ -545,6 +535,76 @@ namespace fmpm
         "set it to 0 and use Time/Courant number (or set Time/Check "
         "stability limit = false for a stability study)."));
   }
+
+  template <int dim>
+  void
+  Simulator<dim>::initialize_stress_from_gravity()
+  {
+    using Index = PropertyIndex<dim>;
+    Tensor<1, dim> g;
+    for (unsigned int d = 0; d < dim; ++d)
+      g[d] = parameters.gravity[d];
+    for (unsigned int b = 0; b < parameters.bodies.size(); ++b)
+      {
+        if (!parameters.bodies[b].initial_stress_from_gravity)
+          continue;
+        AssertThrow(g.norm() > 0,
+                    ExcMessage(numbered_subsection("Body", b) +
+                               "/Initial stress from gravity = true needs a "
+                               "non-zero Body force/Gravity."));
+        const Tensor<1, dim> down = g / g.norm();
+        // The top surface: the smallest ĝ·x over the body's point domains.
+        double top = std::numeric_limits<double>::max();
+        for (const auto &particle : particle_handler)
+          {
+            const auto p = particle.get_properties();
+            if (static_cast<unsigned int>(p[Index::body_id]) != b)
+              continue;
+            double half = 0;
+            for (unsigned int d = 0; d < dim; ++d)
+              half += std::abs(down[d]) * p[Index::initial_half_length + d];
+            top = std::min(top, down * particle.get_location() - half);
+          }
+        top = Utilities::MPI::min(top, mpi_communicator);
+
+        // Uniaxial strain along ĝ, ε = σ_gg / M with the constrained
+        // modulus M = ρ c_p², so that σ_gg = −ρ|g| depth; the model gives
+        // the lateral stresses (ν/(1−ν) σ_gg for linear elasticity).
+        const unsigned int material = parameters.bodies[b].material;
+        const double       density  = parameters.materials[material].density;
+        const double       c =
+          constitutive_models[material]->wave_speed(density, 1.0);
+        const double                           M = density * c * c;
+        ConstitutiveModel::StressUpdateInputs  inputs;
+        ConstitutiveModel::StressUpdateOutputs outputs;
+        inputs.time_step = 1;
+        inputs.resize(1);
+        outputs.resize(1);
+        for (auto &particle : particle_handler)
+          {
+            const auto p = particle.get_properties();
+            if (static_cast<unsigned int>(p[Index::body_id]) != b)
+              continue;
+            const double depth   = down * particle.get_location() - top;
+            const double epsilon = -density * g.norm() * depth / M;
+            Tensor<2, 3> strain;
+            for (unsigned int i = 0; i < dim; ++i)
+              for (unsigned int j = 0; j < dim; ++j)
+                strain[i][j] = epsilon * down[i] * down[j];
+            const Tensor<2, 3> F = unit_symmetric_tensor<3>() + strain;
+            inputs.deformation_gradient[0] = F;
+            inputs.velocity_gradient[0]    = strain;
+            inputs.properties[0]           = p;
+            constitutive_models[material]->update_stress(inputs, outputs);
+            set_tensor3(p, Index::deformation_gradient, F);
+            set_symmetric_tensor3(p, Index::stress, outputs.cauchy_stress[0]);
+            p[Index::strain_energy_density] = outputs.strain_energy_density[0];
+            p[Index::volume] = determinant(F) * p[Index::initial_volume];
+          }
+      }
+  }
+
+
 
   template class Simulator<2>;
   template class Simulator<3>;

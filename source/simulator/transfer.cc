@@ -95,14 +95,64 @@ namespace fmpm
   template <int dim>
   Tensor<1, dim>
   Simulator<dim>::body_acceleration_at(const Point<dim>     &x,
+                                       const Tensor<1, dim> &V,
                                        const Tensor<1, dim> &gravity) const
   {
-    if (!body_acceleration)
-      return gravity;
     Tensor<1, dim> b = gravity;
-    for (unsigned int d = 0; d < dim; ++d)
-      b[d] += body_acceleration->value(x, d);
+    if (body_acceleration)
+      for (unsigned int d = 0; d < dim; ++d)
+        b[d] += body_acceleration->value(x, d);
+    if (angular_velocity)
+      {
+        // Rotating frame (seed 001, computeParticleBodyForce):
+        // b = g − ω × (ω × r) − 2 ω × V − ω̇ × r.
+        Tensor<1, 3> omega, omega_dot, r, v;
+        const double t  = angular_velocity->get_time();
+        const double dt = 1e-6 * std::max(1.0, std::abs(t));
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            omega[d] = angular_velocity->value(Point<1>(), d);
+          }
+        auto &omega_function = *angular_velocity;
+        omega_function.set_time(t + dt);
+        for (unsigned int d = 0; d < 3; ++d)
+          omega_dot[d] = omega_function.value(Point<1>(), d);
+        omega_function.set_time(t - dt);
+        for (unsigned int d = 0; d < 3; ++d)
+          omega_dot[d] =
+            (omega_dot[d] - omega_function.value(Point<1>(), d)) / (2 * dt);
+        omega_function.set_time(t);
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            r[d] = x[d] - parameters.rotating_frame.center[d];
+            v[d] = V[d];
+          }
+        const Tensor<1, 3> a =
+          cross_product_3d(omega, cross_product_3d(omega, r)) +
+          2 * cross_product_3d(omega, v) + cross_product_3d(omega_dot, r);
+        for (unsigned int d = 0; d < dim; ++d)
+          b[d] -= a[d];
+      }
     return b;
+  }
+
+
+
+  template <int dim>
+  Tensor<1, dim>
+  Simulator<dim>::traction_force_of(
+    const ArrayView<const double> &properties) const
+  {
+    Tensor<1, dim> F;
+    const int      index =
+      static_cast<int>(properties[traction_index_slot] + 0.5) - 1;
+    if (index < 0)
+      return F;
+    // F_p = t(t) A_p, the f_T term of Eq. 2.10 (at mid-step, like b).
+    const double area = properties[traction_index_slot + 1];
+    for (unsigned int d = 0; d < dim; ++d)
+      F[d] = traction_functions[index]->value(Point<1>(), d) * area;
+    return F;
   }
 
 
@@ -115,9 +165,10 @@ namespace fmpm
     using Index              = PropertyIndex<dim>;
     constexpr unsigned int n = GridTransfer<dim>::n_nodes;
 
-    const bool assemble_full = mass_matrix->needs_full_mass_matrix();
-    lumped_mass              = 0;
-    momentum                 = 0;
+    const bool assemble_full = mass_matrix->needs_full_mass_matrix() ||
+                               velocity_conditions.needs_full_mass_matrix();
+    lumped_mass = 0;
+    momentum    = 0;
     if (with_forces)
       force = 0;
     if (assemble_full)
@@ -126,6 +177,7 @@ namespace fmpm
     Tensor<1, dim> gravity;
     for (unsigned int d = 0; d < dim; ++d)
       gravity[d] = parameters.gravity[d];
+    const bool has_tractions = !traction_functions.empty();
 
     std::array<double, n>                S;
     std::array<Tensor<1, dim>, n>        G;
@@ -177,9 +229,19 @@ namespace fmpm
 
             if (with_forces)
               {
-                // f = −Σ V_p σ_p G_p + Σ M_p S_p b  (Eq. 2.11, τ/ρ₀ M = σ V)
-                const Tensor<1, dim> body_force =
-                  body_acceleration_at(particle.get_location(), gravity);
+                // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
+                // τ/ρ₀ M = σ V; F_p the traction force)
+                Tensor<1, dim> body_force =
+                  body_acceleration_at(particle.get_location(),
+                                       get_vector<dim>(p, Index::velocity),
+                                       gravity);
+                if (has_tractions)
+                  {
+                    const Tensor<1, dim> F_p = traction_force_of(p);
+                    body_force += F_p / M;
+                    local_traction_power +=
+                      F_p * get_vector<dim>(p, Index::velocity);
+                  }
                 const double V = p[Index::volume];
                 double       sigma[dim][dim];
                 for (unsigned int a = 0; a < dim; ++a)
@@ -246,6 +308,7 @@ namespace fmpm
     Tensor<1, dim> gravity;
     for (unsigned int d = 0; d < dim; ++d)
       gravity[d] = parameters.gravity[d];
+    const bool has_tractions = !traction_functions.empty();
 
     std::array<double, n>         S;
     std::array<Tensor<1, dim>, n> G;
@@ -269,8 +332,17 @@ namespace fmpm
             const double                V = p[Index::volume];
             const SymmetricTensor<2, 3> sigma =
               get_symmetric_tensor3(p, Index::stress);
-            const Tensor<1, dim> body_force =
-              body_acceleration_at(particle.get_location(), gravity);
+            Tensor<1, dim> body_force =
+              body_acceleration_at(particle.get_location(),
+                                   get_vector<dim>(p, Index::velocity),
+                                   gravity);
+            if (has_tractions)
+              {
+                const Tensor<1, dim> F_p = traction_force_of(p);
+                body_force += F_p / M;
+                local_traction_power +=
+                  F_p * get_vector<dim>(p, Index::velocity);
+              }
             for (unsigned int i = 0; i < n; ++i)
               for (unsigned int a = 0; a < dim; ++a)
                 {
@@ -316,6 +388,7 @@ namespace fmpm
     std::vector<Point<dim>>     old_position;
     std::array<double, n>       S;
     double                      speed = 0;
+    const bool has_moving_walls       = velocity_conditions.has_moving_boxes();
 
     for (const auto &cell : triangulation.active_cell_iterators())
       {
@@ -427,6 +500,9 @@ namespace fmpm
               }
             speed = std::max(speed, std::sqrt(V2));
             set_vector<dim>(particle.get_properties(), Index::velocity, V);
+            // Points do not enter a moving wall's box.
+            if (has_moving_walls)
+              velocity_conditions.push_out_of_walls(batch.position[q]);
             // The new reference location, set after the strain update (which
             // still uses the shape functions of the step's start); only
             // points that left their cell need sorting.

@@ -29,7 +29,9 @@ namespace fmpm
      * @param[in] k order (k = 1: lumped)
      * @param[in] mass_floor nodes with less mass are empty
      * @param[in] zero_mask per component, nodes whose velocity is held at
-     * zero by a grid condition (kept at zero in every sweep), or nullptr
+     * known by a grid condition (kept in every sweep), or nullptr
+     * @param[in] known_values per component, the known values (zero if
+     * nullptr)
      */
     void
     apply_fmpm_inverse(const TrilinosWrappers::SparseMatrix &full_mass,
@@ -38,7 +40,8 @@ namespace fmpm
                        GridVectorField                      &v,
                        const unsigned int                    k,
                        const double                          mass_floor,
-                       const std::vector<GridScalar> *zero_mask = nullptr);
+                       const std::vector<GridScalar> *zero_mask    = nullptr,
+                       const std::vector<GridScalar> *known_values = nullptr);
 
     /**
      * @brief FMPM(k): the approximate full-mass-matrix inverse m̃ₖ⁻¹.
@@ -64,6 +67,11 @@ namespace fmpm
       void
       solve(const GridVectorField &momentum,
             GridVectorField       &velocity) const override;
+
+      /** p = m̃ v (the assembled m̃ for m̃_k; m v for k = 1). */
+      void
+      vmult(const GridVectorField &velocity,
+            GridVectorField       &momentum) const override;
 
       unsigned int
       order() const override

@@ -83,6 +83,15 @@ namespace fmpm
       solve(const GridVectorField &momentum,
             GridVectorField       &velocity) const override;
 
+      /** p = K v with the assembled matrix (m̃, or the consistent one). */
+      void
+      vmult(const GridVectorField &velocity,
+            GridVectorField       &momentum) const override
+      {
+        for (unsigned int b = 0; b < velocity.n_blocks(); ++b)
+          matrix().vmult(momentum.block(b), velocity.block(b));
+      }
+
       unsigned int
       order() const override
       {

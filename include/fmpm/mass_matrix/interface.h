@@ -56,6 +56,22 @@ namespace fmpm
             GridVectorField       &velocity) const = 0;
 
       /**
+       * @brief p = M v with the forward operator of this mass matrix (m for
+       * lumped, m̃ for fmpm and full, the FE matrix for consistent), on
+       * locally owned nodes; used by the unlumped #2 boundary-condition
+       * method (seed 000 Eq. 2.56).
+       */
+      virtual void
+      vmult(const GridVectorField &velocity, GridVectorField &momentum) const
+      {
+        const GridScalar &m = this->get_lumped_mass();
+        for (unsigned int b = 0; b < velocity.n_blocks(); ++b)
+          for (unsigned int i = 0; i < m.locally_owned_size(); ++i)
+            momentum.block(b).local_element(i) =
+              m.local_element(i) * velocity.block(b).local_element(i);
+      }
+
+      /**
        * @brief Figures for summary.json (e.g. CG iteration counts), called
        * once at the end of a run.
        */

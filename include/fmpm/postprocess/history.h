@@ -33,6 +33,9 @@ namespace fmpm
     double error_displacement_l2 = 0;
     /** Energy dissipated by the particle updates since the start. */
     double dissipated_energy = 0;
+    /** Force each reaction label's boundary exerts on the material in the
+     * last step (reaction_<label>_x, ...). Units: N (N/m in 2D). */
+    std::vector<Tensor<1, dim>> reactions;
   };
 
   /**
@@ -46,10 +49,11 @@ namespace fmpm
   public:
     /** @brief Open @p file_name (rank 0 only) and write the header. */
     void
-    open(const std::string &file_name,
-         const bool         is_root,
-         const bool         with_errors,
-         const bool         with_dissipation);
+    open(const std::string              &file_name,
+         const bool                      is_root,
+         const bool                      with_errors,
+         const bool                      with_dissipation,
+         const std::vector<std::string> &reaction_labels = {});
 
     void
     add(const HistoryRow<dim> &row);
@@ -65,6 +69,7 @@ namespace fmpm
     std::unique_ptr<std::ofstream> file;
     bool                           with_errors      = false;
     bool                           with_dissipation = false;
+    unsigned int                   n_reactions      = 0;
   };
 } // namespace fmpm
 

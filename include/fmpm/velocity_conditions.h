@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_velocity_conditions_h
+#define fmpm_velocity_conditions_h
+
+#include <fmpm/grid_vectors.h>
+#include <fmpm/parameters.h>
+
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/partitioner.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fmpm
+{
+  /**
+   * @brief Grid velocity conditions (fixed, roller, moving walls on boundary
+   * ids or moving boxes) and the methods of seed 000 §2.4 that impose them
+   * with lumped or full mass matrices.
+   *
+   * A condition b on node j_b prescribes v_{j_b} · n̂_b = v_b(t). The
+   * conditions of one node have orthonormal n̂. The time step calls
+   *  - impose_on_momenta() on p before the strain update (stage P) and on
+   *    p' + fΔt after the force extrapolation (stage F, the change divided
+   *    by Δt is f^(BC), Eq. 2.42), and
+   *  - correct_velocities() / correct_accelerations() on grid fields found
+   *    with the mass matrix (the velocity method, Eq. 2.53, and the
+   *    re-imposition after the momentum update).
+   * Reactions: the total force each boundary exerts on the material, from
+   * f^(BC) of stage F (for the velocity method f^(b) = m̃ a^(b), whose sum
+   * over nodes is Σ m_j a_j^(b) because the columns of m̃ sum to m).
+   */
+  template <int dim>
+  class VelocityConditions
+  {
+  public:
+    enum class Method
+    {
+      constrained,
+      lumped,
+      velocity,
+      unlumped_1,
+      unlumped_2,
+      collection_full,
+      collection_partial
+    };
+
+    struct NodeCondition
+    {
+      /** Owned node: local index in the ghosted grid vectors. */
+      unsigned int local_index;
+      /** Unit direction; orthonormal among one node's conditions. */
+      Tensor<1, dim> normal;
+      /** Index of the reaction label (boundary id or box wall). */
+      unsigned int source;
+      /** Moving wall whose v(t) this is, or -1 for v = 0. */
+      int wall;
+    };
+
+    /** The grid operators the methods need, all on GridVectorFields. */
+    struct Operators
+    {
+      /** Lumped masses m (ghosted). */
+      const GridScalar *lumped_mass = nullptr;
+      double            mass_floor  = 0;
+      /** v = m̃ₖ⁻¹ p with the scene's mass matrix. */
+      std::function<void(const GridVectorField &, GridVectorField &)> solve;
+      /** p = M v with the scene's mass matrix (m, m̃ or the consistent). */
+      std::function<void(const GridVectorField &, GridVectorField &)>
+        forward;
+      /** p = m̃ v with m̃ = SᵀMS (unlumped 1 only). */
+      std::function<void(const GridVectorField &, GridVectorField &)>
+        full_mass;
+    };
+
+    /** @brief Read the method, walls and labels. */
+    void
+    initialize(const Parameters &parameters, MPI_Comm mpi_communicator);
+
+    /**
+     * @brief Build the node conditions (at set-up, after a mesh change, and
+     * every step when box walls move). Throws if a boundary id is unknown.
+     */
+    void
+    setup_nodes(const DoFHandler<dim>             &dof_handler,
+                const Utilities::MPI::Partitioner &partitioner);
+
+    /** @brief Move the box walls over [t, t + Δt] (midpoint velocity). */
+    void
+    advance_walls(const double t, const double dt);
+
+    bool
+    has_moving_boxes() const;
+
+    /** @brief Work the moving walls did over [t, t + Δt] with @p reactions
+     * (per label): Σ_w (R · n̂_w) v_w(t + Δt/2) Δt. */
+    double
+    wall_work(const std::vector<Tensor<1, dim>> &reactions,
+              const double                       t,
+              const double                       dt) const;
+
+    /** @brief Whether the method needs m̃ = SᵀMS assembled. */
+    bool
+    needs_full_mass_matrix() const
+    {
+      return method == Method::unlumped_1;
+    }
+
+    Method
+    get_method() const
+    {
+      return method;
+    }
+
+    /** @brief Whether the mass-matrix solves hold the condition values. */
+    bool
+    uses_known_values() const
+    {
+      return method == Method::constrained;
+    }
+
+    /** @brief Whether the grid velocities are corrected after each solve. */
+    bool
+    corrects_velocities() const
+    {
+      // 'collection partial' finds its forces with one full-mass solve and
+      // a lumped mass; the condition nodes then get their exact values
+      // (without the correction it diverges: (m̃⁻¹m)_jj > 1 overshoots).
+      return method == Method::constrained || method == Method::velocity ||
+             method == Method::collection_partial;
+    }
+
+    /**
+     * @brief Stage P/F: add the method's Δp (= f^(BC)Δt at stage F) to the
+     * momentum-like field @p q whose velocities must satisfy the conditions
+     * at time @p t. If @p impulse is given, Σ Δp per reaction label is added
+     * to it (what each boundary gave the material).
+     */
+    void
+    impose_on_momenta(GridVectorField             &q,
+                      const double                 t,
+                      const Operators             &operators,
+                      std::vector<Tensor<1, dim>> *impulse) const;
+
+    /**
+     * @brief Set v_j · n̂_b = v_b(t) on the condition nodes (Eq. 2.53). If
+     * @p corrections is given, it receives Δv of each node condition.
+     */
+    void
+    correct_velocities(GridVectorField     &v,
+                       const double         t,
+                       std::vector<double> *corrections) const;
+
+    /** @brief a_j · n̂_b = (v_b(t1) − v_b(t0)) / (t1 − t0). */
+    void
+    correct_accelerations(GridVectorField &a,
+                          const double     t0,
+                          const double     t1) const;
+
+    /**
+     * @brief Per velocity component: 1 where a condition holds the
+     * component (axis-aligned conditions), and the value there at @p t.
+     * Used by the mass matrices with Method::constrained.
+     */
+    void
+    known_values(const double             t,
+                 std::vector<GridScalar> &mask,
+                 std::vector<GridScalar> &value) const;
+
+    /** @brief The reaction labels: boundary ids, or "wall<N>" for boxes. */
+    const std::vector<std::string> &
+    labels() const
+    {
+      return source_labels;
+    }
+
+    const std::vector<NodeCondition> &
+    node_conditions() const
+    {
+      return conditions;
+    }
+
+    /** @brief v_b(t) of a condition. */
+    double
+    value(const NodeCondition &condition, const double t) const;
+
+    /** @brief Whether x is inside box wall @p w now. */
+    bool
+    is_inside_box(const unsigned int w, const Point<dim> &x) const;
+
+    /**
+     * @brief Move a point that entered a box wall out through the wall's
+     * leading face (along n̂); returns whether it moved.
+     */
+    bool
+    push_out_of_walls(Point<dim> &x) const;
+
+    /** @brief Count of collection solves that fell back to 'partial'. */
+    unsigned int n_collection_fallbacks = 0;
+
+  private:
+    void
+    add_node_condition(std::vector<std::vector<NodeCondition>> &per_node,
+                       const NodeCondition                     &candidate);
+
+    MPI_Comm                           mpi_communicator;
+    Method                             method = Method::constrained;
+    std::vector<types::boundary_id>    fixed, roller;
+    std::vector<MovingWallParameters>  walls;
+    std::vector<std::unique_ptr<FunctionParser<1>>> wall_velocity;
+    /** Displacement s(t) of each wall along its direction. */
+    std::vector<double>               wall_displacement;
+    std::vector<std::string>          source_labels;
+    std::vector<NodeCondition>        conditions;
+    /** Owned node positions by local index (box walls). */
+    std::vector<Point<dim>>           node_position;
+    const DoFHandler<dim>            *dof_handler_pointer = nullptr;
+    const Utilities::MPI::Partitioner *partitioner_pointer = nullptr;
+
+    unsigned int
+    label_index(const std::string &label);
+  };
+} // namespace fmpm
+
+#endif

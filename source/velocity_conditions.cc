@@ -1,0 +1,649 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/velocity_conditions.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/lac/lapack_full_matrix.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace fmpm
+{
+  namespace
+  {
+    /** A zero field with the layout of @p like. */
+    GridVectorField
+    zero_like(const GridVectorField &like)
+    {
+      GridVectorField result(like);
+      result = 0;
+      return result;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  unsigned int
+  VelocityConditions<dim>::label_index(const std::string &label)
+  {
+    const auto found =
+      std::find(source_labels.begin(), source_labels.end(), label);
+    if (found != source_labels.end())
+      return found - source_labels.begin();
+    source_labels.push_back(label);
+    return source_labels.size() - 1;
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::initialize(const Parameters &parameters,
+                                      MPI_Comm          communicator)
+  {
+    mpi_communicator = communicator;
+    const auto &bc   = parameters.boundary_conditions;
+    const std::map<std::string, Method> methods = {
+      {"constrained", Method::constrained},
+      {"lumped", Method::lumped},
+      {"velocity", Method::velocity},
+      {"unlumped 1", Method::unlumped_1},
+      {"unlumped 2", Method::unlumped_2},
+      {"collection full", Method::collection_full},
+      {"collection partial", Method::collection_partial}};
+    method = methods.at(bc.method);
+    fixed  = bc.fixed;
+    roller = bc.roller;
+    walls  = bc.moving_walls;
+    source_labels.clear();
+    for (const auto &wall : walls)
+      for (const auto id : wall.boundary_ids)
+        label_index(std::to_string(id));
+    for (const auto id : fixed)
+      label_index(std::to_string(id));
+    for (const auto id : roller)
+      label_index(std::to_string(id));
+    for (unsigned int w = 0; w < walls.size(); ++w)
+      if (walls[w].boundary_ids.empty())
+        label_index("wall" + std::to_string(w));
+
+    wall_velocity.clear();
+    wall_displacement.assign(walls.size(), 0.);
+    for (unsigned int w = 0; w < walls.size(); ++w)
+      {
+        auto function = std::make_unique<FunctionParser<1>>(1);
+        try
+          {
+            function->initialize(
+              "x,t",
+              walls[w].velocity,
+              parse_function_constants(walls[w].constants,
+                                       "Boundary conditions/" +
+                                         numbered_subsection("Moving wall", w) +
+                                         "/Function constants"),
+              true);
+          }
+        catch (const std::exception &e)
+          {
+            AssertThrow(false,
+                        ExcMessage("Boundary conditions/" +
+                                   numbered_subsection("Moving wall", w) +
+                                   "/Velocity = <" + walls[w].velocity +
+                                   "> is not a valid expression in t: " +
+                                   error_message(e)));
+          }
+        wall_velocity.push_back(std::move(function));
+      }
+  }
+
+
+
+  template <int dim>
+  bool
+  VelocityConditions<dim>::has_moving_boxes() const
+  {
+    for (const auto &wall : walls)
+      if (wall.boundary_ids.empty())
+        return true;
+    return false;
+  }
+
+
+
+  template <int dim>
+  double
+  VelocityConditions<dim>::wall_work(
+    const std::vector<Tensor<1, dim>> &reactions,
+    const double                       t,
+    const double                       dt) const
+  {
+    double work = 0;
+    for (unsigned int w = 0; w < walls.size(); ++w)
+      {
+        Tensor<1, dim> direction;
+        for (unsigned int d = 0; d < dim; ++d)
+          direction[d] = walls[w].direction[d];
+        wall_velocity[w]->set_time(t + 0.5 * dt);
+        const double v = wall_velocity[w]->value(Point<1>());
+        std::vector<std::string> wall_labels;
+        for (const auto id : walls[w].boundary_ids)
+          wall_labels.push_back(std::to_string(id));
+        if (walls[w].boundary_ids.empty())
+          wall_labels.push_back("wall" + std::to_string(w));
+        for (const auto &label : wall_labels)
+          {
+            const unsigned int s =
+              std::find(source_labels.begin(), source_labels.end(), label) -
+              source_labels.begin();
+            if (s < reactions.size())
+              work += (reactions[s] * direction) * v * dt;
+          }
+      }
+    return work;
+  }
+
+
+
+  template <int dim>
+  double
+  VelocityConditions<dim>::value(const NodeCondition &condition,
+                                 const double         t) const
+  {
+    if (condition.wall < 0)
+      return 0;
+    wall_velocity[condition.wall]->set_time(t);
+    return wall_velocity[condition.wall]->value(Point<1>());
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::advance_walls(const double t, const double dt)
+  {
+    for (unsigned int w = 0; w < walls.size(); ++w)
+      {
+        wall_velocity[w]->set_time(t + 0.5 * dt);
+        wall_displacement[w] += wall_velocity[w]->value(Point<1>()) * dt;
+      }
+  }
+
+
+
+  template <int dim>
+  bool
+  VelocityConditions<dim>::is_inside_box(const unsigned int w,
+                                         const Point<dim>  &x) const
+  {
+    const auto &wall = walls[w];
+    if (!wall.boundary_ids.empty())
+      return false;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        const double shift = wall.direction[d] * wall_displacement[w];
+        if (x[d] < wall.box_lower[d] + shift - 1e-12 ||
+            x[d] > wall.box_upper[d] + shift + 1e-12)
+          return false;
+      }
+    return true;
+  }
+
+
+
+  template <int dim>
+  bool
+  VelocityConditions<dim>::push_out_of_walls(Point<dim> &x) const
+  {
+    bool moved = false;
+    for (unsigned int w = 0; w < walls.size(); ++w)
+      if (is_inside_box(w, x))
+        {
+          // Leading face: the largest n̂ · corner of the moved box.
+          const auto &wall = walls[w];
+          double      lead = 0, along = 0;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              const double shift = wall.direction[d] * wall_displacement[w];
+              lead += wall.direction[d] *
+                      (wall.direction[d] > 0 ? wall.box_upper[d] + shift :
+                                               wall.box_lower[d] + shift);
+              along += wall.direction[d] * x[d];
+            }
+          for (unsigned int d = 0; d < dim; ++d)
+            x[d] += (lead - along) * wall.direction[d];
+          moved = true;
+        }
+    return moved;
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::add_node_condition(
+    std::vector<std::vector<NodeCondition>> &per_node,
+    const NodeCondition                     &candidate)
+  {
+    auto          &list = per_node[candidate.local_index];
+    Tensor<1, dim> r    = candidate.normal;
+    bool           orthogonal = true;
+    for (const auto &existing : list)
+      {
+        const double projection = r * existing.normal;
+        if (std::abs(projection) > 1e-10)
+          orthogonal = false;
+        r -= projection * existing.normal;
+      }
+    if (r.norm() < 1e-8)
+      return; // already held by the node's other conditions
+    // A direction that is neither new nor orthogonal to a prescribed
+    // non-zero velocity would need a combination of values.
+    bool any_moving = candidate.wall >= 0;
+    for (const auto &existing : list)
+      any_moving = any_moving || existing.wall >= 0;
+    AssertThrow(orthogonal || !any_moving,
+                ExcMessage("A moving wall and another velocity condition "
+                           "meet at a node with directions that are neither "
+                           "equal nor orthogonal; give the moving wall a "
+                           "direction along or across the other condition."));
+    NodeCondition accepted = candidate;
+    accepted.normal        = r / r.norm();
+    list.push_back(accepted);
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::setup_nodes(
+    const DoFHandler<dim>             &dof_handler,
+    const Utilities::MPI::Partitioner &partitioner)
+  {
+    dof_handler_pointer = &dof_handler;
+    partitioner_pointer = &partitioner;
+    const auto &triangulation = dof_handler.get_triangulation();
+    const IndexSet &owned     = partitioner.locally_owned_range();
+
+    std::set<types::boundary_id> mesh_ids;
+    for (const auto id : triangulation.get_boundary_ids())
+      mesh_ids.insert(id);
+    auto check_id = [&](const types::boundary_id id, const std::string &where) {
+      AssertThrow(mesh_ids.count(id),
+                  ExcMessage("Boundary conditions/" + where +
+                             " names boundary id " + std::to_string(id) +
+                             ", which the mesh does not have."));
+    };
+    for (const auto id : fixed)
+      check_id(id, "Fixed boundary ids");
+    for (const auto id : roller)
+      check_id(id, "Roller boundary ids");
+    for (unsigned int w = 0; w < walls.size(); ++w)
+      for (const auto id : walls[w].boundary_ids)
+        check_id(id, numbered_subsection("Moving wall", w) + "/Boundary ids");
+
+    // Per (boundary id, owned node): summed outward unit face normals.
+    std::map<std::pair<types::boundary_id, unsigned int>, Tensor<1, dim>>
+                            normals;
+    const unsigned int      n_owned = partitioner.locally_owned_size();
+    node_position.resize(n_owned);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          for (const unsigned int v : cell->vertex_indices())
+            {
+              const auto dof = cell->vertex_dof_index(v, 0);
+              if (owned.is_element(dof))
+                node_position[partitioner.global_to_local(dof)] =
+                  cell->vertex(v);
+            }
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              {
+                const auto     face = cell->face(f);
+                Tensor<1, dim> normal;
+                if (dim == 2)
+                  {
+                    const Tensor<1, dim> t = face->vertex(1) - face->vertex(0);
+                    normal[0]              = t[1];
+                    normal[1]              = -t[0];
+                  }
+                else
+                  {
+                    const Tensor<1, dim> d1 = face->vertex(3) - face->vertex(0);
+                    const Tensor<1, dim> d2 = face->vertex(2) - face->vertex(1);
+                    Tensor<1, 3>         a, b;
+                    for (unsigned int d = 0; d < dim; ++d)
+                      {
+                        a[d] = d1[d];
+                        b[d] = d2[d];
+                      }
+                    const Tensor<1, 3> n = cross_product_3d(a, b);
+                    for (unsigned int d = 0; d < dim; ++d)
+                      normal[d] = n[d];
+                  }
+                if (normal * (face->center() - cell->center()) < 0)
+                  normal = -normal;
+                normal /= normal.norm();
+                for (unsigned int v = 0; v < face->n_vertices(); ++v)
+                  {
+                    const auto dof = face->vertex_dof_index(v, 0);
+                    if (owned.is_element(dof))
+                      normals[std::make_pair(face->boundary_id(),
+                                             partitioner.global_to_local(
+                                               dof))] += normal;
+                  }
+              }
+        }
+
+    // Candidates in priority order: moving walls, fixed, roller.
+    std::vector<std::vector<NodeCondition>> per_node(n_owned);
+    auto label_of = [&](const std::string &label) {
+      return static_cast<unsigned int>(
+        std::find(source_labels.begin(), source_labels.end(), label) -
+        source_labels.begin());
+    };
+    for (unsigned int w = 0; w < walls.size(); ++w)
+      {
+        Tensor<1, dim> direction;
+        for (unsigned int d = 0; d < dim; ++d)
+          direction[d] = walls[w].direction[d];
+        if (walls[w].boundary_ids.empty())
+          {
+            const unsigned int source = label_of("wall" + std::to_string(w));
+            for (unsigned int i = 0; i < n_owned; ++i)
+              if (is_inside_box(w, node_position[i]))
+                add_node_condition(per_node,
+                                   NodeCondition{i,
+                                                 direction,
+                                                 source,
+                                                 static_cast<int>(w)});
+          }
+        else
+          for (const auto &entry : normals)
+            if (std::find(walls[w].boundary_ids.begin(),
+                          walls[w].boundary_ids.end(),
+                          entry.first.first) != walls[w].boundary_ids.end())
+              add_node_condition(
+                per_node,
+                NodeCondition{entry.first.second,
+                              direction,
+                              label_of(std::to_string(entry.first.first)),
+                              static_cast<int>(w)});
+      }
+    for (const auto &entry : normals)
+      if (std::find(fixed.begin(), fixed.end(), entry.first.first) !=
+          fixed.end())
+        for (unsigned int d = 0; d < dim; ++d)
+          add_node_condition(
+            per_node,
+            NodeCondition{entry.first.second,
+                          Point<dim>::unit_vector(d),
+                          label_of(std::to_string(entry.first.first)),
+                          -1});
+    for (const auto &entry : normals)
+      if (std::find(roller.begin(), roller.end(), entry.first.first) !=
+          roller.end())
+        add_node_condition(
+          per_node,
+          NodeCondition{entry.first.second,
+                        entry.second / entry.second.norm(),
+                        label_of(std::to_string(entry.first.first)),
+                        -1});
+
+    conditions.clear();
+    for (const auto &list : per_node)
+      conditions.insert(conditions.end(), list.begin(), list.end());
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::impose_on_momenta(
+    GridVectorField             &q,
+    const double                 t,
+    const Operators             &operators,
+    std::vector<Tensor<1, dim>> *impulse) const
+  {
+    const GridScalar &m     = *operators.lumped_mass;
+    const double      floor = operators.mass_floor;
+    auto              add_impulse = [&](const NodeCondition &c,
+                           const double         amount) {
+      if (impulse)
+        (*impulse)[c.source] += amount * c.normal;
+    };
+    auto component = [](const GridVectorField &field,
+                        const NodeCondition   &c) {
+      double s = 0;
+      for (unsigned int d = 0; d < dim; ++d)
+        s += field.block(d).local_element(c.local_index) * c.normal[d];
+      return s;
+    };
+    auto add_along = [](GridVectorField     &field,
+                        const NodeCondition &c,
+                        const double         amount) {
+      for (unsigned int d = 0; d < dim; ++d)
+        field.block(d).local_element(c.local_index) += amount * c.normal[d];
+    };
+
+    switch (method)
+      {
+        case Method::velocity:
+          return;
+
+        case Method::constrained:
+        case Method::lumped:
+          // Δp_j = (m_j v_b − p_j · n̂) n̂ (Eqs. 2.51-2.52).
+          for (const auto &c : conditions)
+            {
+              const double m_j = m.local_element(c.local_index);
+              const double dp =
+                (m_j > floor ? m_j * value(c, t) : 0.) - component(q, c);
+              add_along(q, c, dp);
+              add_impulse(c, dp);
+            }
+          return;
+
+        case Method::unlumped_1:
+        case Method::unlumped_2:
+          {
+            // Δv on the condition nodes: from the lumped velocities p/m
+            // (#1, Eq. 2.55) or the full-mass velocities m̃ₖ⁻¹p (#2,
+            // Eq. 2.56); then Δp = m̃ Δv (#1) or M Δv (#2).
+            GridVectorField delta_v = zero_like(q);
+            GridVectorField v;
+            if (method == Method::unlumped_2)
+              {
+                v = zero_like(q);
+                operators.solve(q, v);
+              }
+            for (const auto &c : conditions)
+              {
+                const double m_j = m.local_element(c.local_index);
+                if (!(m_j > floor))
+                  continue;
+                const double v_j = method == Method::unlumped_1 ?
+                                     component(q, c) / m_j :
+                                     component(v, c);
+                const double dv = value(c, t) - v_j;
+                add_along(delta_v, c, dv);
+                // Σ_i (m̃ Δv^(b))_i = m_j Δv (columns of m̃ sum to m).
+                add_impulse(c, m_j * dv);
+              }
+            GridVectorField dp = zero_like(q);
+            if (method == Method::unlumped_1)
+              operators.full_mass(delta_v, dp);
+            else
+              operators.forward(delta_v, dp);
+            q += dp;
+            return;
+          }
+
+        case Method::collection_partial:
+        case Method::collection_full:
+          {
+            // The velocity error of each condition with the full-mass
+            // velocities, r_b = v_b − n̂_b · (m̃ₖ⁻¹q)_{j_b} (Eq. 2.47).
+            GridVectorField v = zero_like(q);
+            operators.solve(q, v);
+            std::vector<double> r(conditions.size());
+            std::vector<bool>   active(conditions.size());
+            for (unsigned int b = 0; b < conditions.size(); ++b)
+              {
+                const auto &c = conditions[b];
+                active[b]     = m.local_element(c.local_index) > floor;
+                r[b]          = active[b] ? value(c, t) - component(v, c) : 0.;
+              }
+            std::vector<double> phi(conditions.size());
+            bool                solved = false;
+            if (method == Method::collection_full)
+              {
+                // A_bc = n̂_b · (m̃ₖ⁻¹ n̂_c e_{j_c})_{j_b}: one solve per
+                // condition (collective, in global order), then A φ = r.
+                const unsigned int n_local = conditions.size();
+                unsigned int       offset  = 0;
+                MPI_Exscan(&n_local,
+                           &offset,
+                           1,
+                           MPI_UNSIGNED,
+                           MPI_SUM,
+                           mpi_communicator);
+                if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+                  offset = 0;
+                const unsigned int n_total =
+                  Utilities::MPI::sum(n_local, mpi_communicator);
+                std::vector<double> A(n_total * n_total, 0.),
+                  rhs(n_total, 0.);
+                GridVectorField unit = zero_like(q), column = zero_like(q);
+                for (unsigned int c_global = 0; c_global < n_total;
+                     ++c_global)
+                  {
+                    unit = 0;
+                    const bool mine =
+                      c_global >= offset && c_global < offset + n_local;
+                    if (mine)
+                      add_along(unit, conditions[c_global - offset], 1.);
+                    operators.solve(unit, column);
+                    for (unsigned int b = 0; b < n_local; ++b)
+                      A[(offset + b) * n_total + c_global] =
+                        active[b] ? component(column, conditions[b]) : 0.;
+                  }
+                for (unsigned int b = 0; b < n_local; ++b)
+                  {
+                    rhs[offset + b] = r[b];
+                    if (!active[b]) // empty node: φ_b = 0
+                      A[(offset + b) * n_total + offset + b] = 1;
+                  }
+                Utilities::MPI::sum(A, mpi_communicator, A);
+                Utilities::MPI::sum(rhs, mpi_communicator, rhs);
+                if (n_total > 0)
+                  {
+                    LAPACKFullMatrix<double> matrix(n_total, n_total);
+                    for (unsigned int i = 0; i < n_total; ++i)
+                      for (unsigned int j = 0; j < n_total; ++j)
+                        matrix(i, j) = A[i * n_total + j];
+                    Vector<double> solution(rhs.begin(), rhs.end());
+                    try
+                      {
+                        matrix.compute_lu_factorization();
+                        matrix.solve(solution);
+                        solved = true;
+                        for (unsigned int b = 0; b < n_local; ++b)
+                          phi[b] = solution[offset + b];
+                      }
+                    catch (const std::exception &)
+                      {
+                        ++const_cast<VelocityConditions *>(this)
+                            ->n_collection_fallbacks;
+                      }
+                  }
+              }
+            if (!solved) // partial: (m̃ₖ⁻¹)_ij → δ_ij / m_i
+              for (unsigned int b = 0; b < conditions.size(); ++b)
+                phi[b] = m.local_element(conditions[b].local_index) * r[b];
+            for (unsigned int b = 0; b < conditions.size(); ++b)
+              {
+                add_along(q, conditions[b], phi[b]);
+                add_impulse(conditions[b], phi[b]);
+              }
+            return;
+          }
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::correct_velocities(
+    GridVectorField     &v,
+    const double         t,
+    std::vector<double> *corrections) const
+  {
+    if (corrections)
+      corrections->resize(conditions.size());
+    for (unsigned int b = 0; b < conditions.size(); ++b)
+      {
+        const auto &c = conditions[b];
+        double v_n = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          v_n += v.block(d).local_element(c.local_index) * c.normal[d];
+        const double dv = value(c, t) - v_n;
+        for (unsigned int d = 0; d < dim; ++d)
+          v.block(d).local_element(c.local_index) += dv * c.normal[d];
+        if (corrections)
+          (*corrections)[b] = dv;
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::correct_accelerations(GridVectorField &a,
+                                                 const double     t0,
+                                                 const double     t1) const
+  {
+    for (const auto &c : conditions)
+      {
+        double a_n = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          a_n += a.block(d).local_element(c.local_index) * c.normal[d];
+        const double target = (value(c, t1) - value(c, t0)) / (t1 - t0);
+        for (unsigned int d = 0; d < dim; ++d)
+          a.block(d).local_element(c.local_index) +=
+            (target - a_n) * c.normal[d];
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::known_values(const double             t,
+                                        std::vector<GridScalar> &mask,
+                                        std::vector<GridScalar> &value_out) const
+  {
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        mask[d]      = 0;
+        value_out[d] = 0;
+      }
+    for (const auto &c : conditions)
+      for (unsigned int d = 0; d < dim; ++d)
+        if (std::abs(c.normal[d]) > 1 - 1e-12)
+          {
+            mask[d].local_element(c.local_index) = 1;
+            value_out[d].local_element(c.local_index) =
+              value(c, t) * c.normal[d];
+          }
+  }
+
+  template class VelocityConditions<2>;
+  template class VelocityConditions<3>;
+} // namespace fmpm
