@@ -46,8 +46,8 @@ namespace fmpm
   VelocityConditions<dim>::initialize(const Parameters &parameters,
                                       MPI_Comm          communicator)
   {
-    mpi_communicator = communicator;
-    const auto &bc   = parameters.boundary_conditions;
+    mpi_communicator                       = communicator;
+    const auto                         &bc = parameters.boundary_conditions;
     const std::map<std::string, Method> methods = {
       {"constrained", Method::constrained},
       {"lumped", Method::lumped},
@@ -129,7 +129,7 @@ namespace fmpm
         for (unsigned int d = 0; d < dim; ++d)
           direction[d] = walls[w].direction[d];
         wall_velocity[w]->set_time(t + 0.5 * dt);
-        const double v = wall_velocity[w]->value(Point<1>());
+        const double             v = wall_velocity[w]->value(Point<1>());
         std::vector<std::string> wall_labels;
         for (const auto id : walls[w].boundary_ids)
           wall_labels.push_back(std::to_string(id));
@@ -209,9 +209,9 @@ namespace fmpm
           for (unsigned int d = 0; d < dim; ++d)
             {
               const double shift = wall.direction[d] * wall_displacement[w];
-              lead += wall.direction[d] *
-                      (wall.direction[d] > 0 ? wall.box_upper[d] + shift :
-                                               wall.box_lower[d] + shift);
+              lead += wall.direction[d] * (wall.direction[d] > 0 ?
+                                             wall.box_upper[d] + shift :
+                                             wall.box_lower[d] + shift);
               along += wall.direction[d] * x[d];
             }
           for (unsigned int d = 0; d < dim; ++d)
@@ -229,8 +229,8 @@ namespace fmpm
     std::vector<std::vector<NodeCondition>> &per_node,
     const NodeCondition                     &candidate)
   {
-    auto          &list = per_node[candidate.local_index];
-    Tensor<1, dim> r    = candidate.normal;
+    auto          &list       = per_node[candidate.local_index];
+    Tensor<1, dim> r          = candidate.normal;
     bool           orthogonal = true;
     for (const auto &existing : list)
       {
@@ -264,10 +264,10 @@ namespace fmpm
     const DoFHandler<dim>             &dof_handler,
     const Utilities::MPI::Partitioner &partitioner)
   {
-    dof_handler_pointer = &dof_handler;
-    partitioner_pointer = &partitioner;
-    const auto &triangulation = dof_handler.get_triangulation();
-    const IndexSet &owned     = partitioner.locally_owned_range();
+    dof_handler_pointer           = &dof_handler;
+    partitioner_pointer           = &partitioner;
+    const auto     &triangulation = dof_handler.get_triangulation();
+    const IndexSet &owned         = partitioner.locally_owned_range();
 
     std::set<types::boundary_id> mesh_ids;
     for (const auto id : triangulation.get_boundary_ids())
@@ -288,8 +288,8 @@ namespace fmpm
 
     // Per (boundary id, owned node): summed outward unit face normals.
     std::map<std::pair<types::boundary_id, unsigned int>, Tensor<1, dim>>
-                            normals;
-    const unsigned int      n_owned = partitioner.locally_owned_size();
+                       normals;
+    const unsigned int n_owned = partitioner.locally_owned_size();
     node_position.resize(n_owned);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
@@ -357,43 +357,41 @@ namespace fmpm
             const unsigned int source = label_of("wall" + std::to_string(w));
             for (unsigned int i = 0; i < n_owned; ++i)
               if (is_inside_box(w, node_position[i]))
-                add_node_condition(per_node,
-                                   NodeCondition{i,
-                                                 direction,
-                                                 source,
-                                                 static_cast<int>(w)});
+                add_node_condition(
+                  per_node,
+                  NodeCondition{i, direction, source, static_cast<int>(w)});
           }
         else
           for (const auto &entry : normals)
             if (std::find(walls[w].boundary_ids.begin(),
                           walls[w].boundary_ids.end(),
                           entry.first.first) != walls[w].boundary_ids.end())
-              add_node_condition(
-                per_node,
-                NodeCondition{entry.first.second,
-                              direction,
-                              label_of(std::to_string(entry.first.first)),
-                              static_cast<int>(w)});
+              add_node_condition(per_node,
+                                 NodeCondition{entry.first.second,
+                                               direction,
+                                               label_of(std::to_string(
+                                                 entry.first.first)),
+                                               static_cast<int>(w)});
       }
     for (const auto &entry : normals)
       if (std::find(fixed.begin(), fixed.end(), entry.first.first) !=
           fixed.end())
         for (unsigned int d = 0; d < dim; ++d)
-          add_node_condition(
-            per_node,
-            NodeCondition{entry.first.second,
-                          Point<dim>::unit_vector(d),
-                          label_of(std::to_string(entry.first.first)),
-                          -1});
+          add_node_condition(per_node,
+                             NodeCondition{entry.first.second,
+                                           Point<dim>::unit_vector(d),
+                                           label_of(
+                                             std::to_string(entry.first.first)),
+                                           -1});
     for (const auto &entry : normals)
       if (std::find(roller.begin(), roller.end(), entry.first.first) !=
           roller.end())
-        add_node_condition(
-          per_node,
-          NodeCondition{entry.first.second,
-                        entry.second / entry.second.norm(),
-                        label_of(std::to_string(entry.first.first)),
-                        -1});
+        add_node_condition(per_node,
+                           NodeCondition{entry.first.second,
+                                         entry.second / entry.second.norm(),
+                                         label_of(
+                                           std::to_string(entry.first.first)),
+                                         -1});
 
     conditions.clear();
     for (const auto &list : per_node)
@@ -412,24 +410,21 @@ namespace fmpm
   {
     const GridScalar &m     = *operators.lumped_mass;
     const double      floor = operators.mass_floor;
-    auto              add_impulse = [&](const NodeCondition &c,
-                           const double         amount) {
+    auto add_impulse        = [&](const NodeCondition &c, const double amount) {
       if (impulse)
         (*impulse)[c.source] += amount * c.normal;
     };
-    auto component = [](const GridVectorField &field,
-                        const NodeCondition   &c) {
+    auto component = [](const GridVectorField &field, const NodeCondition &c) {
       double s = 0;
       for (unsigned int d = 0; d < dim; ++d)
         s += field.block(d).local_element(c.local_index) * c.normal[d];
       return s;
     };
-    auto add_along = [](GridVectorField     &field,
-                        const NodeCondition &c,
-                        const double         amount) {
-      for (unsigned int d = 0; d < dim; ++d)
-        field.block(d).local_element(c.local_index) += amount * c.normal[d];
-    };
+    auto add_along =
+      [](GridVectorField &field, const NodeCondition &c, const double amount) {
+        for (unsigned int d = 0; d < dim; ++d)
+          field.block(d).local_element(c.local_index) += amount * c.normal[d];
+      };
 
     switch (method)
       {
@@ -470,7 +465,7 @@ namespace fmpm
                 const double v_j = method == Method::unlumped_1 ?
                                      component(q, c) / m_j :
                                      component(v, c);
-                const double dv = value(c, t) - v_j;
+                const double dv  = value(c, t) - v_j;
                 add_along(delta_v, c, dv);
                 // Σ_i (m̃ Δv^(b))_i = m_j Δv (columns of m̃ sum to m).
                 add_impulse(c, m_j * dv);
@@ -517,11 +512,9 @@ namespace fmpm
                   offset = 0;
                 const unsigned int n_total =
                   Utilities::MPI::sum(n_local, mpi_communicator);
-                std::vector<double> A(n_total * n_total, 0.),
-                  rhs(n_total, 0.);
-                GridVectorField unit = zero_like(q), column = zero_like(q);
-                for (unsigned int c_global = 0; c_global < n_total;
-                     ++c_global)
+                std::vector<double> A(n_total * n_total, 0.), rhs(n_total, 0.);
+                GridVectorField     unit = zero_like(q), column = zero_like(q);
+                for (unsigned int c_global = 0; c_global < n_total; ++c_global)
                   {
                     unit = 0;
                     const bool mine =
@@ -589,8 +582,8 @@ namespace fmpm
       corrections->resize(conditions.size());
     for (unsigned int b = 0; b < conditions.size(); ++b)
       {
-        const auto &c = conditions[b];
-        double v_n = 0;
+        const auto &c   = conditions[b];
+        double      v_n = 0;
         for (unsigned int d = 0; d < dim; ++d)
           v_n += v.block(d).local_element(c.local_index) * c.normal[d];
         const double dv = value(c, t) - v_n;
@@ -625,9 +618,10 @@ namespace fmpm
 
   template <int dim>
   void
-  VelocityConditions<dim>::known_values(const double             t,
-                                        std::vector<GridScalar> &mask,
-                                        std::vector<GridScalar> &value_out) const
+  VelocityConditions<dim>::known_values(
+    const double             t,
+    std::vector<GridScalar> &mask,
+    std::vector<GridScalar> &value_out) const
   {
     for (unsigned int d = 0; d < dim; ++d)
       {

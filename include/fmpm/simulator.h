@@ -277,9 +277,11 @@ namespace fmpm
     std::unique_ptr<FunctionParser<1>> angular_velocity;
     /** Work done on the material by moving walls and tractions since the
      * start (energy balance), and Σ|dW|. Units: J. */
-    double external_work        = 0;
-    double external_work_scale  = 0;
-    double local_traction_power = 0;
+    double external_work            = 0;
+    double external_work_scale      = 0;
+    double local_traction_power     = 0;
+    double local_traction_magnitude = 0;
+    double mesh_diameter            = 0;
     /** Corrections Δv (of v) and Δv⁺ (of v⁺) per node condition. */
     std::array<std::vector<double>, 2> velocity_corrections;
     /** Cells around each vertex, for finding the new cell of a moved point. */

@@ -74,11 +74,9 @@ namespace fmpm
       /** v = m̃ₖ⁻¹ p with the scene's mass matrix. */
       std::function<void(const GridVectorField &, GridVectorField &)> solve;
       /** p = M v with the scene's mass matrix (m, m̃ or the consistent). */
-      std::function<void(const GridVectorField &, GridVectorField &)>
-        forward;
+      std::function<void(const GridVectorField &, GridVectorField &)> forward;
       /** p = m̃ v with m̃ = SᵀMS (unlumped 1 only). */
-      std::function<void(const GridVectorField &, GridVectorField &)>
-        full_mass;
+      std::function<void(const GridVectorField &, GridVectorField &)> full_mass;
     };
 
     /** @brief Read the method, walls and labels. */
@@ -131,11 +129,7 @@ namespace fmpm
     bool
     corrects_velocities() const
     {
-      // 'collection partial' finds its forces with one full-mass solve and
-      // a lumped mass; the condition nodes then get their exact values
-      // (without the correction it diverges: (m̃⁻¹m)_jj > 1 overshoots).
-      return method == Method::constrained || method == Method::velocity ||
-             method == Method::collection_partial;
+      return method == Method::constrained || method == Method::velocity;
     }
 
     /**
@@ -211,18 +205,18 @@ namespace fmpm
     add_node_condition(std::vector<std::vector<NodeCondition>> &per_node,
                        const NodeCondition                     &candidate);
 
-    MPI_Comm                           mpi_communicator;
-    Method                             method = Method::constrained;
-    std::vector<types::boundary_id>    fixed, roller;
-    std::vector<MovingWallParameters>  walls;
+    MPI_Comm                          mpi_communicator;
+    Method                            method = Method::constrained;
+    std::vector<types::boundary_id>   fixed, roller;
+    std::vector<MovingWallParameters> walls;
     std::vector<std::unique_ptr<FunctionParser<1>>> wall_velocity;
     /** Displacement s(t) of each wall along its direction. */
-    std::vector<double>               wall_displacement;
-    std::vector<std::string>          source_labels;
-    std::vector<NodeCondition>        conditions;
+    std::vector<double>        wall_displacement;
+    std::vector<std::string>   source_labels;
+    std::vector<NodeCondition> conditions;
     /** Owned node positions by local index (box walls). */
-    std::vector<Point<dim>>           node_position;
-    const DoFHandler<dim>            *dof_handler_pointer = nullptr;
+    std::vector<Point<dim>>            node_position;
+    const DoFHandler<dim>             *dof_handler_pointer = nullptr;
     const Utilities::MPI::Partitioner *partitioner_pointer = nullptr;
 
     unsigned int

@@ -168,6 +168,7 @@ namespace fmpm
           for (unsigned int d = 0; d < dim; ++d)
             g += parameters.gravity[d] * parameters.gravity[d];
           const double diameter = GridTools::diameter(triangulation);
+          mesh_diameter         = diameter;
           initial_energy_scale =
             std::max({statistics.kinetic_energy + statistics.strain_energy,
                       statistics.mass * std::sqrt(g) * diameter,
@@ -373,14 +374,20 @@ namespace fmpm
       }
     // External work: moving walls (reaction · n̂ v(t + Δt/2) Δt) and
     // tractions (Σ F_p · V_p Δt).
-    {
-      double work =
-        velocity_conditions.wall_work(reaction_forces, time, dt) +
-        Utilities::MPI::sum(local_traction_power, mpi_communicator) * dt;
-      local_traction_power = 0;
-      external_work += work;
-      external_work_scale += std::abs(work);
-    }
+    if (!traction_functions.empty() || !reaction_forces.empty())
+      {
+        std::vector<double> traction = {local_traction_power,
+                                        local_traction_magnitude};
+        Utilities::MPI::sum(traction, mpi_communicator, traction);
+        const double work =
+          velocity_conditions.wall_work(reaction_forces, time, dt) +
+          traction[0] * dt;
+        local_traction_power = local_traction_magnitude = 0;
+        external_work += work;
+        // The work the tractions can do across the mesh bounds the growth.
+        external_work_scale = std::max(external_work_scale + std::abs(work),
+                                       traction[1] * mesh_diameter);
+      }
     velocity_conditions.advance_walls(time, dt);
 
     time += dt;

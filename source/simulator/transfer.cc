@@ -241,6 +241,7 @@ namespace fmpm
                     body_force += F_p / M;
                     local_traction_power +=
                       F_p * get_vector<dim>(p, Index::velocity);
+                    local_traction_magnitude += F_p.norm();
                   }
                 const double V = p[Index::volume];
                 double       sigma[dim][dim];
@@ -342,6 +343,7 @@ namespace fmpm
                 body_force += F_p / M;
                 local_traction_power +=
                   F_p * get_vector<dim>(p, Index::velocity);
+                local_traction_magnitude += F_p.norm();
               }
             for (unsigned int i = 0; i < n; ++i)
               for (unsigned int a = 0; a < dim; ++a)
