@@ -282,6 +282,9 @@ namespace fmpm
     double local_traction_power     = 0;
     double local_traction_magnitude = 0;
     double mesh_diameter            = 0;
+    /** Largest |v⁺ · n̂ − v_b| on the condition nodes over the run (this
+     * rank). Units: m/s. */
+    double max_condition_error = 0;
     /** Corrections Δv (of v) and Δv⁺ (of v⁺) per node condition. */
     std::array<std::vector<double>, 2> velocity_corrections;
     /** Cells around each vertex, for finding the new cell of a moved point. */

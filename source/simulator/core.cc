@@ -310,6 +310,22 @@ namespace fmpm
         if (field_needed[f] || (velocity_method_reactions &&
                                 (f == updated_velocity || f == velocity)))
           compute_field(static_cast<GridField>(f));
+      // How well v⁺ satisfies the conditions (summary.json).
+      if (field_computed[updated_velocity])
+        {
+          const auto &v = grid_fields[updated_velocity];
+          for (const auto &c : velocity_conditions.node_conditions())
+            if (lumped_mass.local_element(c.local_index) > mass_floor_value)
+              {
+                double v_n = 0;
+                for (unsigned int d = 0; d < dim; ++d)
+                  v_n += v.block(d).local_element(c.local_index) * c.normal[d];
+                max_condition_error =
+                  std::max(max_condition_error,
+                           std::abs(v_n -
+                                    velocity_conditions.value(c, time + dt)));
+              }
+        }
       // Velocity method: f^(b) = m̃ a^(b) with a^(b)Δt = Δv⁺ − Δv, whose
       // sum over nodes is Σ m_j a_j^(b) (columns of m̃ sum to m).
       if (velocity_method_reactions)

@@ -219,6 +219,8 @@ namespace fmpm
     // Make the phase times the maximum over ranks.
     for (auto &phase : phases)
       phase.second = Utilities::MPI::max(phase.second, mpi_communicator);
+    const double condition_error =
+      Utilities::MPI::max(max_condition_error, mpi_communicator);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
 
@@ -257,6 +259,15 @@ namespace fmpm
              std::max(std::abs(initial_total_energy), initial_energy_scale))
         << ",\n";
     out << "  \"lost_points\": " << total_lost_points << ",\n";
+    if (!velocity_conditions.labels().empty())
+      {
+        out << "  \"boundary_condition_method\": "
+            << quoted(parameters.boundary_conditions.method) << ",\n";
+        out << "  \"velocity_condition_error\": " << number(condition_error)
+            << ",\n";
+        out << "  \"collection_fallbacks\": "
+            << velocity_conditions.n_collection_fallbacks << ",\n";
+      }
     out << "  \"mass_matrix_order\": " << mass_matrix->order() << ",\n";
     for (const auto &entry : mass_matrix_statistics)
       out << "  " << quoted(entry.first) << ": " << number(entry.second)

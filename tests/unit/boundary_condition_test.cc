@@ -101,19 +101,19 @@ TEST(BoundaryConditions, PistonReactionEqualsElasticForce)
     for (const auto &method : all_methods)
       {
         ParameterHandler prm;
-        auto             simulator = make_simulator<2>(
-          {parameter_dir + "piston.prm"},
-          quiet("output-piston-test") +
-            method_overrides(mass_matrix, method) +
-            "subsection Time\n set End time = 0.2\nend\n",
-          prm);
+        auto             simulator =
+          make_simulator<2>({parameter_dir + "piston.prm"},
+                            quiet("output-piston-test") +
+                              method_overrides(mass_matrix, method) +
+                              "subsection Time\n set End time = 0.2\nend\n",
+                            prm);
         if (mass_matrix == "full" && method == "collection partial")
           {
             EXPECT_THROW(simulator->run(), fmpm::SimulationFailure);
             continue;
           }
         simulator->run();
-        const auto &history = simulator->get_history();
+        const auto &history   = simulator->get_history();
         double      sum_fixed = 0, sum_piston = 0, sum_expected = 0;
         for (const auto &row : history)
           if (row.time >= 0.15)
@@ -144,11 +144,12 @@ TEST(BoundaryConditions, MethodsReduceToLumpedWithLumpedMass)
   for (const auto &method : all_methods)
     {
       ParameterHandler prm;
-      auto             simulator = make_simulator<2>(
-        {parameter_dir + "piston.prm"},
-        quiet("output-piston-reduce") + method_overrides("lumped", method) +
-          "subsection Time\n set End time = 0.05\nend\n",
-        prm);
+      auto             simulator =
+        make_simulator<2>({parameter_dir + "piston.prm"},
+                          quiet("output-piston-reduce") +
+                            method_overrides("lumped", method) +
+                            "subsection Time\n set End time = 0.05\nend\n",
+                          prm);
       simulator->run();
       histories[method] = simulator->get_history();
     }
@@ -160,15 +161,13 @@ TEST(BoundaryConditions, MethodsReduceToLumpedWithLumpedMass)
       double difference = 0, scale = 0;
       for (unsigned int i = 0; i < history.size(); ++i)
         {
-          difference =
-            std::max(difference,
-                     std::abs(history[i].strain_energy -
-                              lumped[i].strain_energy) +
-                       (history[i].reactions[1] - lumped[i].reactions[1])
-                         .norm());
-          scale = std::max(scale,
-                           lumped[i].strain_energy +
-                             lumped[i].reactions[1].norm());
+          difference = std::max(
+            difference,
+            std::abs(history[i].strain_energy - lumped[i].strain_energy) +
+              (history[i].reactions[1] - lumped[i].reactions[1]).norm());
+          scale =
+            std::max(scale,
+                     lumped[i].strain_energy + lumped[i].reactions[1].norm());
         }
       if (method == "unlumped 1")
         EXPECT_GT(difference, 1e-4 * scale) << method;
@@ -195,7 +194,7 @@ TEST(BoundaryConditions, ConditionValuesHoldWhereMethodsPromise)
         {parameter_dir + "piston.prm"},
         quiet("output-piston-values") + method_overrides("full", method) +
           "subsection Mass matrix\n subsection Full\n set Tolerance = "
-          "1e-12\n end\nend\nsubsection Time\n set End time = 0.12\nend\n",
+                      "1e-12\n end\nend\nsubsection Time\n set End time = 0.12\nend\n",
         prm);
       simulator->run();
       const double t     = 0.12;
@@ -251,13 +250,13 @@ subsection Body 0
   set Initial stress from gravity = true
 end
 )";
-  ParameterHandler prm;
-  auto             simulator = make_simulator<2>(
-    {}, scene + quiet("output-gravity-column"), prm);
+  ParameterHandler  prm;
+  auto              simulator =
+    make_simulator<2>({}, scene + quiet("output-gravity-column"), prm);
   simulator->run();
   const double rho = 100, g = 10, H = 1, W = 0.25;
   const double base_stress = rho * g * H;
-  double       max_error   = 0, max_speed = 0;
+  double       max_error = 0, max_speed = 0;
   for (const auto &particle : simulator->get_particle_handler())
     {
       const auto   p     = particle.get_properties();
@@ -315,9 +314,8 @@ subsection Body 0
   set Half lengths = 0.25, 0.25
 end
 )";
-  ParameterHandler prm;
-  auto             simulator =
-    make_simulator<2>({}, scene + quiet("output-traction"), prm);
+  ParameterHandler  prm;
+  auto simulator = make_simulator<2>({}, scene + quiet("output-traction"), prm);
   simulator->run();
   // Points in the last column (x in [0.9375, 1]): centres at 0.96875 and
   // 0.984375 with 2 points per cell of width 0.125: only x = 0.96875 is in
@@ -361,9 +359,8 @@ subsection Body 0
   set Initial velocity = 0.5, 0
 end
 )";
-  ParameterHandler prm;
-  auto             simulator =
-    make_simulator<2>({}, scene + quiet("output-rotating"), prm);
+  ParameterHandler  prm;
+  auto simulator = make_simulator<2>({}, scene + quiet("output-rotating"), prm);
   simulator->run();
   const auto  &history = simulator->get_history();
   const double M       = history.front().mass;
@@ -372,9 +369,7 @@ end
   EXPECT_NEAR(history.back().momentum[0],
               M * (V + omega * omega * r_c * dt),
               1e-10 * M);
-  EXPECT_NEAR(history.back().momentum[1],
-              -M * 2 * omega * V * dt,
-              1e-10 * M);
+  EXPECT_NEAR(history.back().momentum[1], -M * 2 * omega * V * dt, 1e-10 * M);
 }
 
 
@@ -414,8 +409,8 @@ subsection Body 0
   set Half lengths = 0.25, 0.25
 end
 )";
-  ParameterHandler prm;
-  auto             simulator =
+  ParameterHandler  prm;
+  auto              simulator =
     make_simulator<2>({}, scene + quiet("output-moving-wall"), prm);
   simulator->run();
   // The wall's face is at 0.5 + 2 t = 0.7 at the end.
