@@ -87,6 +87,7 @@ namespace fmpm
                                          numbered_subsection("Moving wall", w) +
                                          "/Function constants"),
               true);
+            function->value(Point<1>()); // muparser parses on first use
           }
         catch (const std::exception &e)
           {

@@ -415,6 +415,7 @@ namespace fmpm
               parse_function_constants(parameters.body_acceleration_constants,
                                        "Body force/Function constants"),
               true);
+            function->value(Point<dim>()); // parsed on first use
           }
         catch (const ExceptionBase &e)
           {
@@ -447,6 +448,7 @@ namespace fmpm
               parse_function_constants(tractions[n].constants,
                                        where + "/Function constants"),
               true);
+            function->value(Point<1>()); // muparser parses on first use
           }
         catch (const std::exception &e)
           {
@@ -471,6 +473,7 @@ namespace fmpm
                 parameters.rotating_frame.constants,
                 "Body force/Rotating frame/Function constants"),
               true);
+            angular_velocity->value(Point<1>());
           }
         catch (const std::exception &e)
           {
