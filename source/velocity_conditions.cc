@@ -204,19 +204,23 @@ namespace fmpm
     for (unsigned int w = 0; w < walls.size(); ++w)
       if (is_inside_box(w, x))
         {
-          // Leading face: the largest n̂ · corner of the moved box.
-          const auto &wall = walls[w];
-          double      lead = 0, along = 0;
+          // Out along n̂ through the nearer of the two faces across n̂ (the
+          // side the point came from): the smallest and largest n̂ · corner
+          // of the moved box.
+          const auto &wall  = walls[w];
+          double      front = 0, back = 0, along = 0;
           for (unsigned int d = 0; d < dim; ++d)
             {
               const double shift = wall.direction[d] * wall_displacement[w];
-              lead += wall.direction[d] * (wall.direction[d] > 0 ?
-                                             wall.box_upper[d] + shift :
-                                             wall.box_lower[d] + shift);
+              const double low   = wall.box_lower[d] + shift;
+              const double high  = wall.box_upper[d] + shift;
+              front += wall.direction[d] * (wall.direction[d] > 0 ? high : low);
+              back += wall.direction[d] * (wall.direction[d] > 0 ? low : high);
               along += wall.direction[d] * x[d];
             }
+          const double target = (front - along < along - back) ? front : back;
           for (unsigned int d = 0; d < dim; ++d)
-            x[d] += (lead - along) * wall.direction[d];
+            x[d] += (target - along) * wall.direction[d];
           moved = true;
         }
     return moved;

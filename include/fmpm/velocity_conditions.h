@@ -191,8 +191,8 @@ namespace fmpm
     is_inside_box(const unsigned int w, const Point<dim> &x) const;
 
     /**
-     * @brief Move a point that entered a box wall out through the wall's
-     * leading face (along n̂); returns whether it moved.
+     * @brief Move a point that entered a box wall out along n̂ through the
+     * nearer face across n̂; returns whether it moved.
      */
     bool
     push_out_of_walls(Point<dim> &x) const;

@@ -326,3 +326,51 @@ TEST(WholeRun, MassExtrapolationConservesMass)
               1e-12 * total_point_mass);
   EXPECT_GT(total_point_mass, 0);
 }
+
+
+
+// Manufactured solution with a linear velocity field (parameters/
+// manufactured_linear.prm; seed 000 §2.3.4 says PIC from FMPM(1) is more
+// stable there than PIC from XPIC(1)). Measured at Courant 0.9 over 3 s
+// (5 periods), 10 s and Courant 1.0: both stay stable and accurate, with
+// equal velocity errors (time-integrated 0.78 %, largest away from zero
+// crossings 1.56 %) and XPIC(1) slightly better positions (0.62 % against
+// 0.68 %): the claimed difference does not show here. The test pins that
+// both track the solution (FLIP's noise, 2.8 % integrated, or a wrong wall
+// velocity exceed these bounds).
+TEST(WholeRun, LinearVelocityManufacturedSolutionFmpm1AndXpic1)
+{
+  std::map<std::string, std::pair<double, double>> errors;
+  for (const std::string update : {"fmpm", "xpic"})
+    {
+      const auto history = run_scene<2>(
+        {parameter_dir + "manufactured_linear.prm"},
+        output_overrides("output-linear-mms-" + update) +
+          "subsection Particle update\n set Model name = " + update +
+          "\nend\nsubsection Time\n set End time = 3\n set Courant number "
+          "= 0.9\nend\n");
+      ASSERT_NEAR(history.back().time, 3, 1e-12);
+      double max_velocity_error = 0, max_displacement_error = 0;
+      // Relative errors, where the reference is not near a zero crossing.
+      const double omega = 10;
+      for (const auto &row : history)
+        {
+          if (std::abs(std::cos(omega * row.time)) > 0.5)
+            max_velocity_error =
+              std::max(max_velocity_error, row.error_velocity_l2);
+          if (std::abs(std::sin(omega * row.time)) > 0.5)
+            max_displacement_error =
+              std::max(max_displacement_error, row.error_displacement_l2);
+        }
+      errors[update] = {max_velocity_error, max_displacement_error};
+    }
+  for (const auto &entry : errors)
+    {
+      std::cout << entry.first << ": max relative L2 velocity error "
+                << entry.second.first << ", displacement error "
+                << entry.second.second << std::endl;
+      EXPECT_LT(entry.second.first, 0.03) << entry.first;
+      EXPECT_LT(entry.second.second, 0.02) << entry.first;
+    }
+  EXPECT_NEAR(errors["fmpm"].first / errors["xpic"].first, 1, 0.1);
+}
