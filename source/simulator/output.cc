@@ -10,6 +10,7 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/particles/data_out.h>
 
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -230,6 +231,27 @@ namespace fmpm
     out << "  \"n_particles\": " << particle_handler.n_global_particles()
         << ",\n";
     out << "  \"n_cells\": " << triangulation.n_global_active_cells() << ",\n";
+    if (parameters.refinement.strategy != "none")
+      {
+        // The uniform mesh at the finest level the scene allows: what an
+        // unadapted run with the same smallest cells would need.
+        const double uniform_cells =
+          static_cast<double>(triangulation.n_global_coarse_cells()) *
+          std::pow(2.0, dim * parameters.refinement.maximum_level);
+        const double mean_cells =
+          timestep_number > 0 ?
+            static_cast<double>(cell_steps) / timestep_number :
+            static_cast<double>(triangulation.n_global_active_cells());
+        out << "  \"mesh_adaptations\": " << mesh_adaptations << ",\n";
+        out << "  \"mean_cells\": " << number(mean_cells) << ",\n";
+        out << "  \"max_cells\": "
+            << std::max<unsigned long long>(
+                 max_cells, triangulation.n_global_active_cells())
+            << ",\n";
+        out << "  \"uniform_cells\": " << number(uniform_cells) << ",\n";
+        out << "  \"cell_fraction\": " << number(mean_cells / uniform_cells)
+            << ",\n";
+      }
     out << "  \"n_dofs\": " << dof_handler.n_dofs() << ",\n";
     out << "  \"n_steps\": " << timestep_number << ",\n";
     out << "  \"end_time\": " << number(time) << ",\n";

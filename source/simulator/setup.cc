@@ -26,23 +26,38 @@ namespace fmpm
   Simulator<dim>::make_grid()
   {
     const MeshParameters &mesh = parameters.mesh;
+    // The coarse mesh is built directly in the distributed triangulation,
+    // or, when it must be distorted, in a serial one first: every rank then
+    // distorts the same coarse mesh with the same seed.
+    Triangulation<dim>  serial;
+    Triangulation<dim> &coarse =
+      (mesh.distortion > 0) ? serial :
+                              static_cast<Triangulation<dim> &>(triangulation);
+    Point<dim> lower, upper;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        lower[d] = mesh.lower_corner[d];
+        upper[d] = mesh.upper_corner[d];
+      }
     if (mesh.type == "box")
       {
-        Point<dim>                lower, upper;
         std::vector<unsigned int> subdivisions(dim);
         for (unsigned int d = 0; d < dim; ++d)
-          {
-            lower[d]        = mesh.lower_corner[d];
-            upper[d]        = mesh.upper_corner[d];
-            subdivisions[d] = mesh.subdivisions[d];
-          }
+          subdivisions[d] = mesh.subdivisions[d];
         GridGenerator::subdivided_hyper_rectangle(
-          triangulation, subdivisions, lower, upper, /*colorize=*/true);
+          coarse, subdivisions, lower, upper, /*colorize=*/true);
       }
+    else if (mesh.type == "ball")
+      // Manifold 0 (the circle/sphere) on the boundary, transfinite
+      // interpolation inside: refinement puts new boundary vertices on the
+      // curve.
+      GridGenerator::hyper_ball(coarse,
+                                Point<dim>(0.5 * (lower + upper)),
+                                0.5 * (upper[0] - lower[0]));
     else
       {
         GridIn<dim> grid_in;
-        grid_in.attach_triangulation(triangulation);
+        grid_in.attach_triangulation(coarse);
         std::ifstream input(mesh.file_name);
         try
           {
@@ -58,6 +73,14 @@ namespace fmpm
                                    "quadrilaterals/hexahedra: " +
                                    message.str()));
           }
+      }
+    if (mesh.distortion > 0)
+      {
+        GridTools::distort_random(mesh.distortion,
+                                  serial,
+                                  /*keep_boundary=*/true,
+                                  /*seed=*/20260);
+        triangulation.copy_triangulation(serial);
       }
     triangulation.refine_global(mesh.global_refinement);
   }
@@ -78,6 +101,9 @@ namespace fmpm
     constraints.reinit(locally_relevant_dofs);
     DoFTools::make_hanging_node_constraints(dof_handler, constraints);
     constraints.close();
+    has_hanging_nodes =
+      Utilities::MPI::max(constraints.n_constraints() > 0 ? 1u : 0u,
+                          mpi_communicator) > 0;
 
     const auto partitioner =
       std::make_shared<Utilities::MPI::Partitioner>(locally_owned_dofs,
