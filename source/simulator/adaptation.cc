@@ -18,7 +18,7 @@ namespace fmpm
   unsigned int
   Simulator<dim>::cell_weight(
     const typename parallel::distributed::Triangulation<dim>::cell_iterator
-                                                               &cell,
+                                                 &cell,
     const typename Triangulation<dim>::CellStatus status) const
   {
     const unsigned int point_weight = parameters.refinement.point_weight;
@@ -52,11 +52,11 @@ namespace fmpm
   {
     const MeshRefinementParameters &refinement = parameters.refinement;
     const std::string              &strategy   = refinement.strategy;
-    const unsigned int n_cells = triangulation.n_active_cells();
+    const unsigned int              n_cells    = triangulation.n_active_cells();
 
     // Cells to be at the maximum level (the others may coarsen), by active
     // cell index; used by the two material strategies.
-    std::vector<bool> in_region(n_cells, false);
+    std::vector<bool>                    in_region(n_cells, false);
     std::vector<types::global_dof_index> dofs(fe.dofs_per_cell);
 
     // Mark the nodes of the cells in @p cells in @p nodes (ghosted result).
@@ -181,6 +181,9 @@ namespace fmpm
             }
       }
 
+    // deal.II's smoothing (2:1 balance, whole families for coarsening)
+    // drops flags that cannot take effect; no flag left means no change.
+    triangulation.prepare_coarsening_and_refinement();
     bool any_flag = false;
     for (const auto &cell : triangulation.active_cell_iterators())
       if (cell->is_locally_owned() &&
