@@ -219,6 +219,19 @@ namespace fmpm
     particle_handler.unpack_after_coarsening_and_refinement();
     setup_after_mesh_change();
     ++mesh_adaptations;
+    // A fixed time step must stay stable on the new smallest cell.
+    const double stable = minimum_cell_size / max_signal_speed;
+    if (parameters.time.time_step > 0 && parameters.time.check_stability &&
+        parameters.time.time_step > stable)
+      throw SimulationFailure(
+        "Time/Time step = " + std::to_string(parameters.time.time_step) +
+          " s is above the stable limit h_min / (wave speed + point speed) "
+          "= " +
+          std::to_string(stable) +
+          " s of the adapted mesh. Choose a smaller time step, a lower Mesh "
+          "refinement/Maximum level, or Time/Courant number.",
+        timestep_number,
+        time);
     return true;
   }
 

@@ -74,6 +74,11 @@ namespace fmpm
                                    message.str()));
           }
       }
+    AssertThrow(coarse.all_reference_cells_are_hyper_cube(),
+                ExcMessage("Mesh/File name = <" + mesh.file_name +
+                           "> has triangles or tetrahedra: fmpm's grid "
+                           "transfer works on quadrilaterals and hexahedra "
+                           "only (see README.md, Meshes)."));
     if (mesh.distortion > 0)
       {
         GridTools::distort_random(mesh.distortion,
