@@ -16,6 +16,7 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 
@@ -317,23 +318,66 @@ namespace fmpm
             }
         }
 
-    // Globally unique ids: an exclusive prefix sum of the local counts.
-    unsigned long long n_local = new_points.size(), first_id = 0;
-    const int          ierr = MPI_Exscan(&n_local,
-                                &first_id,
-                                1,
-                                MPI_UNSIGNED_LONG_LONG,
-                                MPI_SUM,
-                                mpi_communicator);
-    AssertThrowMPI(ierr);
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
-      first_id = 0;
+    // Globally unique ids, the same on any number of ranks. On a mesh
+    // that is not adapted, the locally owned cells of the ranks follow each
+    // other in the order of the active cells: an exclusive prefix sum of the
+    // local counts. An adapted mesh has no such order; there every rank
+    // learns the number of points of every cell (by CellId) and numbers the
+    // cells in the order of their CellId strings, the points of a cell in
+    // creation order.
+    std::vector<unsigned long long> ids(new_points.size());
+    if (parameters.refinement.strategy == "none")
+      {
+        unsigned long long n_local = new_points.size(), first_id = 0;
+        const int          ierr = MPI_Exscan(&n_local,
+                                    &first_id,
+                                    1,
+                                    MPI_UNSIGNED_LONG_LONG,
+                                    MPI_SUM,
+                                    mpi_communicator);
+        AssertThrowMPI(ierr);
+        if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+          first_id = 0;
+        for (unsigned int i = 0; i < new_points.size(); ++i)
+          ids[i] = first_id + i;
+      }
+    else
+      {
+        // The points of a cell are consecutive in new_points.
+        std::vector<std::pair<std::string, unsigned int>> cell_counts;
+        for (unsigned int i = 0; i < new_points.size(); ++i)
+          if (i == 0 || new_points[i].cell != new_points[i - 1].cell)
+            cell_counts.emplace_back(new_points[i].cell->id().to_string(), 1);
+          else
+            ++cell_counts.back().second;
+        std::vector<std::pair<std::string, unsigned int>> all_counts;
+        for (const auto &rank_counts :
+             Utilities::MPI::all_gather(mpi_communicator, cell_counts))
+          all_counts.insert(all_counts.end(),
+                            rank_counts.begin(),
+                            rank_counts.end());
+        std::sort(all_counts.begin(), all_counts.end());
+        std::map<std::string, unsigned long long> first_id_of_cell;
+        unsigned long long                        next = 0;
+        for (const auto &entry : all_counts)
+          {
+            first_id_of_cell[entry.first] = next;
+            next += entry.second;
+          }
+        unsigned long long id = 0;
+        for (unsigned int i = 0; i < new_points.size(); ++i)
+          {
+            if (i == 0 || new_points[i].cell != new_points[i - 1].cell)
+              id = first_id_of_cell[new_points[i].cell->id().to_string()];
+            ids[i] = id++;
+          }
+      }
 
     particle_handler.reserve(new_points.size());
     for (unsigned int i = 0; i < new_points.size(); ++i)
       particle_handler.insert_particle(new_points[i].x,
                                        new_points[i].xi,
-                                       first_id + i,
+                                       ids[i],
                                        new_points[i].cell,
                                        make_array_view(
                                          new_points[i].properties));
