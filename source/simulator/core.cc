@@ -82,6 +82,15 @@ namespace fmpm
                    const typename Triangulation<dim>::CellStatus status) {
               return cell_weight(cell, status);
             });
+        // Balance the points of the adapted mesh from the first step on.
+        if (parameters.refinement.point_weight > 0 &&
+            Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+          {
+            particle_handler.prepare_for_coarsening_and_refinement();
+            triangulation.repartition();
+            particle_handler.unpack_after_coarsening_and_refinement();
+            setup_after_mesh_change();
+          }
       }
 
     max_signal_speed = compute_max_signal_speed();

@@ -219,6 +219,15 @@ namespace fmpm
     // Make the phase times the maximum over ranks.
     for (auto &phase : phases)
       phase.second = Utilities::MPI::max(phase.second, mpi_communicator);
+    // Load balance: the largest number of points on one rank against the
+    // mean.
+    const double local_points =
+      static_cast<double>(particle_handler.n_locally_owned_particles());
+    const double max_rank_points =
+      Utilities::MPI::max(local_points, mpi_communicator);
+    const double mean_rank_points =
+      Utilities::MPI::sum(local_points, mpi_communicator) /
+      Utilities::MPI::n_mpi_processes(mpi_communicator);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
 
@@ -231,6 +240,10 @@ namespace fmpm
     out << "  \"n_particles\": " << particle_handler.n_global_particles()
         << ",\n";
     out << "  \"n_cells\": " << triangulation.n_global_active_cells() << ",\n";
+    out << "  \"point_imbalance\": "
+        << number(mean_rank_points > 0 ? max_rank_points / mean_rank_points :
+                                         1.)
+        << ",\n";
     if (parameters.refinement.strategy != "none")
       {
         // The uniform mesh at the finest level the scene allows: what an
