@@ -30,10 +30,13 @@ namespace fmpm
     // The coarse mesh is built directly in the distributed triangulation,
     // or, when it must be distorted, in a serial one first: every rank then
     // distorts the same coarse mesh with the same seed.
+    // Gmsh meshes are read into a serial triangulation too, so that a mesh
+    // of triangles/tetrahedra is rejected with a message before p4est sees
+    // it.
+    const bool          via_serial = mesh.distortion > 0 || mesh.type == "gmsh";
     Triangulation<dim>  serial;
     Triangulation<dim> &coarse =
-      (mesh.distortion > 0) ? serial :
-                              static_cast<Triangulation<dim> &>(triangulation);
+      via_serial ? serial : static_cast<Triangulation<dim> &>(triangulation);
     Point<dim> lower, upper;
     for (unsigned int d = 0; d < dim; ++d)
       {
@@ -81,13 +84,12 @@ namespace fmpm
                            "transfer works on quadrilaterals and hexahedra "
                            "only (see README.md, Meshes)."));
     if (mesh.distortion > 0)
-      {
-        GridTools::distort_random(mesh.distortion,
-                                  serial,
-                                  /*keep_boundary=*/true,
-                                  /*seed=*/20260);
-        triangulation.copy_triangulation(serial);
-      }
+      GridTools::distort_random(mesh.distortion,
+                                serial,
+                                /*keep_boundary=*/true,
+                                /*seed=*/20260);
+    if (via_serial)
+      triangulation.copy_triangulation(serial);
     triangulation.refine_global(mesh.global_refinement);
   }
 
