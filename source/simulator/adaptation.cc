@@ -100,7 +100,9 @@ namespace fmpm
                 empty[cell->active_cell_index()] =
                   !has_points[cell->active_cell_index()];
             mark_nodes(empty);
+            // (The copy holds the owned values only: update its ghosts.)
             GridScalar near_empty(nodes);
+            near_empty.update_ghost_values();
             mark_nodes(has_points);
             for (const auto &cell : dof_handler.active_cell_iterators())
               if (cell->is_locally_owned())
