@@ -240,11 +240,16 @@ namespace fmpm
     {
       prm.declare_entry("Type",
                         mesh.type,
-                        Patterns::Selection("box|gmsh"),
+                        Patterns::Selection("box|gmsh|ball"),
                         "'box': a rectangle/box subdivided into cells, with "
                         "boundary ids 0,1 (x min/max), 2,3 (y), 4,5 (z); "
                         "'gmsh': quadrilateral/hexahedral mesh read from "
-                        "'File name' with its physical boundary ids. "
+                        "'File name' with its physical boundary ids; "
+                        "'ball': a disk/ball (GridGenerator::hyper_ball) "
+                        "inscribed in the box of the corners (radius half "
+                        "its x extent), boundary id 0, whose refined "
+                        "boundary vertices lie on the circle/sphere (a "
+                        "curved boundary; cells stay (bi/tri)linear). "
                         "Units: none.");
       prm.declare_entry("Lower corner",
                         join(mesh.lower_corner, dim),
@@ -269,6 +274,81 @@ namespace fmpm
                         Patterns::Integer(0, 12),
                         "Number of times every cell is split in 2^dim before "
                         "the run. Units: none.");
+      prm.declare_entry("Random distortion",
+                        "0",
+                        Patterns::Double(0, 0.5),
+                        "Move every interior vertex by a random vector of "
+                        "up to this fraction of its shortest edge "
+                        "(GridTools::distort_random, fixed seed) after the "
+                        "global refinement: an unstructured quadrilateral/"
+                        "hexahedral mesh. 0 keeps the mesh. Units: none.");
+    }
+    prm.leave_subsection();
+
+    const MeshRefinementParameters refinement;
+    prm.enter_subsection("Mesh refinement");
+    {
+      prm.declare_entry(
+        "Strategy",
+        refinement.strategy,
+        Patterns::Selection("none|material points|material boundary|kelly"),
+        "How the mesh adapts to the scene. 'none': the mesh stays as built. "
+        "'material points': cells that hold material points, plus 'Buffer "
+        "layers' of neighbours, are refined up to 'Maximum level'; other "
+        "cells are coarsened down to 'Minimum level'. 'material boundary': "
+        "the same for the cells where material meets empty space. 'kelly': "
+        "deal.II's KellyErrorEstimator on the lumped grid velocity m^-1 p "
+        "refines the 'Refine fraction' of cells with the largest jumps and "
+        "coarsens the 'Coarsen fraction' with the smallest. Material points "
+        "keep all their properties through refinement and coarsening. "
+        "Units: none.");
+      prm.declare_entry("Interval",
+                        std::to_string(refinement.interval),
+                        Patterns::Integer(0),
+                        "Adapt the mesh every this many steps (0: only "
+                        "before the first step). Units: steps.");
+      prm.declare_entry("Minimum level",
+                        std::to_string(refinement.minimum_level),
+                        Patterns::Integer(0, 20),
+                        "Cells are not coarsened below this level (level 0 "
+                        "is the mesh before 'Mesh/Initial global "
+                        "refinement'). Units: none.");
+      prm.declare_entry("Maximum level",
+                        std::to_string(refinement.maximum_level),
+                        Patterns::Integer(0, 20),
+                        "Cells are not refined beyond this level. Units: "
+                        "none.");
+      prm.declare_entry("Buffer layers",
+                        std::to_string(refinement.buffer_layers),
+                        Patterns::Integer(0, 1000),
+                        "Layers of neighbouring cells (sharing a vertex) "
+                        "refined together with the marked cells, so that "
+                        "material moving between two adaptations stays in "
+                        "fine cells. Units: none.");
+      prm.declare_entry("Refine fraction",
+                        std::to_string(refinement.refine_fraction),
+                        Patterns::Double(0, 1),
+                        "'kelly': fraction of the cells refined. Units: "
+                        "none.");
+      prm.declare_entry("Coarsen fraction",
+                        std::to_string(refinement.coarsen_fraction),
+                        Patterns::Double(0, 1),
+                        "'kelly': fraction of the cells coarsened. Units: "
+                        "none.");
+      prm.declare_entry("Initial refinement",
+                        refinement.initial_refinement ? "true" : "false",
+                        Patterns::Bool(),
+                        "Adapt the mesh to the bodies before the first step "
+                        "(the material points are then created on the "
+                        "adapted mesh, 'Points per cell' in the fine cells). "
+                        "Units: none.");
+      prm.declare_entry("Point weight",
+                        std::to_string(refinement.point_weight),
+                        Patterns::Integer(0, 100000),
+                        "Load balancing across MPI ranks when the mesh is "
+                        "adapted: a cell weighs 1 plus this number per "
+                        "material point it holds. 0 balances cells. Units: "
+                        "none.");
     }
     prm.leave_subsection();
 
@@ -699,8 +779,38 @@ namespace fmpm
       mesh.subdivisions.push_back(static_cast<unsigned int>(n));
     mesh.file_name         = prm.get("File name");
     mesh.global_refinement = prm.get_integer("Initial global refinement");
+    mesh.distortion        = prm.get_double("Random distortion");
     prm.leave_subsection();
-    if (mesh.type == "box")
+
+    prm.enter_subsection("Mesh refinement");
+    refinement.strategy           = prm.get("Strategy");
+    refinement.interval           = prm.get_integer("Interval");
+    refinement.minimum_level      = prm.get_integer("Minimum level");
+    refinement.maximum_level      = prm.get_integer("Maximum level");
+    refinement.buffer_layers      = prm.get_integer("Buffer layers");
+    refinement.refine_fraction    = prm.get_double("Refine fraction");
+    refinement.coarsen_fraction   = prm.get_double("Coarsen fraction");
+    refinement.initial_refinement = prm.get_bool("Initial refinement");
+    refinement.point_weight       = prm.get_integer("Point weight");
+    prm.leave_subsection();
+    AssertThrow(refinement.maximum_level >= refinement.minimum_level,
+                ExcMessage("Mesh refinement/Maximum level = " +
+                           std::to_string(refinement.maximum_level) +
+                           " is below Mesh refinement/Minimum level = " +
+                           std::to_string(refinement.minimum_level) +
+                           ". Allowed: Maximum level >= Minimum level."));
+    AssertThrow(refinement.strategy == "none" ||
+                  refinement.maximum_level >= mesh.global_refinement,
+                ExcMessage("Mesh refinement/Maximum level = " +
+                           std::to_string(refinement.maximum_level) +
+                           " is below Mesh/Initial global refinement = " +
+                           std::to_string(mesh.global_refinement) +
+                           ". Allowed: Maximum level >= Initial global "
+                           "refinement."));
+    AssertThrow(refinement.refine_fraction + refinement.coarsen_fraction <= 1,
+                ExcMessage("Mesh refinement/Refine fraction + Coarsen "
+                           "fraction must not exceed 1."));
+    if (mesh.type == "box" || mesh.type == "ball")
       for (unsigned int d = 0; d < dim; ++d)
         AssertThrow(mesh.upper_corner[d] > mesh.lower_corner[d],
                     ExcMessage("Mesh/Upper corner must be above Mesh/Lower "

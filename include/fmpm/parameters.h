@@ -47,6 +47,30 @@ namespace fmpm
     std::vector<unsigned int> subdivisions{8, 8, 8};
     std::string               file_name;
     unsigned int              global_refinement = 0;
+    /** Random vertex displacement (GridTools::distort_random) as a fraction
+     * of the shortest adjacent edge; 0 keeps the mesh. */
+    double distortion = 0;
+  };
+
+  /** @brief Adaptive refinement of the background mesh during the run. */
+  struct MeshRefinementParameters
+  {
+    /** none, material points, material boundary or kelly */
+    std::string strategy = "none";
+    /** Remesh every this many steps (0: only before the first step). */
+    unsigned int interval = 10;
+    /** Cell levels (0 = the coarse mesh, before global refinement). */
+    unsigned int minimum_level = 0;
+    unsigned int maximum_level = 3;
+    /** Layers of vertex neighbours added around the marked cells. */
+    unsigned int buffer_layers = 1;
+    /** Kelly: fractions of cells (by count) to refine and to coarsen. */
+    double refine_fraction  = 0.3;
+    double coarsen_fraction = 0.3;
+    /** Adapt the mesh to the bodies before the first step. */
+    bool initial_refinement = true;
+    /** Load-balancing weight of a material point against a cell's 1. */
+    unsigned int point_weight = 10;
   };
 
   /**
@@ -202,6 +226,7 @@ namespace fmpm
   {
     SceneSize                       size;
     MeshParameters                  mesh;
+    MeshRefinementParameters        refinement;
     BoundaryConditionParameters     boundary_conditions;
     TimeParameters                  time;
     MethodParameters                method;

@@ -153,6 +153,27 @@ namespace fmpm
     GlobalStatistics<dim>
     compute_statistics() const;
 
+    /** @brief The background mesh (for tests and plugins). */
+    const parallel::distributed::Triangulation<dim> &
+    get_triangulation() const
+    {
+      return triangulation;
+    }
+
+    /** @brief How often the mesh was adapted (after the initial one). */
+    unsigned int
+    n_mesh_adaptations() const
+    {
+      return mesh_adaptations;
+    }
+
+    /**
+     * @brief Adapt the mesh now with the scene's Mesh refinement strategy
+     * (collective; also used by tests). Returns whether the mesh changed.
+     */
+    bool
+    adapt_mesh();
+
   private:
     // --- set-up (simulator/setup.cc) ---
     void
@@ -167,6 +188,28 @@ namespace fmpm
     setup_plugins(ParameterHandler &prm);
     void
     check_scene();
+    /** Nodes with less than 1e-12 of the lightest point's mass are empty. */
+    void
+    compute_mass_floor();
+
+    // --- mesh adaptation (simulator/adaptation.cc) ---
+    /** Refine to the bodies before the first step, re-creating the points. */
+    void
+    adapt_initial_mesh();
+    /** Set refine/coarsen flags by the strategy on locally owned cells.
+     * Returns whether any rank flagged a cell. */
+    bool
+    mark_cells();
+    /** DoFs, constraints, transfer cache, sparsity, grid vectors, the mass
+     * matrix's mesh data and the velocity conditions for a new mesh. */
+    void
+    setup_after_mesh_change();
+    /** Load-balancing weight of a cell: 1 + Point weight x its points. */
+    unsigned int
+    cell_weight(
+      const typename parallel::distributed::Triangulation<dim>::cell_iterator
+                                                   &cell,
+      const typename Triangulation<dim>::CellStatus status) const;
 
     // --- the time step (simulator/core.cc, transfer.cc) ---
     double
@@ -241,7 +284,9 @@ namespace fmpm
     IndexSet                                  locally_owned_dofs;
     IndexSet                                  locally_relevant_dofs;
     AffineConstraints<double>                 constraints;
-    GridTransfer<dim>                         transfer;
+    /** Whether any rank has a hanging node (constraints to distribute). */
+    bool              has_hanging_nodes = false;
+    GridTransfer<dim> transfer;
 
     ParticleProperties<dim>         particle_properties;
     Particles::ParticleHandler<dim> particle_handler;
@@ -338,6 +383,11 @@ namespace fmpm
     double                                      wall_start         = 0;
     double                                      last_progress_wall = -1e30;
     unsigned long long                          particle_steps     = 0;
+    /** Mesh adaptations during the run, and Σ over steps of the number of
+     * active cells (for the mean cell count in summary.json). */
+    unsigned int       mesh_adaptations = 0;
+    unsigned long long cell_steps       = 0;
+    unsigned long long max_cells        = 0;
 
     friend class SimulatorAccess<dim>;
   };

@@ -69,7 +69,41 @@ namespace fmpm
     create_material_points();
     setup_boundary_conditions();
     initialize_stress_from_gravity();
+    compute_mass_floor();
+    if (parameters.refinement.strategy != "none")
+      {
+        if (parameters.refinement.initial_refinement)
+          adapt_initial_mesh();
+        // Load balancing by material points (deal.II step-68) whenever the
+        // mesh is adapted; a scene without adaptation connects nothing.
+        if (parameters.refinement.point_weight > 0)
+          triangulation.signals.weight.connect(
+            [this](const typename parallel::distributed::Triangulation<
+                     dim>::cell_iterator                        &cell,
+                   const typename Triangulation<dim>::CellStatus status) {
+              return cell_weight(cell, status);
+            });
+        // Balance the points of the adapted mesh from the first step on.
+        if (parameters.refinement.point_weight > 0 &&
+            Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+          {
+            particle_handler.prepare_for_coarsening_and_refinement();
+            triangulation.repartition();
+            particle_handler.unpack_after_coarsening_and_refinement();
+            setup_after_mesh_change();
+          }
+      }
 
+    max_signal_speed = compute_max_signal_speed();
+    check_scene();
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::compute_mass_floor()
+  {
     // Nodes with less than a tiny fraction of a typical point mass are empty.
     double min_point_mass = std::numeric_limits<double>::max();
     for (const auto &particle : particle_handler)
@@ -78,9 +112,6 @@ namespace fmpm
                  particle.get_properties()[PropertyIndex<dim>::mass]);
     mass_floor_value =
       1e-12 * Utilities::MPI::min(min_point_mass, mpi_communicator);
-
-    max_signal_speed = compute_max_signal_speed();
-    check_scene();
   }
 
 
@@ -255,6 +286,12 @@ namespace fmpm
       (strain_update == "usavg" || strain_update == "usavg+");
     const bool lumped_strain_velocity =
       (parameters.method.strain_update_mass_matrix == "lumped");
+    // Adapt the mesh every 'Mesh refinement/Interval' steps (before the
+    // time step, which depends on the smallest cell).
+    if (parameters.refinement.strategy != "none" &&
+        parameters.refinement.interval > 0 && timestep_number > 0 &&
+        timestep_number % parameters.refinement.interval == 0)
+      adapt_mesh();
     time_step       = compute_time_step();
     const double dt = time_step;
     // b(x, t) at the middle of the step: second order in time (first order
@@ -409,6 +446,13 @@ namespace fmpm
     time += dt;
     ++timestep_number;
     particle_steps += particle_handler.n_global_particles();
+    if (parameters.refinement.strategy != "none")
+      {
+        const unsigned long long n_cells =
+          triangulation.n_global_active_cells();
+        cell_steps += n_cells;
+        max_cells = std::max(max_cells, n_cells);
+      }
 
     // Failures found by any rank in this step stop every rank.
     {
@@ -541,7 +585,11 @@ namespace fmpm
                                                    &velocity_corrections[0] :
                                                    nullptr);
       }
-    constraints.distribute(target);
+    // Hanging nodes take the interpolation of their masters, in every
+    // component (the constraints index one scalar block).
+    if (has_hanging_nodes)
+      for (unsigned int d = 0; d < dim; ++d)
+        constraints.distribute(target.block(d));
     target.update_ghost_values();
     field_computed[field] = true;
   }

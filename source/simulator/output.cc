@@ -10,6 +10,7 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/particles/data_out.h>
 
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -221,6 +222,15 @@ namespace fmpm
       phase.second = Utilities::MPI::max(phase.second, mpi_communicator);
     const double condition_error =
       Utilities::MPI::max(max_condition_error, mpi_communicator);
+    // Load balance: the largest number of points on one rank against the
+    // mean.
+    const double local_points =
+      static_cast<double>(particle_handler.n_locally_owned_particles());
+    const double max_rank_points =
+      Utilities::MPI::max(local_points, mpi_communicator);
+    const double mean_rank_points =
+      Utilities::MPI::sum(local_points, mpi_communicator) /
+      Utilities::MPI::n_mpi_processes(mpi_communicator);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
 
@@ -233,6 +243,31 @@ namespace fmpm
     out << "  \"n_particles\": " << particle_handler.n_global_particles()
         << ",\n";
     out << "  \"n_cells\": " << triangulation.n_global_active_cells() << ",\n";
+    out << "  \"point_imbalance\": "
+        << number(mean_rank_points > 0 ? max_rank_points / mean_rank_points :
+                                         1.)
+        << ",\n";
+    if (parameters.refinement.strategy != "none")
+      {
+        // The uniform mesh at the finest level the scene allows: what an
+        // unadapted run with the same smallest cells would need.
+        const double uniform_cells =
+          static_cast<double>(triangulation.n_global_coarse_cells()) *
+          std::pow(2.0, dim * parameters.refinement.maximum_level);
+        const double mean_cells =
+          timestep_number > 0 ?
+            static_cast<double>(cell_steps) / timestep_number :
+            static_cast<double>(triangulation.n_global_active_cells());
+        out << "  \"mesh_adaptations\": " << mesh_adaptations << ",\n";
+        out << "  \"mean_cells\": " << number(mean_cells) << ",\n";
+        out << "  \"max_cells\": "
+            << std::max<unsigned long long>(
+                 max_cells, triangulation.n_global_active_cells())
+            << ",\n";
+        out << "  \"uniform_cells\": " << number(uniform_cells) << ",\n";
+        out << "  \"cell_fraction\": " << number(mean_cells / uniform_cells)
+            << ",\n";
+      }
     out << "  \"n_dofs\": " << dof_handler.n_dofs() << ",\n";
     out << "  \"n_steps\": " << timestep_number << ",\n";
     out << "  \"end_time\": " << number(time) << ",\n";

@@ -16,6 +16,7 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 
@@ -26,23 +27,41 @@ namespace fmpm
   Simulator<dim>::make_grid()
   {
     const MeshParameters &mesh = parameters.mesh;
+    // The coarse mesh is built directly in the distributed triangulation,
+    // or, when it must be distorted, in a serial one first: every rank then
+    // distorts the same coarse mesh with the same seed.
+    // Gmsh meshes are read into a serial triangulation too, so that a mesh
+    // of triangles/tetrahedra is rejected with a message before p4est sees
+    // it.
+    const bool          via_serial = mesh.distortion > 0 || mesh.type == "gmsh";
+    Triangulation<dim>  serial;
+    Triangulation<dim> &coarse =
+      via_serial ? serial : static_cast<Triangulation<dim> &>(triangulation);
+    Point<dim> lower, upper;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        lower[d] = mesh.lower_corner[d];
+        upper[d] = mesh.upper_corner[d];
+      }
     if (mesh.type == "box")
       {
-        Point<dim>                lower, upper;
         std::vector<unsigned int> subdivisions(dim);
         for (unsigned int d = 0; d < dim; ++d)
-          {
-            lower[d]        = mesh.lower_corner[d];
-            upper[d]        = mesh.upper_corner[d];
-            subdivisions[d] = mesh.subdivisions[d];
-          }
+          subdivisions[d] = mesh.subdivisions[d];
         GridGenerator::subdivided_hyper_rectangle(
-          triangulation, subdivisions, lower, upper, /*colorize=*/true);
+          coarse, subdivisions, lower, upper, /*colorize=*/true);
       }
+    else if (mesh.type == "ball")
+      // Manifold 0 (the circle/sphere) on the boundary, transfinite
+      // interpolation inside: refinement puts new boundary vertices on the
+      // curve.
+      GridGenerator::hyper_ball(coarse,
+                                Point<dim>(0.5 * (lower + upper)),
+                                0.5 * (upper[0] - lower[0]));
     else
       {
         GridIn<dim> grid_in;
-        grid_in.attach_triangulation(triangulation);
+        grid_in.attach_triangulation(coarse);
         std::ifstream input(mesh.file_name);
         try
           {
@@ -59,6 +78,18 @@ namespace fmpm
                                    message.str()));
           }
       }
+    AssertThrow(coarse.all_reference_cells_are_hyper_cube(),
+                ExcMessage("Mesh/File name = <" + mesh.file_name +
+                           "> has triangles or tetrahedra: fmpm's grid "
+                           "transfer works on quadrilaterals and hexahedra "
+                           "only (see README.md, Meshes)."));
+    if (mesh.distortion > 0)
+      GridTools::distort_random(mesh.distortion,
+                                serial,
+                                /*keep_boundary=*/true,
+                                /*seed=*/20260);
+    if (via_serial)
+      triangulation.copy_triangulation(serial);
     triangulation.refine_global(mesh.global_refinement);
   }
 
@@ -78,6 +109,9 @@ namespace fmpm
     constraints.reinit(locally_relevant_dofs);
     DoFTools::make_hanging_node_constraints(dof_handler, constraints);
     constraints.close();
+    has_hanging_nodes =
+      Utilities::MPI::max(constraints.n_constraints() > 0 ? 1u : 0u,
+                          mpi_communicator) > 0;
 
     const auto partitioner =
       std::make_shared<Utilities::MPI::Partitioner>(locally_owned_dofs,
@@ -287,23 +321,66 @@ namespace fmpm
             }
         }
 
-    // Globally unique ids: an exclusive prefix sum of the local counts.
-    unsigned long long n_local = new_points.size(), first_id = 0;
-    const int          ierr = MPI_Exscan(&n_local,
-                                &first_id,
-                                1,
-                                MPI_UNSIGNED_LONG_LONG,
-                                MPI_SUM,
-                                mpi_communicator);
-    AssertThrowMPI(ierr);
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
-      first_id = 0;
+    // Globally unique ids, the same on any number of ranks. On a mesh
+    // that is not adapted, the locally owned cells of the ranks follow each
+    // other in the order of the active cells: an exclusive prefix sum of the
+    // local counts. An adapted mesh has no such order; there every rank
+    // learns the number of points of every cell (by CellId) and numbers the
+    // cells in the order of their CellId strings, the points of a cell in
+    // creation order.
+    std::vector<unsigned long long> ids(new_points.size());
+    if (parameters.refinement.strategy == "none")
+      {
+        unsigned long long n_local = new_points.size(), first_id = 0;
+        const int          ierr = MPI_Exscan(&n_local,
+                                    &first_id,
+                                    1,
+                                    MPI_UNSIGNED_LONG_LONG,
+                                    MPI_SUM,
+                                    mpi_communicator);
+        AssertThrowMPI(ierr);
+        if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+          first_id = 0;
+        for (unsigned int i = 0; i < new_points.size(); ++i)
+          ids[i] = first_id + i;
+      }
+    else
+      {
+        // The points of a cell are consecutive in new_points.
+        std::vector<std::pair<std::string, unsigned int>> cell_counts;
+        for (unsigned int i = 0; i < new_points.size(); ++i)
+          if (i == 0 || new_points[i].cell != new_points[i - 1].cell)
+            cell_counts.emplace_back(new_points[i].cell->id().to_string(), 1);
+          else
+            ++cell_counts.back().second;
+        std::vector<std::pair<std::string, unsigned int>> all_counts;
+        for (const auto &rank_counts :
+             Utilities::MPI::all_gather(mpi_communicator, cell_counts))
+          all_counts.insert(all_counts.end(),
+                            rank_counts.begin(),
+                            rank_counts.end());
+        std::sort(all_counts.begin(), all_counts.end());
+        std::map<std::string, unsigned long long> first_id_of_cell;
+        unsigned long long                        next = 0;
+        for (const auto &entry : all_counts)
+          {
+            first_id_of_cell[entry.first] = next;
+            next += entry.second;
+          }
+        unsigned long long id = 0;
+        for (unsigned int i = 0; i < new_points.size(); ++i)
+          {
+            if (i == 0 || new_points[i].cell != new_points[i - 1].cell)
+              id = first_id_of_cell[new_points[i].cell->id().to_string()];
+            ids[i] = id++;
+          }
+      }
 
     particle_handler.reserve(new_points.size());
     for (unsigned int i = 0; i < new_points.size(); ++i)
       particle_handler.insert_particle(new_points[i].x,
                                        new_points[i].xi,
-                                       first_id + i,
+                                       ids[i],
                                        new_points[i].cell,
                                        make_array_view(
                                          new_points[i].properties));

@@ -286,4 +286,61 @@ namespace
                               "end\n"),
                  {"Mesh/File name"});
   }
+
+
+
+  TEST(ReadScene, MeshRefinement)
+  {
+    const fmpm::Parameters parameters =
+      read(default_plus("refinement.prm",
+                        "subsection Mesh refinement\n"
+                        "  set Strategy      = material boundary\n"
+                        "  set Minimum level = 1\n"
+                        "  set Maximum level = 4\n"
+                        "  set Interval      = 7\n"
+                        "end\n"
+                        "subsection Mesh\n"
+                        "  set Random distortion = 0.2\n"
+                        "end\n"));
+    EXPECT_EQ(parameters.refinement.strategy, "material boundary");
+    EXPECT_EQ(parameters.refinement.minimum_level, 1u);
+    EXPECT_EQ(parameters.refinement.maximum_level, 4u);
+    EXPECT_EQ(parameters.refinement.interval, 7u);
+    EXPECT_DOUBLE_EQ(parameters.mesh.distortion, 0.2);
+    EXPECT_EQ(read(default_plus("none.prm", "")).refinement.strategy, "none");
+
+    expect_error(default_plus("strategy.prm",
+                              "subsection Mesh refinement\n"
+                              "  set Strategy = everywhere\n"
+                              "end\n"),
+                 {"Strategy", "everywhere", "material points", "kelly"});
+    expect_error(default_plus("levels.prm",
+                              "subsection Mesh refinement\n"
+                              "  set Strategy      = kelly\n"
+                              "  set Minimum level = 3\n"
+                              "  set Maximum level = 2\n"
+                              "end\n"),
+                 {"Mesh refinement/Maximum level", "Minimum level"});
+    expect_error(default_plus("levels.prm",
+                              "subsection Mesh refinement\n"
+                              "  set Strategy      = material points\n"
+                              "  set Maximum level = 1\n"
+                              "end\n"
+                              "subsection Mesh\n"
+                              "  set Initial global refinement = 2\n"
+                              "end\n"),
+                 {"Mesh refinement/Maximum level",
+                  "Initial global refinement"});
+    expect_error(default_plus("fractions.prm",
+                              "subsection Mesh refinement\n"
+                              "  set Refine fraction  = 0.7\n"
+                              "  set Coarsen fraction = 0.4\n"
+                              "end\n"),
+                 {"Refine fraction", "Coarsen fraction"});
+    expect_error(default_plus("distortion.prm",
+                              "subsection Mesh\n"
+                              "  set Random distortion = 0.8\n"
+                              "end\n"),
+                 {"Random distortion", "0.8"});
+  }
 } // namespace
