@@ -3,7 +3,11 @@
 
 #include <fmpm/grid_transfer.h>
 
+#include <deal.II/grid/grid_tools.h>
+
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace fmpm
 {
@@ -20,19 +24,23 @@ namespace fmpm
     has_data.assign(cells.size(), false);
     std::vector<types::global_dof_index> dofs(n_nodes);
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
+      if (!cell->is_artificial())
         {
           CellData &data = cells[cell->active_cell_index()];
           has_data[cell->active_cell_index()] = true;
           cell->get_dof_indices(dofs);
-          data.has_constraints = false;
+          data.has_constraints   = false;
+          data.constrained_nodes = 0;
           for (unsigned int i = 0; i < n_nodes; ++i)
             {
               data.dof_index[i]   = dofs[i];
               data.local_index[i] = partitioner.global_to_local(dofs[i]);
               data.vertex[i]      = cell->vertex(i);
               if (constraints.is_constrained(dofs[i]))
-                data.has_constraints = true;
+                {
+                  data.has_constraints = true;
+                  data.constrained_nodes |= (1u << i);
+                }
             }
 
           // The multilinear map is affine if every vertex is where the
@@ -56,7 +64,111 @@ namespace fmpm
                 data.is_affine = false;
             }
           data.inverse_jacobian_transpose = transpose(invert(J));
+
+          data.is_axis_aligned = data.is_affine;
+          for (unsigned int c = 0; c < dim; ++c)
+            for (unsigned int d = 0; d < dim; ++d)
+              if (c != d && std::abs(J[c][d]) > 1e-12 * scale)
+                data.is_axis_aligned = false;
+          data.lower = data.vertex[0];
+          data.upper = data.vertex[n_nodes - 1];
+          data.boundary_faces = 0;
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              data.boundary_faces |= (1u << f);
         }
+
+    // Patches: the cell first, then the other cells around its vertices
+    // (deal.II's vertex-to-cell map includes the coarse cells next to
+    // hanging vertices).
+    const auto vertex_to_cells =
+      GridTools::vertex_to_cell_map(dof_handler.get_triangulation());
+    patches.clear();
+    patches.resize(cells.size());
+    for (const auto &cell : dof_handler.get_triangulation()
+                              .active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int         index = cell->active_cell_index();
+          std::vector<unsigned int> &patch = patches[index];
+          patch.push_back(index);
+          for (const unsigned int v : cell->vertex_indices())
+            for (const auto &neighbor : vertex_to_cells[cell->vertex_index(v)])
+              if (!neighbor->is_artificial() &&
+                  std::find(patch.begin(),
+                            patch.end(),
+                            neighbor->active_cell_index()) == patch.end())
+                patch.push_back(neighbor->active_cell_index());
+
+          // Uniform patch: 3^dim axis-aligned cells of this cell's size,
+          // without hanging nodes.
+          CellData &data     = cells[index];
+          bool      uniform  = data.is_axis_aligned && !data.has_constraints;
+          unsigned int full  = 1;
+          for (unsigned int d = 0; d < dim; ++d)
+            full *= 3;
+          uniform = uniform && (patch.size() == full);
+          for (const unsigned int other : patch)
+            {
+              const CellData &o = cells[other];
+              if (!o.is_axis_aligned || o.has_constraints)
+                uniform = false;
+              for (unsigned int d = 0; d < dim; ++d)
+                if (std::abs((o.upper[d] - o.lower[d]) -
+                             (data.upper[d] - data.lower[d])) >
+                    1e-12 * (data.upper[d] - data.lower[d]))
+                  uniform = false;
+            }
+          data.uniform_patch = uniform;
+        }
+  }
+
+
+
+  template <int dim>
+  typename GridTransfer<dim>::LocateStatus
+  GridTransfer<dim>::locate(const unsigned int home_cell,
+                            const Point<dim>  &x,
+                            const unsigned int hint,
+                            Location          &location) const
+  {
+    constexpr double tolerance = 1e-10;
+    // Half a cell beyond a boundary face: further out is an error.
+    constexpr double extension = 0.5;
+    Point<dim>       center;
+    for (unsigned int d = 0; d < dim; ++d)
+      center[d] = 0.5;
+    if (has_cell_data(hint))
+      {
+        const Point<dim> xi = reference_point(cells[hint], x, center);
+        if (contains(cells[hint], xi, tolerance, 0))
+          {
+            location.cell = hint;
+            location.xi   = xi;
+            return LocateStatus::found;
+          }
+      }
+    const std::vector<unsigned int> &candidates = patches[home_cell];
+    // Cells that hold x, then boundary cells whose extended basis reaches x.
+    for (const double reach : {0., extension})
+      for (const unsigned int c : candidates)
+        if (c != hint || reach > 0)
+          {
+            const Point<dim> xi = reference_point(cells[c], x, center);
+            if (contains(cells[c], xi, tolerance, reach))
+              {
+                location.cell = c;
+                location.xi   = xi;
+                return LocateStatus::found;
+              }
+          }
+    for (const unsigned int c : candidates)
+      if (contains(cells[c],
+                   reference_point(cells[c], x, center),
+                   tolerance,
+                   std::numeric_limits<double>::max()))
+        return LocateStatus::outside_mesh;
+    return LocateStatus::beyond_patch;
   }
 
   template class GridTransfer<2>;

@@ -12,6 +12,7 @@
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
 #include <fmpm/postprocess/history.h>
+#include <fmpm/shape_function.h>
 #include <fmpm/simulator_access.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -146,6 +147,9 @@ namespace fmpm
     is_output_step();
     void
     do_time_step();
+    /** GIMP/CPDI: S̄ and Ḡ of every point for this step. */
+    void
+    compute_supports();
     void
     particles_to_grid(const bool with_forces);
     void
@@ -197,6 +201,11 @@ namespace fmpm
     IndexSet                                  locally_relevant_dofs;
     AffineConstraints<double>                 constraints;
     GridTransfer<dim>                         transfer;
+    ShapeFunction::Type shape_function = ShapeFunction::Type::classic;
+    /** GIMP/CPDI supports of the points (traversal order) for this step:
+     * point k's nodes are support_nodes[support_offsets[k], ...[k+1]). */
+    std::vector<unsigned int>             support_offsets;
+    std::vector<ShapeFunction::Node<dim>> support_nodes;
 
     ParticleProperties<dim>         particle_properties;
     Particles::ParticleHandler<dim> particle_handler;

@@ -43,6 +43,7 @@ namespace fmpm
   {
     wall_start = MPI_Wtime();
     TimerOutput::Scope timer(computing_timer, "setup");
+    shape_function = ShapeFunction::parse(parameters.method.shape_function);
     make_grid();
     setup_plugins(prm);
     setup_dofs();
@@ -259,6 +260,8 @@ namespace fmpm
     if (body_acceleration)
       body_acceleration->set_time(time + 0.5 * dt);
     field_computed.fill(false);
+    if (shape_function != ShapeFunction::Type::classic)
+      compute_supports();
 
     // 1. Extrapolate mass and momentum (and, when the stresses are not
     //    updated first, the forces from the last stresses):
