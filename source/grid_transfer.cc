@@ -126,6 +126,27 @@ namespace fmpm
 
 
   template <int dim>
+  bool
+  GridTransfer<dim>::maps_to(const CellData   &cell,
+                             const Point<dim> &xi,
+                             const Point<dim> &x)
+  {
+    // Newton's iterations of reference_point may stop early for points far
+    // from a non-affine cell: check the multilinear map.
+    if (cell.is_affine)
+      return true;
+    std::array<double, n_nodes> S;
+    values(xi, S);
+    Point<dim> x_xi;
+    for (unsigned int i = 0; i < n_nodes; ++i)
+      x_xi += S[i] * cell.vertex[i];
+    return (x_xi - x).norm() <=
+           1e-10 * (cell.vertex[n_nodes - 1] - cell.vertex[0]).norm();
+  }
+
+
+
+  template <int dim>
   typename GridTransfer<dim>::LocateStatus
   GridTransfer<dim>::locate(const unsigned int home_cell,
                             const Point<dim>  &x,
@@ -141,7 +162,8 @@ namespace fmpm
     if (has_cell_data(hint))
       {
         const Point<dim> xi = reference_point(cells[hint], x, center);
-        if (contains(cells[hint], xi, tolerance, 0))
+        if (contains(cells[hint], xi, tolerance, 0) &&
+            maps_to(cells[hint], xi, x))
           {
             location.cell = hint;
             location.xi   = xi;
@@ -155,7 +177,8 @@ namespace fmpm
         if (c != hint || reach > 0)
           {
             const Point<dim> xi = reference_point(cells[c], x, center);
-            if (contains(cells[c], xi, tolerance, reach))
+            if (contains(cells[c], xi, tolerance, reach) &&
+                maps_to(cells[c], xi, x))
               {
                 location.cell = c;
                 location.xi   = xi;

@@ -108,6 +108,11 @@ namespace fmpm
            const unsigned int hint,
            Location          &location) const;
 
+    /** @brief Whether the cell's map takes @p xi to @p x (non-affine cells:
+     * Newton converged). */
+    static bool
+    maps_to(const CellData &cell, const Point<dim> &xi, const Point<dim> &x);
+
     /**
      * @brief Whether @p xi lies in the reference cell, up to @p tolerance,
      * or beyond one of the cell's boundary faces by at most @p extension.
