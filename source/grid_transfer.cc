@@ -70,8 +70,25 @@ namespace fmpm
             for (unsigned int d = 0; d < dim; ++d)
               if (c != d && std::abs(J[c][d]) > 1e-12 * scale)
                 data.is_axis_aligned = false;
-          data.lower = data.vertex[0];
-          data.upper = data.vertex[n_nodes - 1];
+          data.lower     = data.vertex[0];
+          data.upper     = data.vertex[n_nodes - 1];
+          data.box_lower = data.vertex[0];
+          data.box_upper = data.vertex[0];
+          for (unsigned int i = 1; i < n_nodes; ++i)
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                data.box_lower[d] =
+                  std::min(data.box_lower[d], data.vertex[i][d]);
+                data.box_upper[d] =
+                  std::max(data.box_upper[d], data.vertex[i][d]);
+              }
+          const double margin =
+            1e-10 * (data.box_upper - data.box_lower).norm();
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              data.box_lower[d] -= margin;
+              data.box_upper[d] += margin;
+            }
           data.boundary_faces = 0;
           for (const unsigned int f : cell->face_indices())
             if (cell->face(f)->at_boundary())
@@ -85,8 +102,8 @@ namespace fmpm
       GridTools::vertex_to_cell_map(dof_handler.get_triangulation());
     patches.clear();
     patches.resize(cells.size());
-    for (const auto &cell : dof_handler.get_triangulation()
-                              .active_cell_iterators())
+    for (const auto &cell :
+         dof_handler.get_triangulation().active_cell_iterators())
       if (cell->is_locally_owned())
         {
           const unsigned int         index = cell->active_cell_index();
@@ -102,9 +119,9 @@ namespace fmpm
 
           // Uniform patch: 3^dim axis-aligned cells of this cell's size,
           // without hanging nodes.
-          CellData &data     = cells[index];
-          bool      uniform  = data.is_axis_aligned && !data.has_constraints;
-          unsigned int full  = 1;
+          CellData    &data    = cells[index];
+          bool         uniform = data.is_axis_aligned && !data.has_constraints;
+          unsigned int full    = 1;
           for (unsigned int d = 0; d < dim; ++d)
             full *= 3;
           uniform = uniform && (patch.size() == full);
@@ -159,7 +176,13 @@ namespace fmpm
     Point<dim>       center;
     for (unsigned int d = 0; d < dim; ++d)
       center[d] = 0.5;
-    if (has_cell_data(hint))
+    auto in_box = [&](const CellData &cell) {
+      for (unsigned int d = 0; d < dim; ++d)
+        if (x[d] < cell.box_lower[d] || x[d] > cell.box_upper[d])
+          return false;
+      return true;
+    };
+    if (has_cell_data(hint) && in_box(cells[hint]))
       {
         const Point<dim> xi = reference_point(cells[hint], x, center);
         if (contains(cells[hint], xi, tolerance, 0) &&
@@ -174,7 +197,8 @@ namespace fmpm
     // Cells that hold x, then boundary cells whose extended basis reaches x.
     for (const double reach : {0., extension})
       for (const unsigned int c : candidates)
-        if (c != hint || reach > 0)
+        if ((c != hint || reach > 0) &&
+            (reach > 0 ? cells[c].boundary_faces != 0 : in_box(cells[c])))
           {
             const Point<dim> xi = reference_point(cells[c], x, center);
             if (contains(cells[c], xi, tolerance, reach) &&

@@ -4,8 +4,8 @@
 #include <fmpm/constitutive_model/interface.h>
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/parameters.h>
-#include <fmpm/shape_function.h>
 #include <fmpm/particle_update/interface.h>
+#include <fmpm/shape_function.h>
 
 #include <deal.II/base/numbers.h>
 #include <deal.II/base/utilities.h>

@@ -78,7 +78,7 @@ namespace fmpm
       /** Add S and G of node i of a cell, summing repeated nodes. */
       template <int dim>
       inline void
-      add_node(std::vector<Node<dim>>                      &support,
+      add_node(std::vector<Node<dim>>                     &support,
                const typename GridTransfer<dim>::CellData &cell,
                const unsigned int                          i,
                const double                                S,
@@ -137,8 +137,8 @@ namespace fmpm
         {}
 
         void
-        integrate(const Point<dim> &lo,
-                  const Point<dim> &hi,
+        integrate(const Point<dim>  &lo,
+                  const Point<dim>  &hi,
                   const unsigned int depth,
                   const unsigned int bisections)
         {
@@ -159,11 +159,12 @@ namespace fmpm
               Point<dim> corner;
               for (unsigned int d = 0; d < dim; ++d)
                 corner[d] = ((c >> d) & 1) ? hi[d] : lo[d];
-              inside = Transfer::contains(
-                cell,
-                Transfer::reference_point(cell, corner, center.xi),
-                1e-10,
-                0.5);
+              inside = Transfer::contains(cell,
+                                          Transfer::reference_point(cell,
+                                                                    corner,
+                                                                    center.xi),
+                                          1e-10,
+                                          0.5);
             }
           if (inside)
             {
@@ -180,10 +181,9 @@ namespace fmpm
               // Split at a face of an axis-aligned cell that crosses the
               // box (exact), else bisect the longest side.
               unsigned int split_direction = dim;
-              double       split          = 0;
+              double       split           = 0;
               if (cell.is_axis_aligned)
-                for (unsigned int d = 0; d < dim && split_direction == dim;
-                     ++d)
+                for (unsigned int d = 0; d < dim && split_direction == dim; ++d)
                   {
                     const double margin = 1e-10 * (hi[d] - lo[d]);
                     for (const double plane : {cell.lower[d], cell.upper[d]})
@@ -205,9 +205,9 @@ namespace fmpm
                 }
               if (split_direction < dim)
                 {
-                  const bool bisected = !cell.is_axis_aligned ||
-                                        split == 0.5 * (lo[split_direction] +
-                                                        hi[split_direction]);
+                  const bool bisected =
+                    !cell.is_axis_aligned ||
+                    split == 0.5 * (lo[split_direction] + hi[split_direction]);
                   Point<dim> upper_of_first = hi, lower_of_second = lo;
                   upper_of_first[split_direction]  = split;
                   lower_of_second[split_direction] = split;
@@ -231,7 +231,7 @@ namespace fmpm
 
       private:
         bool
-        locate(const Point<dim>                             &x,
+        locate(const Point<dim>                     &x,
                typename GridTransfer<dim>::Location &location)
         {
           const auto result = transfer.locate(home, x, hint, location);
@@ -250,14 +250,14 @@ namespace fmpm
                           const Point<dim>  &xi_guess,
                           const Gauss1D     &gauss)
         {
-          using Transfer  = GridTransfer<dim>;
+          using Transfer   = GridTransfer<dim>;
           const auto &cell = transfer.cell_data(cell_index);
           double      box  = inverse_volume;
           for (unsigned int d = 0; d < dim; ++d)
             box *= hi[d] - lo[d];
           std::array<double, Transfer::n_nodes>         S, S_sum{};
           std::array<Tensor<1, dim>, Transfer::n_nodes> G, G_sum;
-          unsigned int n_points = 1;
+          unsigned int                                  n_points = 1;
           for (unsigned int d = 0; d < dim; ++d)
             n_points *= gauss.n;
           for (unsigned int q = 0; q < n_points; ++q)
@@ -272,7 +272,8 @@ namespace fmpm
                   x[d] = lo[d] + gauss.x[j] * (hi[d] - lo[d]);
                   w *= gauss.w[j];
                 }
-              const Point<dim> xi = Transfer::reference_point(cell, x, xi_guess);
+              const Point<dim> xi =
+                Transfer::reference_point(cell, x, xi_guess);
               Transfer::values_and_gradients(cell, xi, S, G);
               for (unsigned int i = 0; i < Transfer::n_nodes; ++i)
                 {
@@ -287,7 +288,7 @@ namespace fmpm
         void
         integrate_pointwise(const Point<dim> &lo, const Point<dim> &hi)
         {
-          using Transfer = GridTransfer<dim>;
+          using Transfer       = GridTransfer<dim>;
           const Gauss1D &gauss = gauss3;
           double         box   = inverse_volume;
           for (unsigned int d = 0; d < dim; ++d)
@@ -359,7 +360,8 @@ namespace fmpm
         {
           case Type::classic:
             {
-              const auto s = transfer.locate(cell_index, x, cell_index, location);
+              const auto s =
+                transfer.locate(cell_index, x, cell_index, location);
               if (s != Transfer::LocateStatus::found)
                 return status_of(s);
               const auto &cell = transfer.cell_data(location.cell);
@@ -378,8 +380,8 @@ namespace fmpm
                 for (unsigned int j = 0; j < dim; ++j)
                   s[c][j] = F[c][j] * l0[j];
               const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
-              const double         weight = 1.0 / n; // 2^-dim
-              unsigned int         hint   = cell_index;
+              const double         weight              = 1.0 / n; // 2^-dim
+              unsigned int         hint                = cell_index;
               for (unsigned int alpha = 0; alpha < n; ++alpha)
                 {
                   Tensor<1, dim> r;
@@ -403,11 +405,10 @@ namespace fmpm
           case Type::ugimp:
           case Type::cpgimp:
             {
-              const Tensor<1, dim> l = gimp_half_lengths<dim>(type, F, l0);
+              const Tensor<1, dim> l  = gimp_half_lengths<dim>(type, F, l0);
               Point<dim>           lo = x, hi = x;
-              double               volume     = 1;
-              bool                 closed_form = allow_closed_form &&
-                                 own.uniform_patch;
+              double               volume = 1;
+              bool closed_form = allow_closed_form && own.uniform_patch;
               for (unsigned int d = 0; d < dim; ++d)
                 {
                   lo[d] -= l[d];
@@ -478,9 +479,13 @@ namespace fmpm
 
 
     template Tensor<1, 2>
-    gimp_half_lengths<2>(const Type, const Tensor<2, 2> &, const Tensor<1, 2> &);
+    gimp_half_lengths<2>(const Type,
+                         const Tensor<2, 2> &,
+                         const Tensor<1, 2> &);
     template Tensor<1, 3>
-    gimp_half_lengths<3>(const Type, const Tensor<2, 3> &, const Tensor<1, 3> &);
+    gimp_half_lengths<3>(const Type,
+                         const Tensor<2, 3> &,
+                         const Tensor<1, 3> &);
     template Status
     compute_support<2>(const Type,
                        const GridTransfer<2> &,

@@ -24,11 +24,11 @@ namespace fmpm
    * gradients, Eq. 2.8) at a point given by its reference coordinates in its
    * cell.
    *
-   * Per locally owned and ghost cell it caches the vertices, the DoFs as global and as
-   * local (ghosted vector) indices, whether a hanging-node constraint touches
-   * the cell, and for parallelogram/parallelepiped cells the constant inverse
-   * Jacobian. The shape functions equal those of FE_Q<dim>(1) with a MappingQ
-   * of degree 1 (DoF i sits on vertex i).
+   * Per locally owned and ghost cell it caches the vertices, the DoFs as global
+   * and as local (ghosted vector) indices, whether a hanging-node constraint
+   * touches the cell, and for parallelogram/parallelepiped cells the constant
+   * inverse Jacobian. The shape functions equal those of FE_Q<dim>(1) with a
+   * MappingQ of degree 1 (DoF i sits on vertex i).
    *
    * @tparam dim space dimension
    */
@@ -52,6 +52,8 @@ namespace fmpm
       /** Edges parallel to the axes (a box): then lower/upper bound it. */
       bool       is_axis_aligned = false;
       Point<dim> lower, upper;
+      /** Bounding box of the vertices, widened by 1e-10 of its size. */
+      Point<dim> box_lower, box_upper;
       /** Bit f set if face f (xi_{f/2} = f%2) lies on the mesh boundary. */
       unsigned int boundary_faces = 0;
       /**

@@ -98,14 +98,14 @@ namespace fmpm
      */
     template <int dim>
     Status
-    compute_support(const Type                 type,
-                    const GridTransfer<dim>   &transfer,
-                    const unsigned int         cell,
-                    const Point<dim>          &x,
-                    const Tensor<2, dim>      &F,
-                    const Tensor<1, dim>      &l0,
-                    std::vector<Node<dim>>    &support,
-                    const bool                 allow_closed_form = true);
+    compute_support(const Type               type,
+                    const GridTransfer<dim> &transfer,
+                    const unsigned int       cell,
+                    const Point<dim>        &x,
+                    const Tensor<2, dim>    &F,
+                    const Tensor<1, dim>    &l0,
+                    std::vector<Node<dim>>  &support,
+                    const bool               allow_closed_form = true);
 
     /**
      * @brief Seed 001 Eqs. gimp_shape and gimpGrad: the 1D GIMP weight and

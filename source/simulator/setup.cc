@@ -122,8 +122,7 @@ namespace fmpm
                   patch_dofs.clear();
                   for (const unsigned int other :
                        transfer.patch(cell->active_cell_index()))
-                    for (const auto dof :
-                         transfer.cell_data(other).dof_index)
+                    for (const auto dof : transfer.cell_data(other).dof_index)
                       if (std::find(patch_dofs.begin(),
                                     patch_dofs.end(),
                                     dof) == patch_dofs.end())

@@ -505,7 +505,7 @@ namespace fmpm
     std::vector<Point<dim>>     old_position;
     std::array<double, n>       S;
     double                      speed = 0;
-    const bool   classic = (shape_function == ShapeFunction::Type::classic);
+    const bool   classic     = (shape_function == ShapeFunction::Type::classic);
     unsigned int first_point = 0; // of the cell, in traversal order
 
     for (const auto &cell : triangulation.active_cell_iterators())
@@ -532,8 +532,10 @@ namespace fmpm
             if (!classic)
               {
                 // S̄ of the point's support (GIMP/CPDI).
-                const unsigned int begin = support_offsets[cell_first_point + q];
-                const unsigned int end = support_offsets[cell_first_point + q + 1];
+                const unsigned int begin =
+                  support_offsets[cell_first_point + q];
+                const unsigned int end =
+                  support_offsets[cell_first_point + q + 1];
                 for (const unsigned int f : fields)
                   {
                     Tensor<1, dim> value;
@@ -542,9 +544,9 @@ namespace fmpm
                         const auto &block = grid_fields[f].block(d);
                         double      sum   = 0;
                         for (unsigned int k = begin; k < end; ++k)
-                          sum += support_nodes[k].S *
-                                 block.local_element(
-                                   support_nodes[k].local_index);
+                          sum +=
+                            support_nodes[k].S *
+                            block.local_element(support_nodes[k].local_index);
                         value[d] = sum;
                       }
                     batch.grid[f][q] = value;

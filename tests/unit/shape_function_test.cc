@@ -104,8 +104,10 @@ namespace
       constraints.reinit(relevant);
       DoFTools::make_hanging_node_constraints(dof_handler, constraints);
       constraints.close();
-      partitioner = std::make_shared<Utilities::MPI::Partitioner>(
-        owned, relevant, MPI_COMM_WORLD);
+      partitioner =
+        std::make_shared<Utilities::MPI::Partitioner>(owned,
+                                                      relevant,
+                                                      MPI_COMM_WORLD);
       transfer.reinit(dof_handler, constraints, *partitioner);
       DoFTools::map_dofs_to_support_points(MappingQ<dim>(1),
                                            dof_handler,
@@ -116,8 +118,10 @@ namespace
     unsigned int
     cell_of(const Point<dim> &x) const
     {
-      const auto found = GridTools::find_active_cell_around_point(
-        MappingQ<dim>(1), triangulation, x);
+      const auto found =
+        GridTools::find_active_cell_around_point(MappingQ<dim>(1),
+                                                 triangulation,
+                                                 x);
       return found.first->active_cell_index();
     }
 
@@ -127,14 +131,14 @@ namespace
       return support_points.at(node.dof);
     }
 
-    parallel::distributed::Triangulation<dim>           triangulation;
-    FE_Q<dim>                                           fe;
-    DoFHandler<dim>                                     dof_handler;
-    AffineConstraints<double>                           constraints;
-    std::shared_ptr<Utilities::MPI::Partitioner>        partitioner;
-    fmpm::GridTransfer<dim>                             transfer;
-    std::map<types::global_dof_index, Point<dim>>       support_points;
-    const double                                        h;
+    parallel::distributed::Triangulation<dim>     triangulation;
+    FE_Q<dim>                                     fe;
+    DoFHandler<dim>                               dof_handler;
+    AffineConstraints<double>                     constraints;
+    std::shared_ptr<Utilities::MPI::Partitioner>  partitioner;
+    fmpm::GridTransfer<dim>                       transfer;
+    std::map<types::global_dof_index, Point<dim>> support_points;
+    const double                                  h;
   };
 
   template <int dim>
@@ -167,8 +171,8 @@ namespace
   // points and deformation gradients, on three kinds of meshes.
   TYPED_TEST(ShapeFunctionTest, PartitionOfUnityAndLinearFieldsOnAnyMesh)
   {
-    constexpr int dim = TypeParam::value;
-    std::mt19937  generator(17 + dim);
+    constexpr int                          dim = TypeParam::value;
+    std::mt19937                           generator(17 + dim);
     std::uniform_real_distribution<double> uniform(0.2, 0.8), unit(-1, 1);
     Tensor<2, dim>                         A;
     Tensor<1, dim>                         b;
@@ -181,11 +185,11 @@ namespace
     for (const MeshKind kind :
          {MeshKind::uniform, MeshKind::distorted, MeshKind::hanging})
       {
-        Setup<dim>  setup(kind, dim == 2 ? 8 : 4);
+        Setup<dim> setup(kind, dim == 2 ? 8 : 4);
         // Half-lengths: a quarter of the finest cell (hanging: h/2).
         const double l = 0.25 * setup.h * (kind == MeshKind::hanging ? 0.5 : 1);
         std::vector<fmpm::ShapeFunction::Node<dim>> support;
-        unsigned int n_checked = 0;
+        unsigned int                                n_checked = 0;
         for (unsigned int p = 0; p < (dim == 2 ? 40 : 15); ++p)
           {
             Point<dim>     x;
@@ -297,8 +301,8 @@ namespace
     const double h = 0.3, l = 0.1;
     for (double r = -0.45; r <= 0.45; r += 0.0123)
       {
-        double       sum = 0;
-        const int    m   = 20000;
+        double    sum = 0;
+        const int m   = 20000;
         for (int k = 0; k < m; ++k)
           {
             const double x = r - l + (k + 0.5) * 2 * l / m;
@@ -323,10 +327,10 @@ namespace
   // about x_p, so S̄ and Ḡ equal the classic S and G at x_p.
   TYPED_TEST(ShapeFunctionTest, DomainInsideOneCellGivesClassicWeights)
   {
-    constexpr int dim = TypeParam::value;
-    Setup<dim>    setup(MeshKind::uniform, 4);
-    std::mt19937  generator(11 + dim);
-    std::uniform_real_distribution<double> uniform(0.3, 0.7);
+    constexpr int                               dim = TypeParam::value;
+    Setup<dim>                                  setup(MeshKind::uniform, 4);
+    std::mt19937                                generator(11 + dim);
+    std::uniform_real_distribution<double>      uniform(0.3, 0.7);
     std::vector<fmpm::ShapeFunction::Node<dim>> classic, other;
     for (unsigned int p = 0; p < 10; ++p)
       {
@@ -360,10 +364,10 @@ namespace
                   ASSERT_TRUE(by_index.count(node.local_index));
                   EXPECT_NEAR(by_index[node.local_index]->S, node.S, 1e-13)
                     << name(type) << " at " << x;
-                  EXPECT_NEAR(
-                    (by_index[node.local_index]->G - node.G).norm() * setup.h,
-                    0,
-                    1e-12)
+                  EXPECT_NEAR((by_index[node.local_index]->G - node.G).norm() *
+                                setup.h,
+                              0,
+                              1e-12)
                     << name(type) << " at " << x;
                   by_index.erase(node.local_index);
                 }
@@ -385,9 +389,9 @@ namespace
       GTEST_SKIP() << "2D is enough here (sampling is slow in 3D)";
     for (const MeshKind kind : {MeshKind::distorted, MeshKind::hanging})
       {
-        Setup<dim>   setup(kind, 6);
-        std::mt19937 generator(5);
-        std::uniform_real_distribution<double> uniform(0.2, 0.8);
+        Setup<dim>                                  setup(kind, 6);
+        std::mt19937                                generator(5);
+        std::uniform_real_distribution<double>      uniform(0.2, 0.8);
         std::vector<fmpm::ShapeFunction::Node<dim>> support;
         for (unsigned int p = 0; p < 4; ++p)
           {
@@ -407,7 +411,7 @@ namespace
                                                  l0,
                                                  support);
             // Midpoint sampling with m^dim points.
-            const unsigned int                m = 60;
+            const unsigned int                        m = 60;
             std::map<types::global_dof_index, double> sampled;
             std::vector<types::global_dof_index>      dofs(
               GeometryInfo<dim>::vertices_per_cell);
@@ -416,8 +420,10 @@ namespace
                 Point<dim> y;
                 y[0] = x[0] - l0[0] + (k % m + 0.5) * 2 * l0[0] / m;
                 y[1] = x[1] - l0[1] + (k / m + 0.5) * 2 * l0[1] / m;
-                const auto found = GridTools::find_active_cell_around_point(
-                  MappingQ<dim>(1), setup.triangulation, y);
+                const auto found =
+                  GridTools::find_active_cell_around_point(MappingQ<dim>(1),
+                                                           setup.triangulation,
+                                                           y);
                 typename DoFHandler<dim>::active_cell_iterator dof_cell(
                   &setup.triangulation,
                   found.first->level(),
@@ -486,7 +492,7 @@ namespace
           sum += node.S;
         EXPECT_NEAR(sum, 1, 1e-12) << name(type);
       }
-    x[0] = -0.7 * setup.h; // outside the mesh: the point itself
+    x[0]  = -0.7 * setup.h; // outside the mesh: the point itself
     l0[0] = 0.1 * setup.h;
     for (const Type type : {Type::ugimp, Type::cpdi})
       EXPECT_EQ(fmpm::ShapeFunction::compute_support(
