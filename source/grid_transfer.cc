@@ -15,7 +15,8 @@ namespace fmpm
   void
   GridTransfer<dim>::reinit(const DoFHandler<dim>             &dof_handler,
                             const AffineConstraints<double>   &constraints,
-                            const Utilities::MPI::Partitioner &partitioner)
+                            const Utilities::MPI::Partitioner &partitioner,
+                            const bool                         with_patches)
   {
     AssertThrow(dof_handler.get_fe().dofs_per_cell == n_nodes,
                 ExcMessage("GridTransfer needs an FE_Q(1) DoFHandler."));
@@ -98,10 +99,12 @@ namespace fmpm
     // Patches: the cell first, then the other cells around its vertices
     // (deal.II's vertex-to-cell map includes the coarse cells next to
     // hanging vertices).
-    const auto vertex_to_cells =
-      GridTools::vertex_to_cell_map(dof_handler.get_triangulation());
     patches.clear();
     patches.resize(cells.size());
+    if (!with_patches)
+      return;
+    const auto vertex_to_cells =
+      GridTools::vertex_to_cell_map(dof_handler.get_triangulation());
     for (const auto &cell :
          dof_handler.get_triangulation().active_cell_iterators())
       if (cell->is_locally_owned())

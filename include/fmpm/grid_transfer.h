@@ -67,12 +67,14 @@ namespace fmpm
     /**
      * @brief Cache the data of every locally owned and ghost cell, and for
      * each locally owned cell its patch (the cell, then the owned or ghost
-     * cells sharing a vertex with it, hanging vertices included).
+     * cells sharing a vertex with it, hanging vertices included) unless
+     * @p with_patches is false (classic shape functions need none).
      */
     void
     reinit(const DoFHandler<dim>             &dof_handler,
            const AffineConstraints<double>   &constraints,
-           const Utilities::MPI::Partitioner &partitioner);
+           const Utilities::MPI::Partitioner &partitioner,
+           const bool                         with_patches = true);
 
     /** @brief The patch of a locally owned cell (active cell indices). */
     const std::vector<unsigned int> &

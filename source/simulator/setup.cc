@@ -96,7 +96,10 @@ namespace fmpm
     for (auto &field : grid_fields)
       reinit_field(field);
 
-    transfer.reinit(dof_handler, constraints, *partitioner);
+    transfer.reinit(dof_handler,
+                    constraints,
+                    *partitioner,
+                    shape_function != ShapeFunction::Type::classic);
     vertex_to_cells = GridTools::vertex_to_cell_map(triangulation);
 
     if (mass_matrix && mass_matrix->needs_full_mass_matrix())
