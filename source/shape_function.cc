@@ -194,7 +194,11 @@ namespace fmpm
                           break;
                         }
                   }
-              if (split_direction == dim && bisections < 2 * dim)
+              // Across non-axis-aligned cells: one bisection per direction
+              // (a 2^dim-th of the box), then pointwise Gauss (accuracy
+              // ~1e-4 of S̄ on distorted meshes; partition of unity and
+              // linear fields stay exact).
+              if (split_direction == dim && bisections < dim)
                 {
                   split_direction = 0;
                   for (unsigned int d = 1; d < dim; ++d)

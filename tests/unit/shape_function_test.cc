@@ -434,14 +434,21 @@ namespace
                   sampled[dofs[i]] +=
                     setup.fe.shape_value(i, found.second) / (m * m);
               }
+            // The sampling itself is accurate to ~5e-5 (measured on the
+            // hanging-node mesh, where the split quadrature is exact); on
+            // the distorted mesh the quadrature is approximate (one
+            // bisection per direction, then 3-point Gauss with each point
+            // located): 2.1e-4 at most here. A missing or misplaced piece
+            // of the box is off by 1e-2 or more.
+            const double tolerance = kind == MeshKind::hanging ? 1e-4 : 3e-4;
             for (const auto &node : support)
               {
-                EXPECT_NEAR(node.S, sampled[node.dof], 2e-4)
+                EXPECT_NEAR(node.S, sampled[node.dof], tolerance)
                   << name(kind) << " at " << x;
                 sampled.erase(node.dof);
               }
             for (const auto &rest : sampled)
-              EXPECT_NEAR(rest.second, 0, 2e-4) << name(kind);
+              EXPECT_NEAR(rest.second, 0, tolerance) << name(kind);
           }
       }
   }
@@ -504,6 +511,71 @@ namespace
 
 
 
+namespace
+{
+  /** A spinning, translating neo-Hookean disk in free flight. */
+  std::vector<fmpm::HistoryRow<2>>
+  run_free_disk(const std::string &type,
+                const std::string &update,
+                const std::string &mesh)
+  {
+    auto sources = fmpm::load_scene_sources(
+      {FMPM_SOURCE_DIR "/parameters/vibrating_bar.prm"});
+    sources.emplace_back(
+      "overrides",
+      "subsection Output\n set Directory = output-shape-functions\n"
+      " set Write vtu = false\nend\n"
+      "subsection Timer\n set Type = none\nend\n"
+      "subsection Shape function\n set Type = " +
+        type +
+        "\nend\n"
+        "subsection Particle update\n set Model name = " +
+        update +
+        "\nend\n"
+        "subsection Mass matrix\n set Model name = " +
+        (update == "pic" ? std::string("lumped") : std::string("fmpm")) +
+        "\n subsection Fmpm\n  set Order = 3\n end\nend\n"
+        "subsection Reference solution\n set Enable = false\nend\n" +
+        mesh +
+        "subsection Boundary conditions\n set Roller boundary ids =\nend\n"
+        "subsection Time\n set End time = 0.1\n set Courant number = 0.3\n"
+        " set Strain update = usf\n set Strain update mass matrix = "
+        "lumped\nend\n"
+        "subsection Material 0\n set Model name = neo hookean\n"
+        " subsection Neo hookean\n  set Bulk modulus = 100\n"
+        "  set Shear modulus = 40\n end\nend\n"
+        "subsection Body 0\n set Shape = sphere\n set Center = 0.45, 0.5\n"
+        " set Half lengths = 0.25, 0.25\n"
+        " set Initial velocity = 0.5 - 2*(y-0.5), 0.2 + 2*(x-0.45)\n"
+        "end\n");
+    ParameterHandler prm;
+    fmpm::Parameters parameters;
+    fmpm::read_scene(sources, prm, parameters);
+    fmpm::Simulator<2> simulator(parameters, prm, MPI_COMM_WORLD);
+    simulator.run();
+    return simulator.get_history();
+  }
+
+  void
+  expect_momentum_conserved(const std::vector<fmpm::HistoryRow<2>> &history,
+                            const std::string                      &what)
+  {
+    ASSERT_GT(history.size(), 2u) << what;
+    const auto  &first = history.front();
+    const double scale =
+      std::abs(first.momentum[0]) + std::abs(first.momentum[1]);
+    for (const auto &row : history)
+      for (unsigned int d = 0; d < 2; ++d)
+        EXPECT_NEAR(row.momentum[d], first.momentum[d], 1e-11 * scale)
+          << what << " at t = " << row.time;
+    EXPECT_GT(history.back().strain_energy, 0) << what; // it deforms
+    // Bounded energy: PIC and FMPM(3) only lose energy.
+    EXPECT_LT(history.back().total_energy, 1.001 * first.total_energy) << what;
+  }
+} // namespace
+
+
+
 // A body in free flight (no walls) conserves momentum exactly with every
 // shape function: Σ_g S̄_gp = 1 and Σ_g Ḡ_gp = 0 make the grid forces sum
 // to zero. With lumped and full mass matrices (PIC, FMPM(3)).
@@ -511,51 +583,28 @@ TEST(ShapeFunctionWholeRun, EveryShapeFunctionConservesMomentum)
 {
   for (const std::string type : {"classic", "ugimp", "cpgimp", "cpdi"})
     for (const std::string update : {"pic", "fmpm"})
-      {
-        auto sources = fmpm::load_scene_sources(
-          {FMPM_SOURCE_DIR "/parameters/vibrating_bar.prm"});
-        sources.emplace_back(
-          "overrides",
-          "subsection Output\n set Directory = output-shape-functions\n"
-          " set Write vtu = false\nend\n"
-          "subsection Timer\n set Type = none\nend\n"
-          "subsection Shape function\n set Type = " +
-            type +
-            "\nend\n"
-            "subsection Particle update\n set Model name = " +
-            update +
-            "\nend\n"
-            "subsection Mass matrix\n set Model name = " +
-            (update == "pic" ? std::string("lumped") : std::string("fmpm")) +
-            "\n subsection Fmpm\n  set Order = 3\n end\nend\n"
-            "subsection Reference solution\n set Enable = false\nend\n"
-            "subsection Mesh\n set Upper corner = 1, 1\n"
-            " set Subdivisions = 10, 10\nend\n"
-            "subsection Boundary conditions\n set Roller boundary ids =\nend\n"
-            "subsection Time\n set End time = 0.1\n set Courant number = 0.3\n"
-            " set Strain update = usf\n set Strain update mass matrix = "
-            "lumped\nend\n"
-            "subsection Material 0\n set Model name = neo hookean\n"
-            " subsection Neo hookean\n  set Bulk modulus = 100\n"
-            "  set Shear modulus = 40\n end\nend\n"
-            "subsection Body 0\n set Shape = sphere\n set Center = 0.45, 0.5\n"
-            " set Half lengths = 0.25, 0.25\n"
-            " set Initial velocity = 0.5 - 2*(y-0.5), 0.2 + 2*(x-0.45)\n"
-            "end\n");
-        ParameterHandler prm;
-        fmpm::Parameters parameters;
-        fmpm::read_scene(sources, prm, parameters);
-        fmpm::Simulator<2> simulator(parameters, prm, MPI_COMM_WORLD);
-        simulator.run();
-        const auto &history = simulator.get_history();
-        ASSERT_GT(history.size(), 2u);
-        const auto  &first = history.front();
-        const double scale =
-          std::abs(first.momentum[0]) + std::abs(first.momentum[1]);
-        for (const auto &row : history)
-          for (unsigned int d = 0; d < 2; ++d)
-            EXPECT_NEAR(row.momentum[d], first.momentum[d], 1e-11 * scale)
-              << type << " " << update << " at t = " << row.time;
-        EXPECT_GT(history.back().strain_energy, 0) << type;
-      }
+      expect_momentum_conserved(
+        run_free_disk(type,
+                      update,
+                      "subsection Mesh\n set Upper corner = 1, 1\n"
+                      " set Subdivisions = 10, 10\nend\n"),
+        type + " " + update);
+}
+
+
+
+// The same on a mesh of non-parallelogram cells (four distorted quads from
+// Gmsh, refined three times): GIMP's quadrature split by bisection and
+// points located by Newton's method in the Simulator.
+TEST(ShapeFunctionWholeRun, ConservesMomentumOnDistortedMesh)
+{
+  for (const std::string type : {"ugimp", "cpgimp", "cpdi"})
+    expect_momentum_conserved(
+      run_free_disk(type,
+                    "fmpm",
+                    "subsection Mesh\n set Type = gmsh\n"
+                    " set File name = " FMPM_SOURCE_DIR
+                    "/tests/unit/distorted_quads.msh\n"
+                    " set Initial global refinement = 3\nend\n"),
+      type + " on the distorted mesh");
 }
