@@ -3,7 +3,11 @@
 
 #include <fmpm/grid_transfer.h>
 
+#include <deal.II/grid/grid_tools.h>
+
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace fmpm
 {
@@ -11,7 +15,8 @@ namespace fmpm
   void
   GridTransfer<dim>::reinit(const DoFHandler<dim>             &dof_handler,
                             const AffineConstraints<double>   &constraints,
-                            const Utilities::MPI::Partitioner &partitioner)
+                            const Utilities::MPI::Partitioner &partitioner,
+                            const bool                         with_patches)
   {
     AssertThrow(dof_handler.get_fe().dofs_per_cell == n_nodes,
                 ExcMessage("GridTransfer needs an FE_Q(1) DoFHandler."));
@@ -20,19 +25,23 @@ namespace fmpm
     has_data.assign(cells.size(), false);
     std::vector<types::global_dof_index> dofs(n_nodes);
     for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
+      if (!cell->is_artificial())
         {
           CellData &data = cells[cell->active_cell_index()];
           has_data[cell->active_cell_index()] = true;
           cell->get_dof_indices(dofs);
-          data.has_constraints = false;
+          data.has_constraints   = false;
+          data.constrained_nodes = 0;
           for (unsigned int i = 0; i < n_nodes; ++i)
             {
               data.dof_index[i]   = dofs[i];
               data.local_index[i] = partitioner.global_to_local(dofs[i]);
               data.vertex[i]      = cell->vertex(i);
               if (constraints.is_constrained(dofs[i]))
-                data.has_constraints = true;
+                {
+                  data.has_constraints = true;
+                  data.constrained_nodes |= (1u << i);
+                }
             }
 
           // The multilinear map is affine if every vertex is where the
@@ -56,7 +65,160 @@ namespace fmpm
                 data.is_affine = false;
             }
           data.inverse_jacobian_transpose = transpose(invert(J));
+
+          data.is_axis_aligned = data.is_affine;
+          for (unsigned int c = 0; c < dim; ++c)
+            for (unsigned int d = 0; d < dim; ++d)
+              if (c != d && std::abs(J[c][d]) > 1e-12 * scale)
+                data.is_axis_aligned = false;
+          data.lower     = data.vertex[0];
+          data.upper     = data.vertex[n_nodes - 1];
+          data.box_lower = data.vertex[0];
+          data.box_upper = data.vertex[0];
+          for (unsigned int i = 1; i < n_nodes; ++i)
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                data.box_lower[d] =
+                  std::min(data.box_lower[d], data.vertex[i][d]);
+                data.box_upper[d] =
+                  std::max(data.box_upper[d], data.vertex[i][d]);
+              }
+          const double margin =
+            1e-10 * (data.box_upper - data.box_lower).norm();
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              data.box_lower[d] -= margin;
+              data.box_upper[d] += margin;
+            }
+          data.boundary_faces = 0;
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              data.boundary_faces |= (1u << f);
         }
+
+    // Patches: the cell first, then the other cells around its vertices
+    // (deal.II's vertex-to-cell map includes the coarse cells next to
+    // hanging vertices).
+    patches.clear();
+    patches.resize(cells.size());
+    if (!with_patches)
+      return;
+    const auto vertex_to_cells =
+      GridTools::vertex_to_cell_map(dof_handler.get_triangulation());
+    for (const auto &cell :
+         dof_handler.get_triangulation().active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int         index = cell->active_cell_index();
+          std::vector<unsigned int> &patch = patches[index];
+          patch.push_back(index);
+          for (const unsigned int v : cell->vertex_indices())
+            for (const auto &neighbor : vertex_to_cells[cell->vertex_index(v)])
+              if (!neighbor->is_artificial() &&
+                  std::find(patch.begin(),
+                            patch.end(),
+                            neighbor->active_cell_index()) == patch.end())
+                patch.push_back(neighbor->active_cell_index());
+
+          // Uniform patch: 3^dim axis-aligned cells of this cell's size,
+          // without hanging nodes.
+          CellData    &data    = cells[index];
+          bool         uniform = data.is_axis_aligned && !data.has_constraints;
+          unsigned int full    = 1;
+          for (unsigned int d = 0; d < dim; ++d)
+            full *= 3;
+          uniform = uniform && (patch.size() == full);
+          for (const unsigned int other : patch)
+            {
+              const CellData &o = cells[other];
+              if (!o.is_axis_aligned || o.has_constraints)
+                uniform = false;
+              for (unsigned int d = 0; d < dim; ++d)
+                if (std::abs((o.upper[d] - o.lower[d]) -
+                             (data.upper[d] - data.lower[d])) >
+                    1e-12 * (data.upper[d] - data.lower[d]))
+                  uniform = false;
+            }
+          data.uniform_patch = uniform;
+        }
+  }
+
+
+
+  template <int dim>
+  bool
+  GridTransfer<dim>::maps_to(const CellData   &cell,
+                             const Point<dim> &xi,
+                             const Point<dim> &x)
+  {
+    // Newton's iterations of reference_point may stop early for points far
+    // from a non-affine cell: check the multilinear map.
+    if (cell.is_affine)
+      return true;
+    std::array<double, n_nodes> S;
+    values(xi, S);
+    Point<dim> x_xi;
+    for (unsigned int i = 0; i < n_nodes; ++i)
+      x_xi += S[i] * cell.vertex[i];
+    return (x_xi - x).norm() <=
+           1e-10 * (cell.vertex[n_nodes - 1] - cell.vertex[0]).norm();
+  }
+
+
+
+  template <int dim>
+  typename GridTransfer<dim>::LocateStatus
+  GridTransfer<dim>::locate(const unsigned int home_cell,
+                            const Point<dim>  &x,
+                            const unsigned int hint,
+                            Location          &location) const
+  {
+    constexpr double tolerance = 1e-10;
+    // Half a cell beyond a boundary face: further out is an error.
+    constexpr double extension = 0.5;
+    Point<dim>       center;
+    for (unsigned int d = 0; d < dim; ++d)
+      center[d] = 0.5;
+    auto in_box = [&](const CellData &cell) {
+      for (unsigned int d = 0; d < dim; ++d)
+        if (x[d] < cell.box_lower[d] || x[d] > cell.box_upper[d])
+          return false;
+      return true;
+    };
+    if (has_cell_data(hint) && in_box(cells[hint]))
+      {
+        const Point<dim> xi = reference_point(cells[hint], x, center);
+        if (contains(cells[hint], xi, tolerance, 0) &&
+            maps_to(cells[hint], xi, x))
+          {
+            location.cell = hint;
+            location.xi   = xi;
+            return LocateStatus::found;
+          }
+      }
+    const std::vector<unsigned int> &candidates = patches[home_cell];
+    // Cells that hold x, then boundary cells whose extended basis reaches x.
+    for (const double reach : {0., extension})
+      for (const unsigned int c : candidates)
+        if ((c != hint || reach > 0) &&
+            (reach > 0 ? cells[c].boundary_faces != 0 : in_box(cells[c])))
+          {
+            const Point<dim> xi = reference_point(cells[c], x, center);
+            if (contains(cells[c], xi, tolerance, reach) &&
+                maps_to(cells[c], xi, x))
+              {
+                location.cell = c;
+                location.xi   = xi;
+                return LocateStatus::found;
+              }
+          }
+    for (const unsigned int c : candidates)
+      if (contains(cells[c],
+                   reference_point(cells[c], x, center),
+                   tolerance,
+                   std::numeric_limits<double>::max()))
+        return LocateStatus::outside_mesh;
+    return LocateStatus::beyond_patch;
   }
 
   template class GridTransfer<2>;

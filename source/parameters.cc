@@ -5,6 +5,7 @@
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/parameters.h>
 #include <fmpm/particle_update/interface.h>
+#include <fmpm/shape_function.h>
 
 #include <deal.II/base/numbers.h>
 #include <deal.II/base/utilities.h>
@@ -512,6 +513,25 @@ namespace fmpm
     }
     prm.leave_subsection();
 
+    prm.enter_subsection("Shape function");
+    {
+      prm.declare_entry(
+        "Type",
+        "classic",
+        Patterns::Selection(ShapeFunction::pattern()),
+        "The grid shape functions S and G of the transfers (seed 001, "
+        "'Shape functions for MPM, GIMP, and CPDI'): 'classic' the FE_Q(1) "
+        "basis at the point; 'ugimp' GIMP averages over the box of the "
+        "initial half-lengths; 'cpgimp' GIMP over the box circumscribing the "
+        "deformed point F diag(l0); 'cpdi' the deformed parallelogram/"
+        "parallelepiped with corners x_p +- F diag(l0) r. On uniform "
+        "axis-aligned cells GIMP uses the closed forms, on other meshes a "
+        "quadrature split at cell faces. A point's domain must stay within "
+        "the cells sharing a vertex with its cell (the run stops otherwise). "
+        "Units: none.");
+    }
+    prm.leave_subsection();
+
     prm.enter_subsection("Deformation gradient");
     {
       prm.declare_entry("Update",
@@ -921,6 +941,10 @@ namespace fmpm
 
     prm.enter_subsection("Time");
     method.strain_update_mass_matrix = prm.get("Strain update mass matrix");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Shape function");
+    method.shape_function = prm.get("Type");
     prm.leave_subsection();
 
     prm.enter_subsection("Deformation gradient");

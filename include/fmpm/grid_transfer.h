@@ -24,11 +24,11 @@ namespace fmpm
    * gradients, Eq. 2.8) at a point given by its reference coordinates in its
    * cell.
    *
-   * Per locally owned cell it caches the vertices, the DoFs as global and as
-   * local (ghosted vector) indices, whether a hanging-node constraint touches
-   * the cell, and for parallelogram/parallelepiped cells the constant inverse
-   * Jacobian. The shape functions equal those of FE_Q<dim>(1) with a MappingQ
-   * of degree 1 (DoF i sits on vertex i).
+   * Per locally owned and ghost cell it caches the vertices, the DoFs as global
+   * and as local (ghosted vector) indices, whether a hanging-node constraint
+   * touches the cell, and for parallelogram/parallelepiped cells the constant
+   * inverse Jacobian. The shape functions equal those of FE_Q<dim>(1) with a
+   * MappingQ of degree 1 (DoF i sits on vertex i).
    *
    * @tparam dim space dimension
    */
@@ -47,13 +47,98 @@ namespace fmpm
       Tensor<2, dim>                               inverse_jacobian_transpose;
       bool                                         is_affine       = true;
       bool                                         has_constraints = false;
+      /** Bit i set if DoF i is constrained (a hanging node). */
+      unsigned int constrained_nodes = 0;
+      /** Edges parallel to the axes (a box): then lower/upper bound it. */
+      bool       is_axis_aligned = false;
+      Point<dim> lower, upper;
+      /** Bounding box of the vertices, widened by 1e-10 of its size. */
+      Point<dim> box_lower, box_upper;
+      /** Bit f set if face f (xi_{f/2} = f%2) lies on the mesh boundary. */
+      unsigned int boundary_faces = 0;
+      /**
+       * Locally owned cell whose neighbours (the cells sharing a vertex)
+       * are all axis-aligned boxes of its own size without hanging nodes:
+       * GIMP's closed forms (seed 001 Eq. gimp_shape) hold around it.
+       */
+      bool uniform_patch = false;
     };
 
-    /** @brief Cache the data of every locally owned cell. */
+    /**
+     * @brief Cache the data of every locally owned and ghost cell, and for
+     * each locally owned cell its patch (the cell, then the owned or ghost
+     * cells sharing a vertex with it, hanging vertices included) unless
+     * @p with_patches is false (classic shape functions need none).
+     */
     void
     reinit(const DoFHandler<dim>             &dof_handler,
            const AffineConstraints<double>   &constraints,
-           const Utilities::MPI::Partitioner &partitioner);
+           const Utilities::MPI::Partitioner &partitioner,
+           const bool                         with_patches = true);
+
+    /** @brief The patch of a locally owned cell (active cell indices). */
+    const std::vector<unsigned int> &
+    patch(const unsigned int active_cell_index) const
+    {
+      return patches[active_cell_index];
+    }
+
+    /** @brief Where a point was found: its cell and reference point. */
+    struct Location
+    {
+      unsigned int cell = 0;
+      Point<dim>   xi;
+    };
+
+    enum class LocateStatus
+    {
+      found,
+      /** Beyond the patch of the home cell (and inside the mesh). */
+      beyond_patch,
+      /** Outside the mesh by more than half a boundary cell. */
+      outside_mesh
+    };
+
+    /**
+     * @brief Find the cell of the patch of @p home_cell that holds @p x,
+     * trying @p hint first. A point slightly outside the mesh (up to half
+     * a cell across a boundary face) belongs to the boundary cell whose
+     * multilinear basis is extended (extrapolated) to it: partition of
+     * unity and linear completeness still hold there.
+     */
+    LocateStatus
+    locate(const unsigned int home_cell,
+           const Point<dim>  &x,
+           const unsigned int hint,
+           Location          &location) const;
+
+    /** @brief Whether the cell's map takes @p xi to @p x (non-affine cells:
+     * Newton converged). */
+    static bool
+    maps_to(const CellData &cell, const Point<dim> &xi, const Point<dim> &x);
+
+    /**
+     * @brief Whether @p xi lies in the reference cell, up to @p tolerance,
+     * or beyond one of the cell's boundary faces by at most @p extension.
+     */
+    static bool
+    contains(const CellData   &cell,
+             const Point<dim> &xi,
+             const double      tolerance,
+             const double      extension)
+    {
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          if (xi[d] < -tolerance &&
+              (!(cell.boundary_faces & (1u << (2 * d))) || xi[d] < -extension))
+            return false;
+          if (xi[d] > 1 + tolerance &&
+              (!(cell.boundary_faces & (1u << (2 * d + 1))) ||
+               xi[d] > 1 + extension))
+            return false;
+        }
+      return true;
+    }
 
     const CellData &
     cell_data(const unsigned int active_cell_index) const
@@ -168,7 +253,7 @@ namespace fmpm
       return true;
     }
 
-    /** @brief Whether the data of a cell is cached (locally owned cell). */
+    /** @brief Whether the data of a cell is cached (owned or ghost cell). */
     bool
     has_cell_data(const unsigned int active_cell_index) const
     {
@@ -176,8 +261,9 @@ namespace fmpm
     }
 
   private:
-    std::vector<CellData> cells;
-    std::vector<bool>     has_data;
+    std::vector<CellData>                  cells;
+    std::vector<bool>                      has_data;
+    std::vector<std::vector<unsigned int>> patches;
   };
 } // namespace fmpm
 

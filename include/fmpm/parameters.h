@@ -143,6 +143,8 @@ namespace fmpm
     std::string strain_update = "usavg+";
     /** same or lumped */
     std::string strain_update_mass_matrix = "same";
+    /** classic, ugimp, cpgimp or cpdi (ShapeFunction::Type) */
+    std::string shape_function = "classic";
     /** first order, taylor, subcycle or cayley */
     std::string  deformation_gradient_update = "first order";
     unsigned int taylor_terms                = 3;

@@ -12,6 +12,7 @@
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
 #include <fmpm/postprocess/history.h>
+#include <fmpm/shape_function.h>
 #include <fmpm/simulator_access.h>
 #include <fmpm/velocity_conditions.h>
 
@@ -220,6 +221,9 @@ namespace fmpm
     is_output_step();
     void
     do_time_step();
+    /** GIMP/CPDI: S̄ and Ḡ of every point for this step. */
+    void
+    compute_supports();
     void
     particles_to_grid(const bool with_forces);
     void
@@ -230,6 +234,12 @@ namespace fmpm
     body_acceleration_at(const Point<dim>     &x,
                          const Tensor<1, dim> &V,
                          const Tensor<1, dim> &gravity) const;
+    /** Body acceleration plus traction force / mass of a point (and the
+     * tractions' power for the energy balance). */
+    Tensor<1, dim>
+    external_acceleration(const ArrayView<const double> &properties,
+                          const Point<dim>              &x,
+                          const Tensor<1, dim>          &gravity);
     /** Traction force t(t) A_p of a point (zero if it has none). */
     Tensor<1, dim>
     traction_force_of(const ArrayView<const double> &properties) const;
@@ -285,8 +295,13 @@ namespace fmpm
     IndexSet                                  locally_relevant_dofs;
     AffineConstraints<double>                 constraints;
     /** Whether any rank has a hanging node (constraints to distribute). */
-    bool              has_hanging_nodes = false;
-    GridTransfer<dim> transfer;
+    bool                has_hanging_nodes = false;
+    GridTransfer<dim>   transfer;
+    ShapeFunction::Type shape_function = ShapeFunction::Type::classic;
+    /** GIMP/CPDI supports of the points (traversal order) for this step:
+     * point k's nodes are support_nodes[support_offsets[k], ...[k+1]). */
+    std::vector<unsigned int>             support_offsets;
+    std::vector<ShapeFunction::Node<dim>> support_nodes;
 
     ParticleProperties<dim>         particle_properties;
     Particles::ParticleHandler<dim> particle_handler;

@@ -43,6 +43,7 @@ namespace fmpm
   {
     wall_start = MPI_Wtime();
     TimerOutput::Scope timer(computing_timer, "setup");
+    shape_function = ShapeFunction::parse(parameters.method.shape_function);
     make_grid();
     setup_plugins(prm);
     setup_dofs();
@@ -308,6 +309,8 @@ namespace fmpm
                                       *lumped_mass.get_partitioner());
     for (auto &impulse : step_impulse)
       impulse = Tensor<1, dim>();
+    if (shape_function != ShapeFunction::Type::classic)
+      compute_supports();
 
     // 1. Extrapolate mass and momentum (and, when the stresses are not
     //    updated first, the forces from the last stresses):

@@ -130,7 +130,10 @@ namespace fmpm
     for (auto &field : grid_fields)
       reinit_field(field);
 
-    transfer.reinit(dof_handler, constraints, *partitioner);
+    transfer.reinit(dof_handler,
+                    constraints,
+                    *partitioner,
+                    shape_function != ShapeFunction::Type::classic);
     vertex_to_cells = GridTools::vertex_to_cell_map(triangulation);
 
     if (mass_matrix && (mass_matrix->needs_full_mass_matrix() ||
@@ -146,6 +149,27 @@ namespace fmpm
                                         false,
                                         Utilities::MPI::this_mpi_process(
                                           mpi_communicator));
+        // GIMP/CPDI couple all nodes of the patch of a point's cell (the
+        // cells sharing a vertex with it).
+        if (shape_function != ShapeFunction::Type::classic)
+          {
+            std::vector<types::global_dof_index> patch_dofs;
+            for (const auto &cell : triangulation.active_cell_iterators())
+              if (cell->is_locally_owned())
+                {
+                  patch_dofs.clear();
+                  for (const unsigned int other :
+                       transfer.patch(cell->active_cell_index()))
+                    for (const auto dof : transfer.cell_data(other).dof_index)
+                      if (std::find(patch_dofs.begin(),
+                                    patch_dofs.end(),
+                                    dof) == patch_dofs.end())
+                        patch_dofs.push_back(dof);
+                  constraints.add_entries_local_to_global(patch_dofs,
+                                                          sparsity,
+                                                          false);
+                }
+          }
         sparsity.compress();
         full_mass_matrix.reinit(sparsity);
       }

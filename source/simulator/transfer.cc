@@ -39,6 +39,24 @@ namespace fmpm
         }
     }
 
+    /**
+     * Add a value to one node of a point's support (GIMP/CPDI): directly,
+     * or for a hanging node to the nodes it is constrained to.
+     */
+    template <int dim>
+    inline void
+    add_to_grid(const ShapeFunction::Node<dim>             &node,
+                const double                                value,
+                LinearAlgebra::distributed::Vector<double> &vector,
+                const AffineConstraints<double>            &constraints)
+    {
+      if (!node.constrained)
+        vector.local_element(node.local_index) += value;
+      else
+        for (const auto &entry : *constraints.get_constraint_entries(node.dof))
+          vector(entry.first) += entry.second * value;
+    }
+
     /** A 3x3 tensor with the dim x dim block @p t (plane strain in 2D). */
     template <int dim>
     inline Tensor<2, 3>
@@ -158,6 +176,101 @@ namespace fmpm
 
 
   template <int dim>
+  Tensor<1, dim>
+  Simulator<dim>::external_acceleration(const ArrayView<const double> &p,
+                                        const Point<dim>              &x,
+                                        const Tensor<1, dim>          &gravity)
+  {
+    using Index            = PropertyIndex<dim>;
+    const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
+    Tensor<1, dim>       b = body_acceleration_at(x, V, gravity);
+    if (!traction_functions.empty())
+      {
+        // The traction force as an acceleration, F_p / M_p (Eq. 2.10).
+        const Tensor<1, dim> F_p = traction_force_of(p);
+        b += F_p / p[Index::mass];
+        local_traction_power += F_p * V;
+        local_traction_magnitude += F_p.norm();
+      }
+    return b;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::compute_supports()
+  {
+    TimerOutput::Scope timer(computing_timer, "shape functions");
+    using Index = PropertyIndex<dim>;
+    support_offsets.clear();
+    support_nodes.clear();
+    support_offsets.reserve(particle_handler.n_locally_owned_particles() + 1);
+    support_offsets.push_back(0);
+    std::vector<ShapeFunction::Node<dim>> support;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        for (const auto &particle : particle_handler.particles_in_cell(cell))
+          {
+            const auto     p = particle.get_properties();
+            Tensor<2, dim> F;
+            Tensor<1, dim> l0;
+            for (unsigned int a = 0; a < dim; ++a)
+              {
+                l0[a] = p[Index::initial_half_length + a];
+                for (unsigned int b = 0; b < dim; ++b)
+                  F[a][b] = p[Index::deformation_gradient + 3 * a + b];
+              }
+            const ShapeFunction::Status status =
+              ShapeFunction::compute_support(shape_function,
+                                             transfer,
+                                             cell->active_cell_index(),
+                                             particle.get_location(),
+                                             F,
+                                             l0,
+                                             support);
+            if (status != ShapeFunction::Status::ok)
+              {
+                if (local_failure.empty())
+                  {
+                    std::ostringstream message;
+                    message
+                      << "the domain of material point " << particle.get_id()
+                      << " at (" << particle.get_location() << ") "
+                      << (status == ShapeFunction::Status::outside_mesh ?
+                            "reaches outside the mesh by more than half a "
+                            "cell" :
+                            "reaches beyond the cells that share a vertex "
+                            "with its cell (one layer of neighbour or ghost "
+                            "cells)")
+                      << " (Shape function/Type = "
+                      << parameters.method.shape_function
+                      << "): use smaller points (more Points per cell), a "
+                         "coarser mesh there, or classic shape functions";
+                    local_failure = message.str();
+                  }
+                // Carry on with the classic weights; the step fails.
+                ShapeFunction::compute_support(ShapeFunction::Type::classic,
+                                               transfer,
+                                               cell->active_cell_index(),
+                                               particle.get_location(),
+                                               F,
+                                               l0,
+                                               support);
+              }
+            support_nodes.insert(support_nodes.end(),
+                                 support.begin(),
+                                 support.end());
+            support_offsets.push_back(support_nodes.size());
+          }
+      }
+  }
+
+
+
+  template <int dim>
   void
   Simulator<dim>::particles_to_grid(const bool with_forces)
   {
@@ -177,7 +290,6 @@ namespace fmpm
     Tensor<1, dim> gravity;
     for (unsigned int d = 0; d < dim; ++d)
       gravity[d] = parameters.gravity[d];
-    const bool has_tractions = !traction_functions.empty();
 
     std::array<double, n>                S;
     std::array<Tensor<1, dim>, n>        G;
@@ -187,8 +299,72 @@ namespace fmpm
     FullMatrix<double>                   cell_full_mass(n, n);
     std::vector<types::global_dof_index> dofs(n);
 
+    // GIMP/CPDI: every point scatters to its own support (S̄, Ḡ).
+    unsigned int point = 0;
     for (const auto &cell : triangulation.active_cell_iterators())
       {
+        if (shape_function == ShapeFunction::Type::classic)
+          break;
+        if (!cell->is_locally_owned())
+          continue;
+        for (const auto &particle : particle_handler.particles_in_cell(cell))
+          {
+            const auto         p     = particle.get_properties();
+            const double       M     = p[Index::mass];
+            const unsigned int begin = support_offsets[point];
+            const unsigned int end   = support_offsets[point + 1];
+            ++point;
+            Tensor<1, dim>        body_force;
+            SymmetricTensor<2, 3> sigma;
+            const double          V = p[Index::volume];
+            if (with_forces)
+              {
+                body_force =
+                  external_acceleration(p, particle.get_location(), gravity);
+                sigma = get_symmetric_tensor3(p, Index::stress);
+              }
+            for (unsigned int k = begin; k < end; ++k)
+              {
+                const auto  &node = support_nodes[k];
+                const double MS   = M * node.S;
+                add_to_grid<dim>(node, MS, lumped_mass, constraints);
+                for (unsigned int d = 0; d < dim; ++d)
+                  add_to_grid<dim>(node,
+                                   MS * p[Index::velocity + d],
+                                   momentum.block(d),
+                                   constraints);
+                if (with_forces)
+                  for (unsigned int a = 0; a < dim; ++a)
+                    {
+                      double f = MS * body_force[a];
+                      for (unsigned int b = 0; b < dim; ++b)
+                        f -= V * sigma[a][b] * node.G[b];
+                      add_to_grid<dim>(node, f, force.block(a), constraints);
+                    }
+              }
+            if (assemble_full) // m̃ = SᵀMS (Eq. 1.9) over the support
+              {
+                const unsigned int n_support = end - begin;
+                cell_full_mass.reinit(n_support, n_support);
+                dofs.resize(n_support);
+                for (unsigned int i = 0; i < n_support; ++i)
+                  {
+                    dofs[i] = support_nodes[begin + i].dof;
+                    for (unsigned int j = 0; j < n_support; ++j)
+                      cell_full_mass(i, j) = M * support_nodes[begin + i].S *
+                                             support_nodes[begin + j].S;
+                  }
+                constraints.distribute_local_to_global(cell_full_mass,
+                                                       dofs,
+                                                       full_mass_matrix);
+              }
+          }
+      }
+
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        if (shape_function != ShapeFunction::Type::classic)
+          break;
         if (!cell->is_locally_owned())
           continue;
         const auto particles = particle_handler.particles_in_cell(cell);
@@ -231,18 +407,8 @@ namespace fmpm
               {
                 // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
                 // τ/ρ₀ M = σ V; F_p the traction force)
-                Tensor<1, dim> body_force =
-                  body_acceleration_at(particle.get_location(),
-                                       get_vector<dim>(p, Index::velocity),
-                                       gravity);
-                if (has_tractions)
-                  {
-                    const Tensor<1, dim> F_p = traction_force_of(p);
-                    body_force += F_p / M;
-                    local_traction_power +=
-                      F_p * get_vector<dim>(p, Index::velocity);
-                    local_traction_magnitude += F_p.norm();
-                  }
+                const Tensor<1, dim> body_force =
+                  external_acceleration(p, particle.get_location(), gravity);
                 const double V = p[Index::volume];
                 double       sigma[dim][dim];
                 for (unsigned int a = 0; a < dim; ++a)
@@ -309,13 +475,46 @@ namespace fmpm
     Tensor<1, dim> gravity;
     for (unsigned int d = 0; d < dim; ++d)
       gravity[d] = parameters.gravity[d];
-    const bool has_tractions = !traction_functions.empty();
 
     std::array<double, n>         S;
     std::array<Tensor<1, dim>, n> G;
     double                        cell_force[dim][n];
+    unsigned int                  point = 0;
     for (const auto &cell : triangulation.active_cell_iterators())
       {
+        if (shape_function == ShapeFunction::Type::classic)
+          break;
+        if (!cell->is_locally_owned())
+          continue;
+        for (const auto &particle : particle_handler.particles_in_cell(cell))
+          {
+            const auto                  p = particle.get_properties();
+            const double                M = p[Index::mass];
+            const double                V = p[Index::volume];
+            const SymmetricTensor<2, 3> sigma =
+              get_symmetric_tensor3(p, Index::stress);
+            const Tensor<1, dim> body_force =
+              external_acceleration(p, particle.get_location(), gravity);
+            for (unsigned int k = support_offsets[point];
+                 k < support_offsets[point + 1];
+                 ++k)
+              {
+                const auto &node = support_nodes[k];
+                for (unsigned int a = 0; a < dim; ++a)
+                  {
+                    double f = M * node.S * body_force[a];
+                    for (unsigned int b = 0; b < dim; ++b)
+                      f -= V * sigma[a][b] * node.G[b];
+                    add_to_grid<dim>(node, f, force.block(a), constraints);
+                  }
+              }
+            ++point;
+          }
+      }
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        if (shape_function != ShapeFunction::Type::classic)
+          break;
         if (!cell->is_locally_owned())
           continue;
         const auto particles = particle_handler.particles_in_cell(cell);
@@ -333,18 +532,8 @@ namespace fmpm
             const double                V = p[Index::volume];
             const SymmetricTensor<2, 3> sigma =
               get_symmetric_tensor3(p, Index::stress);
-            Tensor<1, dim> body_force =
-              body_acceleration_at(particle.get_location(),
-                                   get_vector<dim>(p, Index::velocity),
-                                   gravity);
-            if (has_tractions)
-              {
-                const Tensor<1, dim> F_p = traction_force_of(p);
-                body_force += F_p / M;
-                local_traction_power +=
-                  F_p * get_vector<dim>(p, Index::velocity);
-                local_traction_magnitude += F_p.norm();
-              }
+            const Tensor<1, dim> body_force =
+              external_acceleration(p, particle.get_location(), gravity);
             for (unsigned int i = 0; i < n; ++i)
               for (unsigned int a = 0; a < dim; ++a)
                 {
@@ -390,7 +579,9 @@ namespace fmpm
     std::vector<Point<dim>>     old_position;
     std::array<double, n>       S;
     double                      speed = 0;
-    const bool has_moving_walls       = velocity_conditions.has_moving_boxes();
+    const bool   has_moving_walls     = velocity_conditions.has_moving_boxes();
+    const bool   classic     = (shape_function == ShapeFunction::Type::classic);
+    unsigned int first_point = 0; // of the cell, in traversal order
 
     for (const auto &cell : triangulation.active_cell_iterators())
       {
@@ -403,6 +594,8 @@ namespace fmpm
           continue;
         const auto &data = transfer.cell_data(cell->active_cell_index());
         batch.resize(n_points);
+        const unsigned int cell_first_point = first_point;
+        first_point += n_points;
 
         // Gather: V, X and the requested fields extrapolated with S.
         unsigned int q = 0;
@@ -411,6 +604,31 @@ namespace fmpm
             const auto p      = particle.get_properties();
             batch.velocity[q] = get_vector<dim>(p, Index::velocity);
             batch.position[q] = particle.get_location();
+            if (!classic)
+              {
+                // S̄ of the point's support (GIMP/CPDI).
+                const unsigned int begin =
+                  support_offsets[cell_first_point + q];
+                const unsigned int end =
+                  support_offsets[cell_first_point + q + 1];
+                for (const unsigned int f : fields)
+                  {
+                    Tensor<1, dim> value;
+                    for (unsigned int d = 0; d < dim; ++d)
+                      {
+                        const auto &block = grid_fields[f].block(d);
+                        double      sum   = 0;
+                        for (unsigned int k = begin; k < end; ++k)
+                          sum +=
+                            support_nodes[k].S *
+                            block.local_element(support_nodes[k].local_index);
+                        value[d] = sum;
+                      }
+                    batch.grid[f][q] = value;
+                  }
+                ++q;
+                continue;
+              }
             GridTransfer<dim>::values(particle.get_reference_location(), S);
             for (const unsigned int f : fields)
               {
@@ -546,6 +764,10 @@ namespace fmpm
     std::vector<
       std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>>
       by_material(n_materials);
+    // The index of each point of by_material in traversal order (supports).
+    std::vector<std::vector<unsigned int>> point_index(n_materials);
+    const bool   classic = (shape_function == ShapeFunction::Type::classic);
+    unsigned int point   = 0;
 
     for (const auto &cell : triangulation.active_cell_iterators())
       {
@@ -557,13 +779,19 @@ namespace fmpm
         const auto &data = transfer.cell_data(cell->active_cell_index());
         for (auto &group : by_material)
           group.clear();
+        for (auto &group : point_index)
+          group.clear();
         for (auto particle = particles.begin(); particle != particles.end();
              ++particle)
-          by_material[n_materials == 1 ?
-                        0 :
-                        static_cast<unsigned int>(
-                          particle->get_properties()[Index::material_id])]
-            .push_back(particle);
+          {
+            const unsigned int m =
+              n_materials == 1 ?
+                0 :
+                static_cast<unsigned int>(
+                  particle->get_properties()[Index::material_id]);
+            by_material[m].push_back(particle);
+            point_index[m].push_back(point++);
+          }
 
         for (unsigned int m = 0; m < n_materials; ++m)
           {
@@ -576,18 +804,32 @@ namespace fmpm
               {
                 auto       particle = group[q];
                 const auto p        = particle->get_properties();
-                GridTransfer<dim>::values_and_gradients(
-                  data, particle->get_reference_location(), S, G);
                 // ∇v = Σ_i v_i ⊗ G_pi (Eq. 2.7, 2.18)
                 Tensor<2, dim> grad_v;
-                for (unsigned int i = 0; i < n; ++i)
-                  for (unsigned int a = 0; a < dim; ++a)
-                    {
-                      const double v_ia =
-                        v.block(a).local_element(data.local_index[i]);
-                      for (unsigned int b = 0; b < dim; ++b)
-                        grad_v[a][b] += v_ia * G[i][b];
-                    }
+                if (classic)
+                  {
+                    GridTransfer<dim>::values_and_gradients(
+                      data, particle->get_reference_location(), S, G);
+                    for (unsigned int i = 0; i < n; ++i)
+                      for (unsigned int a = 0; a < dim; ++a)
+                        {
+                          const double v_ia =
+                            v.block(a).local_element(data.local_index[i]);
+                          for (unsigned int b = 0; b < dim; ++b)
+                            grad_v[a][b] += v_ia * G[i][b];
+                        }
+                  }
+                else // Ḡ of the point's support (GIMP/CPDI)
+                  for (unsigned int k = support_offsets[point_index[m][q]];
+                       k < support_offsets[point_index[m][q] + 1];
+                       ++k)
+                    for (unsigned int a = 0; a < dim; ++a)
+                      {
+                        const double v_ia = v.block(a).local_element(
+                          support_nodes[k].local_index);
+                        for (unsigned int b = 0; b < dim; ++b)
+                          grad_v[a][b] += v_ia * support_nodes[k].G[b];
+                      }
                 const Tensor<2, 3> L = embed<dim>(grad_v);
                 const Tensor<2, 3> F_old =
                   get_tensor3(p, Index::deformation_gradient);

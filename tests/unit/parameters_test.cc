@@ -213,6 +213,12 @@ namespace
                               "  set Model name = rubber\n"
                               "end\n"),
                  {"Model name", "rubber", "model.prm"});
+    // Names the parameter, the value and the allowed shape functions.
+    expect_error(default_plus("shape.prm",
+                              "subsection Shape function\n"
+                              "  set Type = gimp\n"
+                              "end\n"),
+                 {"Type", "gimp", "shape.prm", "classic|ugimp|cpgimp|cpdi"});
     expect_error(default_plus("corner.prm",
                               "subsection Mesh\n"
                               "  set Lower corner = 0, 0, 0\n"

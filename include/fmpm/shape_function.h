@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_shape_function_h
+#define fmpm_shape_function_h
+
+#include <fmpm/grid_transfer.h>
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fmpm
+{
+  /**
+   * @brief Effective shape functions S̄_gp and gradients Ḡ_gp of seed 001
+   * ("Shape functions for MPM, GIMP, and CPDI") on any FE_Q(1) mesh.
+   *
+   * - classic: S_g(x_p), ∇S_g(x_p) (Eq. linear_shape); the transfer loops
+   *   keep their per-cell fast path for it and never call this code.
+   * - ugimp: S̄ = 1/V ∫_Ω S_g, Ḡ = 1/V ∫_Ω ∇S_g (Eqs. effectiveS, G_gimp)
+   *   over the axis-aligned box Ω of the initial half-lengths l⁰.
+   * - cpgimp: the same over the box circumscribing the deformed particle
+   *   F·diag(l⁰) (l_d = Σ_j |F_dj| l⁰_j; seed 001 §UGIMP and cpGIMP).
+   * - cpdi: S̄ = mean_α S_g(x_α), Ḡ = 2^-dim s⁻ᵀ Σ_α r_α S_g(x_α) over the
+   *   corners x_α = x_p + s r_α of the parallelogram/parallelepiped
+   *   s = F·diag(l⁰) (Eq. cpdi and the matrix form after it; the seed writes
+   *   s⁻ᵀ Rᵀ Sᵀ, the dimensions need s⁻ᵀ R Sᵀ).
+   *
+   * GIMP on a uniform patch of axis-aligned cells (and l ≤ h/2) uses the
+   * closed forms (Eqs. gimp_shape, gimpGrad) per direction. Otherwise the
+   * integral is a quadrature over the box split at the faces of the cells
+   * it crosses (exact on axis-aligned cells, hanging nodes included);
+   * across non-axis-aligned cells the box is bisected a few times and the
+   * pieces that still cross faces use Gauss points located one by one.
+   *
+   * The support of a point lives in the patch of its cell (the cells
+   * sharing a vertex with it, all owned or ghost on any MPI rank); a domain
+   * that reaches further is reported.
+   */
+  namespace ShapeFunction
+  {
+    using namespace dealii;
+
+    enum class Type
+    {
+      classic,
+      ugimp,
+      cpgimp,
+      cpdi
+    };
+
+    /** The names of Type in the parameter file. */
+    inline const char *
+    pattern()
+    {
+      return "classic|ugimp|cpgimp|cpdi";
+    }
+
+    /** Type from its parameter name (throws for unknown names). */
+    Type
+    parse(const std::string &name);
+
+    /** One node of a point's support: S̄_gp and Ḡ_gp. */
+    template <int dim>
+    struct Node
+    {
+      /** Index into the ghosted grid vectors. */
+      unsigned int local_index;
+      /** Global DoF (for constraints and the full mass matrix). */
+      types::global_dof_index dof;
+      bool                    constrained;
+      double                  S;
+      Tensor<1, dim>          G;
+    };
+
+    enum class Status
+    {
+      ok,
+      /** The domain reaches beyond the cells around the point's cell. */
+      beyond_neighbors,
+      /** The domain reaches outside the mesh by more than half a cell. */
+      outside_mesh
+    };
+
+    /**
+     * @brief The support of one point: every node with its S̄ and Ḡ.
+     *
+     * @param cell active cell index of the point's (locally owned) cell
+     * @param x the point's position
+     * @param F the deformation gradient (dim x dim block)
+     * @param l0 the initial half-lengths
+     * @param allow_closed_form use GIMP's closed forms where they hold
+     *        (false: always the quadrature, for tests)
+     */
+    template <int dim>
+    Status
+    compute_support(const Type               type,
+                    const GridTransfer<dim> &transfer,
+                    const unsigned int       cell,
+                    const Point<dim>        &x,
+                    const Tensor<2, dim>    &F,
+                    const Tensor<1, dim>    &l0,
+                    std::vector<Node<dim>>  &support,
+                    const bool               allow_closed_form = true);
+
+    /**
+     * @brief Seed 001 Eqs. gimp_shape and gimpGrad: the 1D GIMP weight and
+     * its derivative for r = x_p − x_g, cell size h, half-length l ≤ h/2.
+     */
+    std::pair<double, double>
+    gimp_1d(const double r, const double h, const double l);
+
+    /** The half-lengths of the GIMP box of a point (uGIMP or cpGIMP). */
+    template <int dim>
+    Tensor<1, dim>
+    gimp_half_lengths(const Type            type,
+                      const Tensor<2, dim> &F,
+                      const Tensor<1, dim> &l0);
+  } // namespace ShapeFunction
+} // namespace fmpm
+
+#endif

@@ -1,0 +1,512 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/shape_function.h>
+
+#include <deal.II/base/exceptions.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace fmpm
+{
+  namespace ShapeFunction
+  {
+    Type
+    parse(const std::string &name)
+    {
+      if (name == "classic")
+        return Type::classic;
+      if (name == "ugimp")
+        return Type::ugimp;
+      if (name == "cpgimp")
+        return Type::cpgimp;
+      if (name == "cpdi")
+        return Type::cpdi;
+      AssertThrow(false,
+                  ExcMessage("Shape function/Type = <" + name +
+                             "> is not one of " + pattern() + "."));
+      return Type::classic;
+    }
+
+
+
+    std::pair<double, double>
+    gimp_1d(const double r, const double h, const double l)
+    {
+      // Seed 001 Eqs. gimp_shape (S̄) and gimpGrad (Ḡ), r = x_p − x_g.
+      if (r <= -h - l)
+        return {0., 0.};
+      if (r <= -h + l)
+        return {(h + l + r) * (h + l + r) / (4 * h * l),
+                (h + l + r) / (2 * h * l)};
+      if (r <= -l)
+        return {1 + r / h, 1 / h};
+      if (r <= l)
+        return {1 - (r * r + l * l) / (2 * h * l), -r / (h * l)};
+      if (r <= h - l)
+        return {1 - r / h, -1 / h};
+      if (r <= h + l)
+        return {(h + l - r) * (h + l - r) / (4 * h * l),
+                -(h + l - r) / (2 * h * l)};
+      return {0., 0.};
+    }
+
+
+
+    template <int dim>
+    Tensor<1, dim>
+    gimp_half_lengths(const Type            type,
+                      const Tensor<2, dim> &F,
+                      const Tensor<1, dim> &l0)
+    {
+      if (type != Type::cpgimp)
+        return l0;
+      // The box circumscribing the deformed particle F·diag(l⁰) (seed 001
+      // §UGIMP and cpGIMP, after Ma et al. 2006).
+      Tensor<1, dim> l;
+      for (unsigned int d = 0; d < dim; ++d)
+        for (unsigned int j = 0; j < dim; ++j)
+          l[d] += std::abs(F[d][j]) * l0[j];
+      return l;
+    }
+
+
+
+    namespace
+    {
+      /** Add S and G of node i of a cell, summing repeated nodes. */
+      template <int dim>
+      inline void
+      add_node(std::vector<Node<dim>>                     &support,
+               const typename GridTransfer<dim>::CellData &cell,
+               const unsigned int                          i,
+               const double                                S,
+               const Tensor<1, dim>                       &G)
+      {
+        for (auto &node : support)
+          if (node.local_index == cell.local_index[i])
+            {
+              node.S += S;
+              node.G += G;
+              return;
+            }
+        support.push_back(Node<dim>{cell.local_index[i],
+                                    cell.dof_index[i],
+                                    ((cell.constrained_nodes >> i) & 1) != 0,
+                                    S,
+                                    G});
+      }
+
+      /** Gauss-Legendre points and weights on [0, 1]. */
+      struct Gauss1D
+      {
+        unsigned int n;
+        double       x[3];
+        double       w[3];
+      };
+      constexpr Gauss1D gauss2{2,
+                               {0.5 - 0.28867513459481287, // 1/(2√3)
+                                0.5 + 0.28867513459481287,
+                                0},
+                               {0.5, 0.5, 0}};
+      constexpr Gauss1D gauss3{3,
+                               {0.5 - 0.3872983346207417, // √(3/5)/2
+                                0.5,
+                                0.5 + 0.3872983346207417},
+                               {5. / 18, 8. / 18, 5. / 18}};
+
+      /**
+       * S̄ = 1/V ∫_Ω S_g and Ḡ = 1/V ∫_Ω ∇S_g over an axis-aligned box Ω
+       * (seed 001 Eqs. effectiveS, G_gimp) by a quadrature split at the
+       * faces of the cells the box crosses.
+       */
+      template <int dim>
+      class GimpQuadrature
+      {
+      public:
+        GimpQuadrature(const GridTransfer<dim> &transfer,
+                       const unsigned int       home,
+                       const double             inverse_volume,
+                       std::vector<Node<dim>>  &support)
+          : transfer(transfer)
+          , home(home)
+          , hint(home)
+          , inverse_volume(inverse_volume)
+          , support(support)
+        {}
+
+        void
+        integrate(const Point<dim>  &lo,
+                  const Point<dim>  &hi,
+                  const unsigned int depth,
+                  const unsigned int bisections)
+        {
+          if (status != Status::ok)
+            return;
+          using Transfer = GridTransfer<dim>;
+          typename Transfer::Location center;
+          if (!locate(0.5 * (lo + hi), center))
+            return;
+          const auto &cell = transfer.cell_data(center.cell);
+          hint             = center.cell;
+
+          // Does the cell hold the whole box (corners suffice: cells are
+          // convex)?
+          bool inside = true;
+          for (unsigned int c = 0; c < Transfer::n_nodes && inside; ++c)
+            {
+              Point<dim> corner;
+              for (unsigned int d = 0; d < dim; ++d)
+                corner[d] = ((c >> d) & 1) ? hi[d] : lo[d];
+              inside = Transfer::contains(cell,
+                                          Transfer::reference_point(cell,
+                                                                    corner,
+                                                                    center.xi),
+                                          1e-10,
+                                          0.5);
+            }
+          if (inside)
+            {
+              integrate_in_cell(lo,
+                                hi,
+                                center.cell,
+                                center.xi,
+                                cell.is_affine ? gauss2 : gauss3);
+              return;
+            }
+
+          if (depth < 24)
+            {
+              // Split at a face of an axis-aligned cell that crosses the
+              // box (exact), else bisect the longest side.
+              unsigned int split_direction = dim;
+              double       split           = 0;
+              if (cell.is_axis_aligned)
+                for (unsigned int d = 0; d < dim && split_direction == dim; ++d)
+                  {
+                    const double margin = 1e-10 * (hi[d] - lo[d]);
+                    for (const double plane : {cell.lower[d], cell.upper[d]})
+                      if (plane > lo[d] + margin && plane < hi[d] - margin)
+                        {
+                          split_direction = d;
+                          split           = plane;
+                          break;
+                        }
+                  }
+              // Across non-axis-aligned cells: one bisection per direction
+              // (a 2^dim-th of the box), then pointwise Gauss (accuracy
+              // ~1e-4 of S̄ on distorted meshes; partition of unity and
+              // linear fields stay exact).
+              if (split_direction == dim && bisections < dim)
+                {
+                  split_direction = 0;
+                  for (unsigned int d = 1; d < dim; ++d)
+                    if (hi[d] - lo[d] >
+                        hi[split_direction] - lo[split_direction])
+                      split_direction = d;
+                  split = 0.5 * (lo[split_direction] + hi[split_direction]);
+                }
+              if (split_direction < dim)
+                {
+                  const bool bisected =
+                    !cell.is_axis_aligned ||
+                    split == 0.5 * (lo[split_direction] + hi[split_direction]);
+                  Point<dim> upper_of_first = hi, lower_of_second = lo;
+                  upper_of_first[split_direction]  = split;
+                  lower_of_second[split_direction] = split;
+                  integrate(lo,
+                            upper_of_first,
+                            depth + 1,
+                            bisections + (bisected ? 1 : 0));
+                  integrate(lower_of_second,
+                            hi,
+                            depth + 1,
+                            bisections + (bisected ? 1 : 0));
+                  return;
+                }
+            }
+          // Small pieces that still cross faces of non-axis-aligned cells:
+          // Gauss points located one by one.
+          integrate_pointwise(lo, hi);
+        }
+
+        Status status = Status::ok;
+
+      private:
+        bool
+        locate(const Point<dim>                     &x,
+               typename GridTransfer<dim>::Location &location)
+        {
+          const auto result = transfer.locate(home, x, hint, location);
+          if (result == GridTransfer<dim>::LocateStatus::found)
+            return true;
+          status = (result == GridTransfer<dim>::LocateStatus::outside_mesh) ?
+                     Status::outside_mesh :
+                     Status::beyond_neighbors;
+          return false;
+        }
+
+        void
+        integrate_in_cell(const Point<dim>  &lo,
+                          const Point<dim>  &hi,
+                          const unsigned int cell_index,
+                          const Point<dim>  &xi_guess,
+                          const Gauss1D     &gauss)
+        {
+          using Transfer   = GridTransfer<dim>;
+          const auto &cell = transfer.cell_data(cell_index);
+          double      box  = inverse_volume;
+          for (unsigned int d = 0; d < dim; ++d)
+            box *= hi[d] - lo[d];
+          std::array<double, Transfer::n_nodes>         S, S_sum{};
+          std::array<Tensor<1, dim>, Transfer::n_nodes> G, G_sum;
+          unsigned int                                  n_points = 1;
+          for (unsigned int d = 0; d < dim; ++d)
+            n_points *= gauss.n;
+          for (unsigned int q = 0; q < n_points; ++q)
+            {
+              Point<dim>   x;
+              double       w = box;
+              unsigned int k = q;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  const unsigned int j = k % gauss.n;
+                  k /= gauss.n;
+                  x[d] = lo[d] + gauss.x[j] * (hi[d] - lo[d]);
+                  w *= gauss.w[j];
+                }
+              const Point<dim> xi =
+                Transfer::reference_point(cell, x, xi_guess);
+              Transfer::values_and_gradients(cell, xi, S, G);
+              for (unsigned int i = 0; i < Transfer::n_nodes; ++i)
+                {
+                  S_sum[i] += w * S[i];
+                  G_sum[i] += w * G[i];
+                }
+            }
+          for (unsigned int i = 0; i < Transfer::n_nodes; ++i)
+            add_node<dim>(support, cell, i, S_sum[i], G_sum[i]);
+        }
+
+        void
+        integrate_pointwise(const Point<dim> &lo, const Point<dim> &hi)
+        {
+          using Transfer       = GridTransfer<dim>;
+          const Gauss1D &gauss = gauss3;
+          double         box   = inverse_volume;
+          for (unsigned int d = 0; d < dim; ++d)
+            box *= hi[d] - lo[d];
+          std::array<double, Transfer::n_nodes>         S;
+          std::array<Tensor<1, dim>, Transfer::n_nodes> G;
+          unsigned int                                  n_points = 1;
+          for (unsigned int d = 0; d < dim; ++d)
+            n_points *= gauss.n;
+          for (unsigned int q = 0; q < n_points; ++q)
+            {
+              Point<dim>   x;
+              double       w = box;
+              unsigned int k = q;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  const unsigned int j = k % gauss.n;
+                  k /= gauss.n;
+                  x[d] = lo[d] + gauss.x[j] * (hi[d] - lo[d]);
+                  w *= gauss.w[j];
+                }
+              typename Transfer::Location location;
+              if (!locate(x, location))
+                return;
+              hint             = location.cell;
+              const auto &cell = transfer.cell_data(location.cell);
+              Transfer::values_and_gradients(cell, location.xi, S, G);
+              for (unsigned int i = 0; i < Transfer::n_nodes; ++i)
+                add_node<dim>(support, cell, i, w * S[i], w * G[i]);
+            }
+        }
+
+        const GridTransfer<dim> &transfer;
+        const unsigned int       home;
+        unsigned int             hint;
+        const double             inverse_volume;
+        std::vector<Node<dim>>  &support;
+      };
+    } // namespace
+
+
+
+    template <int dim>
+    Status
+    compute_support(const Type               type,
+                    const GridTransfer<dim> &transfer,
+                    const unsigned int       cell_index,
+                    const Point<dim>        &x,
+                    const Tensor<2, dim>    &F,
+                    const Tensor<1, dim>    &l0,
+                    std::vector<Node<dim>>  &support,
+                    const bool               allow_closed_form)
+    {
+      using Transfer             = GridTransfer<dim>;
+      constexpr unsigned int n   = Transfer::n_nodes;
+      const auto            &own = transfer.cell_data(cell_index);
+      support.clear();
+      std::array<double, n>         S;
+      std::array<Tensor<1, dim>, n> G;
+      typename Transfer::Location   location;
+
+      auto status_of = [](const typename Transfer::LocateStatus s) {
+        return s == Transfer::LocateStatus::outside_mesh ?
+                 Status::outside_mesh :
+                 Status::beyond_neighbors;
+      };
+
+      switch (type)
+        {
+          case Type::classic:
+            {
+              const auto s =
+                transfer.locate(cell_index, x, cell_index, location);
+              if (s != Transfer::LocateStatus::found)
+                return status_of(s);
+              const auto &cell = transfer.cell_data(location.cell);
+              Transfer::values_and_gradients(cell, location.xi, S, G);
+              for (unsigned int i = 0; i < n; ++i)
+                add_node<dim>(support, cell, i, S[i], G[i]);
+              return Status::ok;
+            }
+
+          case Type::cpdi:
+            {
+              // Corners x_α = x_p + s r_α, s = F diag(l⁰) (seed 001 Eq. cpdi):
+              // S̄ = mean_α S_g(x_α), Ḡ = 2^-dim s⁻ᵀ Σ_α r_α S_g(x_α).
+              Tensor<2, dim> s;
+              for (unsigned int c = 0; c < dim; ++c)
+                for (unsigned int j = 0; j < dim; ++j)
+                  s[c][j] = F[c][j] * l0[j];
+              const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
+              const double         weight              = 1.0 / n; // 2^-dim
+              unsigned int         hint                = cell_index;
+              for (unsigned int alpha = 0; alpha < n; ++alpha)
+                {
+                  Tensor<1, dim> r;
+                  for (unsigned int j = 0; j < dim; ++j)
+                    r[j] = ((alpha >> j) & 1) ? 1. : -1.;
+                  const Point<dim> corner = x + s * r;
+                  const auto       found =
+                    transfer.locate(cell_index, corner, hint, location);
+                  if (found != Transfer::LocateStatus::found)
+                    return status_of(found);
+                  hint             = location.cell;
+                  const auto &cell = transfer.cell_data(location.cell);
+                  Transfer::values(location.xi, S);
+                  const Tensor<1, dim> w = weight * (s_inverse_transpose * r);
+                  for (unsigned int i = 0; i < n; ++i)
+                    add_node<dim>(support, cell, i, weight * S[i], S[i] * w);
+                }
+              return Status::ok;
+            }
+
+          case Type::ugimp:
+          case Type::cpgimp:
+            {
+              const Tensor<1, dim> l  = gimp_half_lengths<dim>(type, F, l0);
+              Point<dim>           lo = x, hi = x;
+              double               volume = 1;
+              bool closed_form = allow_closed_form && own.uniform_patch;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  lo[d] -= l[d];
+                  hi[d] += l[d];
+                  volume *= 2 * l[d];
+                  if (l[d] > 0.5 * (own.upper[d] - own.lower[d]) ||
+                      x[d] < own.lower[d] || x[d] > own.upper[d])
+                    closed_form = false;
+                }
+              if (closed_form)
+                {
+                  // Seed 001 Eqs. gimp_shape, gimpGrad per direction, for
+                  // every node of the cells the box overlaps (each once).
+                  for (const unsigned int other : transfer.patch(cell_index))
+                    {
+                      const auto &cell    = transfer.cell_data(other);
+                      bool        overlap = true;
+                      for (unsigned int d = 0; d < dim; ++d)
+                        if (!(cell.lower[d] < hi[d] && cell.upper[d] > lo[d]))
+                          overlap = false;
+                      if (!overlap)
+                        continue;
+                      for (unsigned int i = 0; i < n; ++i)
+                        {
+                          bool seen = false;
+                          for (const auto &node : support)
+                            if (node.local_index == cell.local_index[i])
+                              seen = true;
+                          if (seen)
+                            continue;
+                          std::pair<double, double> w[dim];
+                          for (unsigned int d = 0; d < dim; ++d)
+                            w[d] = gimp_1d(x[d] - cell.vertex[i][d],
+                                           cell.upper[d] - cell.lower[d],
+                                           l[d]);
+                          double         value = 1;
+                          Tensor<1, dim> gradient;
+                          for (unsigned int d = 0; d < dim; ++d)
+                            {
+                              value *= w[d].first;
+                              double g = w[d].second;
+                              for (unsigned int e = 0; e < dim; ++e)
+                                if (e != d)
+                                  g *= w[e].first;
+                              gradient[d] = g;
+                            }
+                          if (value != 0 || gradient.norm_square() != 0)
+                            support.push_back(Node<dim>{cell.local_index[i],
+                                                        cell.dof_index[i],
+                                                        false,
+                                                        value,
+                                                        gradient});
+                        }
+                    }
+                  return Status::ok;
+                }
+              GimpQuadrature<dim> quadrature(transfer,
+                                             cell_index,
+                                             1.0 / volume,
+                                             support);
+              quadrature.integrate(lo, hi, 0, 0);
+              return quadrature.status;
+            }
+        }
+      return Status::ok;
+    }
+
+
+
+    template Tensor<1, 2>
+    gimp_half_lengths<2>(const Type,
+                         const Tensor<2, 2> &,
+                         const Tensor<1, 2> &);
+    template Tensor<1, 3>
+    gimp_half_lengths<3>(const Type,
+                         const Tensor<2, 3> &,
+                         const Tensor<1, 3> &);
+    template Status
+    compute_support<2>(const Type,
+                       const GridTransfer<2> &,
+                       const unsigned int,
+                       const Point<2> &,
+                       const Tensor<2, 2> &,
+                       const Tensor<1, 2> &,
+                       std::vector<Node<2>> &,
+                       const bool);
+    template Status
+    compute_support<3>(const Type,
+                       const GridTransfer<3> &,
+                       const unsigned int,
+                       const Point<3> &,
+                       const Tensor<2, 3> &,
+                       const Tensor<1, 3> &,
+                       std::vector<Node<3>> &,
+                       const bool);
+  } // namespace ShapeFunction
+} // namespace fmpm
