@@ -129,6 +129,14 @@ namespace fmpm
       return grid_fields[field];
     }
 
+    /** @brief m̃ as cell-wise matrices this step, or nullptr when m̃ is the
+     * assembled sparse matrix (or not needed). */
+    const CellwiseMatrix *
+    get_cellwise_full_mass_matrix() const
+    {
+      return use_cellwise_full_mass ? &cellwise_full_mass : nullptr;
+    }
+
     /** @brief The velocity conditions (for tests). */
     const VelocityConditions<dim> &
     get_velocity_conditions() const
@@ -315,6 +323,9 @@ namespace fmpm
     std::array<bool, ParticleUpdate::n_grid_fields>            field_needed;
     std::array<bool, ParticleUpdate::n_grid_fields>            field_computed;
     TrilinosWrappers::SparseMatrix                             full_mass_matrix;
+    /** m̃ as one local matrix per cell (FMPM(k) without hanging nodes). */
+    CellwiseMatrix cellwise_full_mass;
+    bool           use_cellwise_full_mass = false;
 
     /** Grid velocity conditions and the method imposing them. */
     VelocityConditions<dim> velocity_conditions;

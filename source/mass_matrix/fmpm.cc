@@ -4,19 +4,22 @@
 #include <fmpm/mass_matrix/fmpm.h>
 #include <fmpm/simulator.h>
 
+#include <type_traits>
+
 namespace fmpm
 {
   namespace MassMatrix
   {
+    template <typename MatrixType>
     void
-    apply_fmpm_inverse(const TrilinosWrappers::SparseMatrix &m_tilde,
-                       const GridScalar                     &m,
-                       const GridVectorField                &p,
-                       GridVectorField                      &v,
-                       const unsigned int                    k,
-                       const double                          mass_floor,
-                       const std::vector<GridScalar>        *zero_mask,
-                       const std::vector<GridScalar>        *known_values)
+    apply_fmpm_inverse(const MatrixType              &m_tilde,
+                       const GridScalar              &m,
+                       const GridVectorField         &p,
+                       GridVectorField               &v,
+                       const unsigned int             k,
+                       const double                   mass_floor,
+                       const std::vector<GridScalar> *zero_mask,
+                       const std::vector<GridScalar> *known_values)
     {
       // v_1 = m⁻¹ p; known components hold their values in every sweep.
       apply_lumped_inverse(m, p, v, mass_floor);
@@ -34,6 +37,8 @@ namespace fmpm
         for (unsigned int j = 1; j < k; ++j)
           {
             // v_{j+1} = v_j + m⁻¹ (p − m̃ v_j)
+            if constexpr (std::is_same_v<MatrixType, CellwiseMatrix>)
+              v.block(b).update_ghost_values();
             m_tilde.vmult(m_tilde_v, v.block(b));
             for (unsigned int i = 0; i < n_owned; ++i)
               {
@@ -45,7 +50,28 @@ namespace fmpm
                     m_i;
               }
           }
+      if constexpr (std::is_same_v<MatrixType, CellwiseMatrix>)
+        v.zero_out_ghost_values();
     }
+
+    template void
+    apply_fmpm_inverse(const TrilinosWrappers::SparseMatrix &,
+                       const GridScalar &,
+                       const GridVectorField &,
+                       GridVectorField &,
+                       const unsigned int,
+                       const double,
+                       const std::vector<GridScalar> *,
+                       const std::vector<GridScalar> *);
+    template void
+    apply_fmpm_inverse(const CellwiseMatrix &,
+                       const GridScalar &,
+                       const GridVectorField &,
+                       GridVectorField &,
+                       const unsigned int,
+                       const double,
+                       const std::vector<GridScalar> *,
+                       const std::vector<GridScalar> *);
 
 
 
@@ -77,6 +103,19 @@ namespace fmpm
     void
     Fmpm<dim>::solve(const GridVectorField &p, GridVectorField &v) const
     {
+      if (const CellwiseMatrix *cellwise =
+            this->get_simulator().get_cellwise_full_mass_matrix())
+        {
+          apply_fmpm_inverse(*cellwise,
+                             this->get_lumped_mass(),
+                             p,
+                             v,
+                             k,
+                             this->get_simulator().mass_floor(),
+                             &this->get_known_velocity_mask(),
+                             &this->get_known_velocity_values());
+          return;
+        }
       apply_fmpm_inverse(this->get_full_mass_matrix(),
                          this->get_lumped_mass(),
                          p,
@@ -100,8 +139,17 @@ namespace fmpm
           Interface<dim>::vmult(v, p);
           return;
         }
+      const CellwiseMatrix *cellwise =
+        this->get_simulator().get_cellwise_full_mass_matrix();
       for (unsigned int b = 0; b < v.n_blocks(); ++b)
-        this->get_full_mass_matrix().vmult(p.block(b), v.block(b));
+        if (cellwise)
+          {
+            GridScalar v_ghosted(v.block(b));
+            v_ghosted.update_ghost_values();
+            cellwise->vmult(p.block(b), v_ghosted);
+          }
+        else
+          this->get_full_mass_matrix().vmult(p.block(b), v.block(b));
     }
 
     FMPM_REGISTER_MASS_MATRIX(

@@ -278,14 +278,25 @@ namespace fmpm
     using Index              = PropertyIndex<dim>;
     constexpr unsigned int n = GridTransfer<dim>::n_nodes;
 
-    const bool assemble_full = mass_matrix->needs_full_mass_matrix() ||
-                               velocity_conditions.needs_full_mass_matrix();
+    // m̃ as cell-wise matrices where the mass matrix accepts them and the
+    // cell's nodes are its DoFs (no hanging nodes, classic shape
+    // functions); else the assembled sparse matrix.
+    use_cellwise_full_mass = mass_matrix->needs_full_mass_matrix() &&
+                             mass_matrix->accepts_cellwise_full_mass_matrix() &&
+                             !velocity_conditions.needs_full_mass_matrix() &&
+                             !has_hanging_nodes &&
+                             shape_function == ShapeFunction::Type::classic;
+    const bool assemble_full =
+      !use_cellwise_full_mass && (mass_matrix->needs_full_mass_matrix() ||
+                                  velocity_conditions.needs_full_mass_matrix());
     lumped_mass = 0;
     momentum    = 0;
     if (with_forces)
       force = 0;
     if (assemble_full)
       full_mass_matrix = 0;
+    if (use_cellwise_full_mass)
+      cellwise_full_mass.clear(n);
 
     Tensor<1, dim> gravity;
     for (unsigned int d = 0; d < dim; ++d)
@@ -342,7 +353,8 @@ namespace fmpm
                       add_to_grid<dim>(node, f, force.block(a), constraints);
                     }
               }
-            if (assemble_full) // m̃ = SᵀMS (Eq. 1.9) over the support
+            if (assemble_full ||
+                use_cellwise_full_mass) // m̃ = SᵀMS (1.9) over the support
               {
                 const unsigned int n_support = end - begin;
                 cell_full_mass.reinit(n_support, n_support);
@@ -378,7 +390,7 @@ namespace fmpm
             std::fill(cell_momentum[d], cell_momentum[d] + n, 0.);
             std::fill(cell_force[d], cell_force[d] + n, 0.);
           }
-        if (assemble_full)
+        if (assemble_full || use_cellwise_full_mass)
           cell_full_mass = 0;
 
         for (const auto &particle : particles)
@@ -398,7 +410,7 @@ namespace fmpm
                 for (unsigned int d = 0; d < dim; ++d)
                   cell_momentum[d][i] += MS * p[Index::velocity + d]; // p = SᵀP
               }
-            if (assemble_full) // m̃ = SᵀMS (Eq. 1.9)
+            if (assemble_full || use_cellwise_full_mass) // m̃ = SᵀMS (1.9)
               for (unsigned int i = 0; i < n; ++i)
                 for (unsigned int j = 0; j < n; ++j)
                   cell_full_mass(i, j) += M * S[i] * S[j];
@@ -450,6 +462,9 @@ namespace fmpm
                                                    dofs,
                                                    full_mass_matrix);
           }
+        if (use_cellwise_full_mass)
+          cellwise_full_mass.add_cell(data.local_index.data(),
+                                      &cell_full_mass(0, 0));
       }
 
     lumped_mass.compress(VectorOperation::add);

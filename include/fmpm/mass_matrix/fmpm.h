@@ -33,13 +33,14 @@ namespace fmpm
      * @param[in] known_values per component, the known values (zero if
      * nullptr)
      */
+    template <typename MatrixType>
     void
-    apply_fmpm_inverse(const TrilinosWrappers::SparseMatrix &full_mass,
-                       const GridScalar                     &lumped_mass,
-                       const GridVectorField                &p,
-                       GridVectorField                      &v,
-                       const unsigned int                    k,
-                       const double                          mass_floor,
+    apply_fmpm_inverse(const MatrixType              &full_mass,
+                       const GridScalar              &lumped_mass,
+                       const GridVectorField         &p,
+                       GridVectorField               &v,
+                       const unsigned int             k,
+                       const double                   mass_floor,
                        const std::vector<GridScalar> *zero_mask    = nullptr,
                        const std::vector<GridScalar> *known_values = nullptr);
 
@@ -62,6 +63,12 @@ namespace fmpm
       needs_full_mass_matrix() const override
       {
         return k > 1;
+      }
+
+      bool
+      accepts_cellwise_full_mass_matrix() const override
+      {
+        return true;
       }
 
       void

@@ -45,6 +45,17 @@ namespace fmpm
         return false;
       }
 
+      /**
+       * @brief Whether m̃ may come as cell-wise local matrices
+       * (CellwiseMatrix) instead of an assembled sparse matrix, when the
+       * mesh allows it (no hanging nodes, classic shape functions).
+       */
+      virtual bool
+      accepts_cellwise_full_mass_matrix() const
+      {
+        return false;
+      }
+
       /** @brief Called once per step after the masses are extrapolated. */
       virtual void
       setup()
