@@ -146,7 +146,7 @@ namespace fmpm
     /** classic, ugimp, cpgimp or cpdi (ShapeFunction::Type) */
     std::string shape_function = "classic";
     /** first order, taylor, subcycle or cayley */
-    std::string  deformation_gradient_update = "first order";
+    std::string  deformation_gradient_update = "cayley";
     unsigned int taylor_terms                = 3;
     double       subcycle_strain_increment   = 0.01;
     /** α_g and α_p of seed 003 Eq. 1.17. Units: 1/s. */
