@@ -405,6 +405,14 @@ namespace fmpm
                             Patterns::List(Patterns::Double(), 0, dim, ","),
                             "Upper corner of the box region at t = 0. "
                             "Units: m.");
+          prm.declare_entry(
+            "Region",
+            "",
+            Patterns::Anything(),
+            "Or the wall as the nodes where this FunctionParser "
+            "expression in x, y, z, t is positive (e.g. "
+            "'0.2 + 0.1*t - x' for a plane moving along x); "
+            "re-evaluated every step. Units: m.");
           prm.declare_entry("Direction",
                             join(wall.direction, dim),
                             point_pattern(dim),
@@ -868,15 +876,20 @@ namespace fmpm
           wall.boundary_ids.push_back(static_cast<types::boundary_id>(id));
         wall.box_lower = get_doubles(prm, "Box lower corner");
         wall.box_upper = get_doubles(prm, "Box upper corner");
+        wall.region    = prm.get("Region");
         wall.direction = get_doubles(prm, "Direction");
         wall.velocity  = prm.get("Velocity");
         wall.constants = prm.get("Function constants");
         prm.leave_subsection();
         const bool has_box = !wall.box_lower.empty() || !wall.box_upper.empty();
-        AssertThrow(wall.boundary_ids.empty() != !has_box,
+        const unsigned int n_kinds = (wall.boundary_ids.empty() ? 0 : 1) +
+                                     (has_box ? 1 : 0) +
+                                     (wall.region.empty() ? 0 : 1);
+        AssertThrow(n_kinds == 1,
                     ExcMessage(where + ": set either 'Boundary ids' or both "
                                        "'Box lower corner' and 'Box upper "
-                                       "corner', not both and not neither."));
+                                       "corner' or 'Region', exactly one of "
+                                       "them."));
         if (has_box)
           {
             AssertThrow(wall.box_lower.size() == dim &&

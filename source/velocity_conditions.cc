@@ -99,6 +99,36 @@ namespace fmpm
                                    error_message(e)));
           }
         wall_velocity.push_back(std::move(function));
+
+        std::unique_ptr<FunctionParser<dim>> region;
+        if (!walls[w].region.empty())
+          {
+            region = std::make_unique<FunctionParser<dim>>(1);
+            try
+              {
+                region->initialize(
+                  FunctionParser<dim>::default_variable_names() + ",t",
+                  walls[w].region,
+                  parse_function_constants(walls[w].constants,
+                                           "Boundary conditions/" +
+                                             numbered_subsection("Moving wall",
+                                                                 w) +
+                                             "/Function constants"),
+                  true);
+                region->value(Point<dim>());
+              }
+            catch (const std::exception &e)
+              {
+                AssertThrow(false,
+                            ExcMessage("Boundary conditions/" +
+                                       numbered_subsection("Moving wall", w) +
+                                       "/Region = <" + walls[w].region +
+                                       "> is not a valid expression in x, y, "
+                                       "z, t: " +
+                                       error_message(e)));
+              }
+          }
+        wall_region.push_back(std::move(region));
       }
   }
 
@@ -182,7 +212,7 @@ namespace fmpm
                                          const Point<dim>  &x) const
   {
     const auto &wall = walls[w];
-    if (!wall.boundary_ids.empty())
+    if (!wall.boundary_ids.empty() || !wall.region.empty())
       return false;
     for (unsigned int d = 0; d < dim; ++d)
       {
@@ -360,8 +390,11 @@ namespace fmpm
         if (walls[w].boundary_ids.empty())
           {
             const unsigned int source = label_of("wall" + std::to_string(w));
+            if (wall_region[w])
+              wall_region[w]->set_time(current_time);
             for (unsigned int i = 0; i < n_owned; ++i)
-              if (is_inside_box(w, node_position[i]))
+              if (wall_region[w] ? wall_region[w]->value(node_position[i]) > 0 :
+                                   is_inside_box(w, node_position[i]))
                 add_node_condition(
                   per_node,
                   NodeCondition{i, direction, source, static_cast<int>(w)});

@@ -83,6 +83,8 @@ namespace fmpm
     std::vector<types::boundary_id> boundary_ids;
     /** Box region (empty when the wall is given by boundary ids). */
     std::vector<double> box_lower, box_upper;
+    /** Or a region φ(x, t) > 0 (FunctionParser in x, y, z, t). */
+    std::string region;
     /** Unit direction n̂ of the prescribed velocity component. */
     std::vector<double> direction{1, 0, 0};
     /** v(t) (FunctionParser in t). Units: m/s. */

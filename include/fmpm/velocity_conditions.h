@@ -91,6 +91,13 @@ namespace fmpm
     setup_nodes(const DoFHandler<dim>             &dof_handler,
                 const Utilities::MPI::Partitioner &partitioner);
 
+    /** @brief The time at which setup_nodes() evaluates region walls. */
+    void
+    set_time(const double t)
+    {
+      current_time = t;
+    }
+
     /** @brief Move the box walls over [t, t + Δt] (midpoint velocity). */
     void
     advance_walls(const double t, const double dt);
@@ -210,6 +217,9 @@ namespace fmpm
     std::vector<types::boundary_id>   fixed, roller;
     std::vector<MovingWallParameters> walls;
     std::vector<std::unique_ptr<FunctionParser<1>>> wall_velocity;
+    /** φ(x, t) of region walls (nullptr for the others). */
+    std::vector<std::unique_ptr<FunctionParser<dim>>> wall_region;
+    double                                            current_time = 0;
     /** Displacement s(t) of each wall along its direction. */
     std::vector<double>        wall_displacement;
     std::vector<std::string>   source_labels;

@@ -305,8 +305,11 @@ namespace fmpm
       traction->set_time(time + 0.5 * dt);
     field_computed.fill(false);
     if (velocity_conditions.has_moving_boxes())
-      velocity_conditions.setup_nodes(dof_handler,
-                                      *lumped_mass.get_partitioner());
+      {
+        velocity_conditions.set_time(time);
+        velocity_conditions.setup_nodes(dof_handler,
+                                        *lumped_mass.get_partitioner());
+      }
     for (auto &impulse : step_impulse)
       impulse = Tensor<1, dim>();
     if (shape_function != ShapeFunction::Type::classic)

@@ -420,3 +420,41 @@ end
   EXPECT_GE(min_x, 0.7 - 1e-12);
   EXPECT_GT(simulator->get_history().back().momentum[0], 0);
 }
+
+
+
+// A wall given as a region φ(x, t) > 0 that holds the same nodes as
+// boundary id 1 gives the piston the same history, reactions included.
+TEST(BoundaryConditions, RegionWallEqualsBoundaryIdWall)
+{
+  std::vector<std::vector<fmpm::HistoryRow<2>>> histories;
+  for (const std::string wall :
+       {"",
+        "subsection Boundary conditions\n subsection Moving wall 0\n  "
+        "set Boundary ids =\n  set Region = x - 0.999\n end\nend\n"})
+    {
+      ParameterHandler prm;
+      auto             simulator =
+        make_simulator<2>({parameter_dir + "piston.prm"},
+                          quiet("output-piston-region") +
+                            method_overrides("lumped", "lumped") +
+                            "subsection Time\n set End time = 0.05\nend\n" +
+                            wall,
+                          prm);
+      simulator->run();
+      histories.push_back(simulator->get_history());
+    }
+  ASSERT_EQ(histories[0].size(), histories[1].size());
+  // Labels: "1", "0", "2", "3" with ids; "0", "2", "3", "wall0" with the
+  // region.
+  for (unsigned int i = 0; i < histories[0].size(); ++i)
+    {
+      EXPECT_NEAR(histories[0][i].strain_energy,
+                  histories[1][i].strain_energy,
+                  1e-12 + 1e-10 * histories[0][i].strain_energy);
+      EXPECT_NEAR(histories[0][i].reactions[0][0],
+                  histories[1][i].reactions[3][0],
+                  1e-10 + 1e-10 * std::abs(histories[0][i].reactions[0][0]));
+    }
+  EXPECT_GT(histories[0].back().strain_energy, 0);
+}
