@@ -588,6 +588,13 @@ namespace fmpm
                       Patterns::Anything(),
                       "Constants for the 'Acceleration' expressions, e.g. "
                       "'A=0.01, c=2'. Units: as used.");
+    prm.declare_entry("Acceleration at initial position",
+                      "false",
+                      Patterns::Bool(),
+                      "Evaluate 'Acceleration' at each point's initial "
+                      "position X instead of its current position x (the "
+                      "body force of a manufactured solution is a function "
+                      "of X; exact at any deformation). Units: none.");
     prm.enter_subsection("Rotating frame");
     prm.declare_entry("Enable",
                       "false",
@@ -948,6 +955,8 @@ namespace fmpm
     gravity                     = get_doubles(prm, "Gravity");
     body_acceleration           = prm.get("Acceleration");
     body_acceleration_constants = prm.get("Function constants");
+    body_acceleration_at_initial_position =
+      prm.get_bool("Acceleration at initial position");
     prm.enter_subsection("Rotating frame");
     rotating_frame.enable           = prm.get_bool("Enable");
     rotating_frame.angular_velocity = prm.get("Angular velocity");

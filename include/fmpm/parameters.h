@@ -238,8 +238,10 @@ namespace fmpm
     std::vector<BodyParameters>     bodies;
     std::vector<double>             gravity{0, 0, 0};
     /** Extra body acceleration b(x, t) (FunctionParser), empty for none. */
-    std::string                 body_acceleration;
-    std::string                 body_acceleration_constants;
+    std::string body_acceleration;
+    std::string body_acceleration_constants;
+    /** Evaluate b at the point's initial position X instead of x. */
+    bool                        body_acceleration_at_initial_position = false;
     RotatingFrameParameters     rotating_frame;
     OutputParameters            output;
     FailureParameters           failure;

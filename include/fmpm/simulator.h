@@ -236,12 +236,14 @@ namespace fmpm
     particles_to_grid(const bool with_forces);
     void
     compute_forces();
-    /** Gravity, the scene's b(x, t) and the rotating frame's terms at a
-     * point at x moving with V. */
+    /** Gravity, the scene's b(·, t) at @p expression_point (x, or X for
+     * manufactured solutions) and the rotating frame's terms at a point at
+     * x moving with V. */
     Tensor<1, dim>
     body_acceleration_at(const Point<dim>     &x,
                          const Tensor<1, dim> &V,
-                         const Tensor<1, dim> &gravity) const;
+                         const Tensor<1, dim> &gravity,
+                         const Point<dim>     &expression_point) const;
     /** Body acceleration plus traction force / mass of a point (and the
      * tractions' power for the energy balance). */
     Tensor<1, dim>

@@ -114,12 +114,13 @@ namespace fmpm
   Tensor<1, dim>
   Simulator<dim>::body_acceleration_at(const Point<dim>     &x,
                                        const Tensor<1, dim> &V,
-                                       const Tensor<1, dim> &gravity) const
+                                       const Tensor<1, dim> &gravity,
+                                       const Point<dim> &expression_point) const
   {
     Tensor<1, dim> b = gravity;
     if (body_acceleration)
       for (unsigned int d = 0; d < dim; ++d)
-        b[d] += body_acceleration->value(x, d);
+        b[d] += body_acceleration->value(expression_point, d);
     if (angular_velocity)
       {
         // Rotating frame (seed 001, computeParticleBodyForce):
@@ -183,7 +184,14 @@ namespace fmpm
   {
     using Index            = PropertyIndex<dim>;
     const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
-    Tensor<1, dim>       b = body_acceleration_at(x, V, gravity);
+    Tensor<1, dim>       b =
+      parameters.body_acceleration_at_initial_position ?
+              body_acceleration_at(x,
+                             V,
+                             gravity,
+                             Point<dim>(
+                               get_vector<dim>(p, Index::initial_position))) :
+              body_acceleration_at(x, V, gravity, x);
     if (!traction_functions.empty())
       {
         // The traction force as an acceleration, F_p / M_p (Eq. 2.10).
