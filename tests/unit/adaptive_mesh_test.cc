@@ -18,39 +18,16 @@
 #include <fstream>
 #include <memory>
 
+#include "scene_helpers.h"
 #include <gtest/gtest.h>
 
 namespace
 {
   using namespace dealii;
 
-  const std::string parameter_dir = FMPM_SOURCE_DIR "/parameters/";
-
-  /** A Simulator from parameter files (none: only @p overrides). */
-  template <int dim>
-  std::unique_ptr<fmpm::Simulator<dim>>
-  make_simulator(const std::vector<std::string> &files,
-                 const std::string              &overrides,
-                 ParameterHandler               &prm)
-  {
-    std::vector<std::pair<std::string, std::string>> sources;
-    if (!files.empty())
-      sources = fmpm::load_scene_sources(files);
-    sources.emplace_back("overrides", overrides);
-    fmpm::Parameters parameters;
-    fmpm::read_scene(sources, prm, parameters);
-    return std::make_unique<fmpm::Simulator<dim>>(parameters,
-                                                  prm,
-                                                  MPI_COMM_WORLD);
-  }
-
-  std::string
-  output_overrides(const std::string &directory)
-  {
-    return "subsection Output\n set Directory = " + directory +
-           "\n set Write vtu = false\nend\nsubsection Timer\n set Type = "
-           "none\nend\n";
-  }
+  using fmpm_tests::make_simulator;
+  using fmpm_tests::output_overrides;
+  using fmpm_tests::parameter_dir;
 
   /** Read access to the Simulator's grid state. */
   template <int dim>

@@ -11,38 +11,20 @@
 #include <cmath>
 #include <map>
 
+#include "scene_helpers.h"
 #include <gtest/gtest.h>
 
 namespace
 {
   using namespace dealii;
 
-  const std::string parameter_dir = FMPM_SOURCE_DIR "/parameters/";
+  using fmpm_tests::make_simulator;
+  using fmpm_tests::parameter_dir;
 
   std::string
   quiet(const std::string &directory)
   {
-    return "subsection Output\n set Directory = " + directory +
-           "\n set Write vtu = false\nend\nsubsection Timer\n set Type = "
-           "none\nend\n";
-  }
-
-  template <int dim>
-  std::unique_ptr<fmpm::Simulator<dim>>
-  make_simulator(const std::vector<std::string> &files,
-                 const std::string              &overrides,
-                 ParameterHandler               &prm)
-  {
-    // No files: the overrides are the whole scene (not the default scene).
-    std::vector<std::pair<std::string, std::string>> sources;
-    if (!files.empty())
-      sources = fmpm::load_scene_sources(files);
-    sources.emplace_back("scene", overrides);
-    fmpm::Parameters parameters;
-    fmpm::read_scene(sources, prm, parameters);
-    return std::make_unique<fmpm::Simulator<dim>>(parameters,
-                                                  prm,
-                                                  MPI_COMM_WORLD);
+    return fmpm_tests::output_overrides(directory);
   }
 
   std::string
