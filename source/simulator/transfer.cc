@@ -57,6 +57,26 @@ namespace fmpm
           vector(entry.first) += entry.second * value;
     }
 
+    /**
+     * The force component @p a one point gives its node (Eq. 2.11):
+     * M S b_a − V Σ_b σ_ab G_b, with @p MS = M S and the point's body
+     * acceleration (tractions included) @p b.
+     */
+    template <int dim, typename Stress>
+    inline double
+    nodal_force(const unsigned int    a,
+                const double          MS,
+                const Tensor<1, dim> &b,
+                const double          V,
+                const Stress         &sigma,
+                const Tensor<1, dim> &G)
+    {
+      double f = MS * b[a];
+      for (unsigned int c = 0; c < dim; ++c)
+        f -= V * sigma[a][c] * G[c];
+      return f;
+    }
+
     /** A 3x3 tensor with the dim x dim block @p t (plane strain in 2D). */
     template <int dim>
     inline Tensor<2, 3>
@@ -354,12 +374,11 @@ namespace fmpm
                                    constraints);
                 if (with_forces)
                   for (unsigned int a = 0; a < dim; ++a)
-                    {
-                      double f = MS * body_force[a];
-                      for (unsigned int b = 0; b < dim; ++b)
-                        f -= V * sigma[a][b] * node.G[b];
-                      add_to_grid<dim>(node, f, force.block(a), constraints);
-                    }
+                    add_to_grid<dim>(
+                      node,
+                      nodal_force<dim>(a, MS, body_force, V, sigma, node.G),
+                      force.block(a),
+                      constraints);
               }
             if (assemble_full ||
                 use_cellwise_full_mass) // m̃ = SᵀMS (1.9) over the support
@@ -443,12 +462,8 @@ namespace fmpm
                 }
                 for (unsigned int i = 0; i < n; ++i)
                   for (unsigned int a = 0; a < dim; ++a)
-                    {
-                      double f = M * S[i] * body_force[a];
-                      for (unsigned int b = 0; b < dim; ++b)
-                        f -= V * sigma[a][b] * G[i][b];
-                      cell_force[a][i] += f;
-                    }
+                    cell_force[a][i] +=
+                      nodal_force<dim>(a, M * S[i], body_force, V, sigma, G[i]);
               }
           }
 
@@ -524,12 +539,12 @@ namespace fmpm
               {
                 const auto &node = support_nodes[k];
                 for (unsigned int a = 0; a < dim; ++a)
-                  {
-                    double f = M * node.S * body_force[a];
-                    for (unsigned int b = 0; b < dim; ++b)
-                      f -= V * sigma[a][b] * node.G[b];
-                    add_to_grid<dim>(node, f, force.block(a), constraints);
-                  }
+                  add_to_grid<dim>(
+                    node,
+                    nodal_force<dim>(
+                      a, M * node.S, body_force, V, sigma, node.G),
+                    force.block(a),
+                    constraints);
               }
             ++point;
           }
@@ -559,12 +574,8 @@ namespace fmpm
               external_acceleration(p, particle.get_location(), gravity);
             for (unsigned int i = 0; i < n; ++i)
               for (unsigned int a = 0; a < dim; ++a)
-                {
-                  double f = M * S[i] * body_force[a];
-                  for (unsigned int b = 0; b < dim; ++b)
-                    f -= V * sigma[a][b] * G[i][b];
-                  cell_force[a][i] += f;
-                }
+                cell_force[a][i] +=
+                  nodal_force<dim>(a, M * S[i], body_force, V, sigma, G[i]);
           }
         for (unsigned int d = 0; d < dim; ++d)
           add_to_grid<dim>(data, cell_force[d], force.block(d), constraints);
