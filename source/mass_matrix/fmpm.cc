@@ -4,7 +4,6 @@
 #include <fmpm/mass_matrix/fmpm.h>
 #include <fmpm/simulator.h>
 
-#include <type_traits>
 
 namespace fmpm
 {
@@ -31,27 +30,24 @@ namespace fmpm
                 known_values ? (*known_values)[b].local_element(i) : 0.;
       if (k == 1)
         return;
-      GridScalar         m_tilde_v(m.get_partitioner());
+      GridVectorField    m_tilde_v(v);
       const unsigned int n_owned = m.locally_owned_size();
-      for (unsigned int b = 0; b < p.n_blocks(); ++b)
-        for (unsigned int j = 1; j < k; ++j)
-          {
-            // v_{j+1} = v_j + m⁻¹ (p − m̃ v_j)
-            if constexpr (std::is_same_v<MatrixType, CellwiseMatrix>)
-              v.block(b).update_ghost_values();
-            m_tilde.vmult(m_tilde_v, v.block(b));
+      for (unsigned int j = 1; j < k; ++j)
+        {
+          // v_{j+1} = v_j + m⁻¹ (p − m̃ v_j), all components in one product
+          apply_full_mass(m_tilde, m_tilde_v, v);
+          for (unsigned int b = 0; b < p.n_blocks(); ++b)
             for (unsigned int i = 0; i < n_owned; ++i)
               {
                 const double m_i = m.local_element(i);
                 if (m_i > mass_floor &&
                     !(zero_mask && (*zero_mask)[b].local_element(i) != 0))
                   v.block(b).local_element(i) +=
-                    (p.block(b).local_element(i) - m_tilde_v.local_element(i)) /
+                    (p.block(b).local_element(i) -
+                     m_tilde_v.block(b).local_element(i)) /
                     m_i;
               }
-          }
-      if constexpr (std::is_same_v<MatrixType, CellwiseMatrix>)
-        v.zero_out_ghost_values();
+        }
     }
 
     template void
@@ -139,17 +135,11 @@ namespace fmpm
           Interface<dim>::vmult(v, p);
           return;
         }
-      const CellwiseMatrix *cellwise =
-        this->get_simulator().get_cellwise_full_mass_matrix();
-      for (unsigned int b = 0; b < v.n_blocks(); ++b)
-        if (cellwise)
-          {
-            GridScalar v_ghosted(v.block(b));
-            v_ghosted.update_ghost_values();
-            cellwise->vmult(p.block(b), v_ghosted);
-          }
-        else
-          this->get_full_mass_matrix().vmult(p.block(b), v.block(b));
+      if (const CellwiseMatrix *cellwise =
+            this->get_simulator().get_cellwise_full_mass_matrix())
+        apply_full_mass(*cellwise, p, v);
+      else
+        apply_full_mass(this->get_full_mass_matrix(), p, v);
     }
 
     FMPM_REGISTER_MASS_MATRIX(

@@ -4,11 +4,11 @@
 #include <fmpm/mass_matrix/full.h>
 #include <fmpm/simulator.h>
 
+#include <cstring>
+
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
-#include <deal.II/lac/solver_cg.h>
-#include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 
 namespace fmpm
@@ -17,76 +17,206 @@ namespace fmpm
   {
     namespace
     {
+      /** Two doubles as one SIMD value (GCC/Clang vector extension). */
+      typedef double Pair __attribute__((vector_size(16)));
+
+      inline Pair
+      load(const double *x)
+      {
+        Pair v;
+        std::memcpy(&v, x, sizeof(Pair));
+        return v;
+      }
+
+      inline void
+      store(double *x, const Pair v)
+      {
+        std::memcpy(x, &v, sizeof(Pair));
+      }
+
       /**
-       * The SPD operator of the solve, on free nodes F:
+       * The SPD operator of the correction solve on free nodes F:
        * (1 − δ) (K_FF + diag(c)) + δ m, where c = K 1_W lumps the couplings
        * to weak nodes W onto the diagonal (so the column sums stay m and
-       * momentum is conserved); on weak and known nodes it is m.
+       * momentum is conserved). It acts on fields that vanish on the fixed
+       * (known, weak, empty) nodes and returns zero there.
        */
+      template <typename MatrixType>
       struct BlendedMass
       {
-        const TrilinosWrappers::SparseMatrix &K;
-        const GridScalar                     &m;
-        const GridScalar                     &known;
-        const GridScalar                     &weak;
-        const GridScalar                     &weak_coupling;
-        double                                delta;
-        bool                                  has_fixed;
-        mutable GridScalar                    masked;
+        const MatrixType &K;
+        /** 1 − δ */
+        double K_factor;
+        /** Nodes i with e_i = (1 − δ) c_i + δ m_i != 0, and e_i. */
+        std::vector<std::pair<unsigned int, double>> diagonal_terms;
+        /** Per component, the fixed nodes that K may couple to free ones. */
+        std::vector<std::vector<unsigned int>> fixed_rows;
 
-        bool
-        is_fixed(const unsigned int i) const
-        {
-          return known.local_element(i) != 0 || weak.local_element(i) != 0;
-        }
-
+        /** dst = A src. */
         void
-        vmult(GridScalar &dst, const GridScalar &src) const
+        vmult(GridVectorField &dst, const GridVectorField &src) const
         {
-          const unsigned int n = m.locally_owned_size();
-          if (!has_fixed)
-            K.vmult(dst, src);
-          else
+          apply_full_mass(K, dst, src);
+          for (unsigned int b = 0; b < src.n_blocks(); ++b)
             {
-              masked.reinit(src, true);
-              for (unsigned int i = 0; i < n; ++i)
-                masked.local_element(i) =
-                  is_fixed(i) ? 0. : src.local_element(i);
-              K.vmult(dst, masked);
-            }
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              const double lumped = m.local_element(i) * src.local_element(i);
-              if (has_fixed && is_fixed(i))
-                dst.local_element(i) = lumped;
-              else
-                dst.local_element(i) =
-                  (1 - delta) *
-                    (dst.local_element(i) +
-                     weak_coupling.local_element(i) * src.local_element(i)) +
-                  delta * lumped;
+              if (K_factor != 1)
+                dst.block(b) *= K_factor;
+              double       *y = dst.block(b).begin();
+              const double *x = src.block(b).begin();
+              for (const auto &[i, e] : diagonal_terms)
+                y[i] += e * x[i];
+              for (const unsigned int i : fixed_rows[b])
+                y[i] = 0;
             }
         }
       };
 
-      /** The lumped inverse m⁻¹ (zero on empty nodes) as preconditioner. */
-      struct LumpedInverse
+      /**
+       * Preconditioned CG (Jacobi) on all components at once, each with its
+       * own step lengths α_b, β_b (one Krylov space per component, as if
+       * solved one by one) but one matrix pass for all of them. The solve is
+       * bound by memory traffic and latency, so the vector work is fused
+       * into three passes per iteration, z = D⁻¹r is never stored, and the
+       * sums run in four interleaved parts, two doubles at a time. The
+       * inverse diagonal D⁻¹ is zero on fixed nodes, so directions,
+       * products and residuals vanish there. Starts from x = 0 with
+       * residual @p r; stops when |r| <= @p threshold. Returns the
+       * iterations, or throws on breakdown or no convergence.
+       */
+      template <typename MatrixType>
+      unsigned int
+      solve_cg(const BlendedMass<MatrixType> &A,
+               const GridVectorField         &inverse_diagonal,
+               GridVectorField               &x,
+               GridVectorField               &r,
+               GridVectorField               &direction,
+               GridVectorField               &q,
+               const double                   threshold,
+               const unsigned int             max_iterations)
       {
-        const GridScalar &m;
-        double            mass_floor;
+        const MPI_Comm comm =
+          x.block(0).get_partitioner()->get_mpi_communicator();
+        const unsigned int n_blocks = x.n_blocks();
+        const unsigned int n        = x.block(0).locally_owned_size();
+        const unsigned int n_pairs  = n / 2;
+        // A component whose residual falls below this stops moving.
+        const double component_threshold =
+          threshold / std::sqrt(static_cast<double>(n_blocks));
 
-        void
-        vmult(GridScalar &dst, const GridScalar &src) const
-        {
-          const unsigned int n = m.locally_owned_size();
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              const double m_i = m.local_element(i);
-              dst.local_element(i) =
-                m_i > mass_floor ? src.local_element(i) / m_i : 0.0;
-            }
-        }
-      };
+        // Per component: r·D⁻¹r, then r·r.
+        double local[2 * 3] = {}, global[2 * 3] = {};
+        x                   = 0;
+        for (unsigned int b = 0; b < n_blocks; ++b)
+          {
+            const double *d  = inverse_diagonal.block(b).begin();
+            const double *rb = r.block(b).begin();
+            double       *pb = direction.block(b).begin();
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                pb[i] = d[i] * rb[i];
+                local[b] += rb[i] * pb[i];
+                local[3 + b] += rb[i] * rb[i];
+              }
+          }
+        Utilities::MPI::sum(local, comm, global);
+        double r_dot_z[3], r_dot_r[3];
+        for (unsigned int b = 0; b < n_blocks; ++b)
+          {
+            r_dot_z[b] = global[b];
+            r_dot_r[b] = global[3 + b];
+          }
+
+        for (unsigned int iteration = 0;; ++iteration)
+          {
+            double residual_squared = 0;
+            bool   active[3];
+            for (unsigned int b = 0; b < n_blocks; ++b)
+              {
+                residual_squared += r_dot_r[b];
+                active[b] = std::sqrt(r_dot_r[b]) > component_threshold;
+              }
+            if (std::sqrt(residual_squared) <= threshold)
+              return iteration;
+            AssertThrow(iteration < max_iterations,
+                        ExcMessage("CG did not converge"));
+
+            // q = A p, α_b = (r·z)_b / (p·q)_b
+            A.vmult(q, direction);
+            double p_dot_q_local[3] = {}, p_dot_q[3] = {};
+            for (unsigned int b = 0; b < n_blocks; ++b)
+              {
+                const double *pb     = direction.block(b).begin();
+                const double *qb     = q.block(b).begin();
+                Pair          sum[2] = {};
+                for (unsigned int k = 0; k < n_pairs; ++k)
+                  sum[k % 2] += load(pb + 2 * k) * load(qb + 2 * k);
+                const Pair total = sum[0] + sum[1];
+                p_dot_q_local[b] = total[0] + total[1];
+                if (n % 2)
+                  p_dot_q_local[b] += pb[n - 1] * qb[n - 1];
+              }
+            Utilities::MPI::sum(p_dot_q_local, comm, p_dot_q);
+
+            // x += α p, r −= α q, and the new r·D⁻¹r, r·r
+            for (unsigned int b = 0; b < 2 * 3; ++b)
+              local[b] = 0;
+            for (unsigned int b = 0; b < n_blocks; ++b)
+              {
+                if (!active[b])
+                  continue;
+                AssertThrow(p_dot_q[b] > 0, ExcMessage("CG breakdown"));
+                const double  alpha = r_dot_z[b] / p_dot_q[b];
+                const double *d     = inverse_diagonal.block(b).begin();
+                const double *pb    = direction.block(b).begin();
+                const double *qb    = q.block(b).begin();
+                double       *xb    = x.block(b).begin();
+                double       *rb    = r.block(b).begin();
+                Pair          rz[2] = {}, rr[2] = {};
+                for (unsigned int k = 0; k < n_pairs; ++k)
+                  {
+                    const unsigned int i = 2 * k;
+                    store(xb + i, load(xb + i) + alpha * load(pb + i));
+                    const Pair r_i = load(rb + i) - alpha * load(qb + i);
+                    store(rb + i, r_i);
+                    rz[k % 2] += r_i * load(d + i) * r_i;
+                    rr[k % 2] += r_i * r_i;
+                  }
+                const Pair rz_total = rz[0] + rz[1];
+                const Pair rr_total = rr[0] + rr[1];
+                local[b]            = rz_total[0] + rz_total[1];
+                local[3 + b]        = rr_total[0] + rr_total[1];
+                if (n % 2)
+                  {
+                    xb[n - 1] += alpha * pb[n - 1];
+                    rb[n - 1] -= alpha * qb[n - 1];
+                    local[b] += rb[n - 1] * d[n - 1] * rb[n - 1];
+                    local[3 + b] += rb[n - 1] * rb[n - 1];
+                  }
+              }
+            Utilities::MPI::sum(local, comm, global);
+
+            // p = D⁻¹r + β p
+            for (unsigned int b = 0; b < n_blocks; ++b)
+              {
+                if (!active[b])
+                  continue;
+                const double beta = global[b] / r_dot_z[b];
+                r_dot_z[b]        = global[b];
+                r_dot_r[b]        = global[3 + b];
+                const double *d   = inverse_diagonal.block(b).begin();
+                const double *rb  = r.block(b).begin();
+                double       *pb  = direction.block(b).begin();
+                for (unsigned int k = 0; k < n_pairs; ++k)
+                  {
+                    const unsigned int i = 2 * k;
+                    store(pb + i,
+                          load(d + i) * load(rb + i) + beta * load(pb + i));
+                  }
+                if (n % 2)
+                  pb[n - 1] = d[n - 1] * rb[n - 1] + beta * pb[n - 1];
+              }
+          }
+      }
     } // namespace
 
 
@@ -139,78 +269,217 @@ namespace fmpm
 
 
 
+    template <typename MatrixType>
     FullMassSolve
-    solve_full_mass_system(const TrilinosWrappers::SparseMatrix &K,
-                           const GridScalar                     &m,
-                           const GridScalar                     &known,
-                           const GridScalar                     &weak,
-                           const GridScalar                     &p,
-                           GridScalar                           &v,
-                           const double                          tolerance,
-                           const unsigned int                    max_iterations,
-                           const double                          delta,
-                           const double                          mass_floor)
+    solve_full_mass_system(const MatrixType              &K,
+                           const GridScalar              &K_diagonal,
+                           const GridScalar              &m,
+                           const std::vector<GridScalar> *known_mask,
+                           const GridScalar              &weak,
+                           const GridVectorField         &p,
+                           GridVectorField               &v,
+                           const bool                     start_from_v,
+                           const FullMassSolveSettings   &settings,
+                           FullMassWorkspace             *workspace)
     {
-      const unsigned int  n = m.locally_owned_size();
-      const LumpedInverse preconditioner{m, mass_floor};
-      const bool          has_fixed =
-        Utilities::MPI::max(std::max(known.linfty_norm(), weak.linfty_norm()),
-                            m.get_partitioner()->get_mpi_communicator()) > 0;
-      // c = K 1_W: the couplings of each node to weak nodes.
+      FullMassWorkspace  local_workspace;
+      FullMassWorkspace &w = workspace ? *workspace : local_workspace;
+      w.reinit(p);
+      const MPI_Comm     comm  = m.get_partitioner()->get_mpi_communicator();
+      const unsigned int n     = m.locally_owned_size();
+      const double       delta = settings.lumped_fraction;
+      const double       floor = settings.mass_floor;
+      FullMassSolve      result;
+      v.zero_out_ghost_values();
+
+      // Fixed nodes (known, weak, empty) and two starts of the iteration:
+      // v on known nodes, m⁻¹p on weak ones, 0 on empty ones, and on free
+      // nodes m⁻¹p (lumped start) or the given v (warm start).
+      const unsigned int      n_blocks = p.n_blocks();
+      GridVectorField        &lumped_start     = w.lumped_start;
+      GridVectorField        &inverse_diagonal = w.inverse_diagonal;
+      BlendedMass<MatrixType> A{K, 1 - delta, {}, {}};
+      A.fixed_rows.resize(n_blocks);
+      const auto is_uncoupled = [&](const unsigned int i) {
+        return weak.local_element(i) != 0 || !(m.local_element(i) > floor);
+      };
+      for (unsigned int b = 0; b < n_blocks; ++b)
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const double m_i = m.local_element(i);
+            const bool   is_known =
+              known_mask && (*known_mask)[b].local_element(i) != 0;
+            const bool is_weak  = weak.local_element(i) != 0;
+            const bool is_empty = !(m_i > floor);
+            double    &v_i      = v.block(b).local_element(i);
+            if (is_empty)
+              v_i = 0;
+            else if (is_weak)
+              v_i = p.block(b).local_element(i) / m_i;
+            lumped_start.block(b).local_element(i) =
+              is_known || is_weak || is_empty ? v_i :
+                                                p.block(b).local_element(i) / m_i;
+            // 1 marks free nodes here; their inverse diagonal comes below.
+            inverse_diagonal.block(b).local_element(i) = 0;
+            if (is_known || is_weak || (is_empty && m_i != 0))
+              A.fixed_rows[b].push_back(i);
+            else if (!is_empty)
+              inverse_diagonal.block(b).local_element(i) = 1;
+          }
+
+      // c = K 1_W: the couplings of each node to weak nodes, and the
+      // diagonal terms e = (1 − δ) c + δ m of A.
       GridScalar weak_coupling(m);
       weak_coupling = 0;
-      if (weak.linfty_norm() > 0 ||
-          Utilities::MPI::max(weak.linfty_norm(),
-                              m.get_partitioner()->get_mpi_communicator()) > 0)
-        K.vmult(weak_coupling, weak);
-      const BlendedMass A{
-        K, m, known, weak, weak_coupling, delta, has_fixed, GridScalar()};
-      FullMassSolve result;
-
-      // Known values stay; every other node starts from the lumped solution.
-      GridScalar rhs(p), v_known(p);
+      if (Utilities::MPI::max(weak.linfty_norm(), comm) > 0)
+        {
+          GridVectorField ones(p), coupling(p);
+          for (unsigned int b = 0; b < n_blocks; ++b)
+            ones.block(b) = weak;
+          apply_full_mass(K, coupling, ones);
+          weak_coupling = coupling.block(0);
+        }
       for (unsigned int i = 0; i < n; ++i)
         {
-          const bool   is_known    = known.local_element(i) != 0;
-          const double m_i         = m.local_element(i);
-          v_known.local_element(i) = is_known ? v.local_element(i) : 0.;
-          if (!is_known)
-            v.local_element(i) =
-              m_i > mass_floor ? p.local_element(i) / m_i : 0.;
+          const double e = (1 - delta) * weak_coupling.local_element(i) +
+                           delta * m.local_element(i);
+          if (e != 0)
+            A.diagonal_terms.emplace_back(i, e);
         }
-      if (has_fixed)
-        {
-          // Free rows: move (1 − δ) K_FK v_K to the right; known rows read
-          // m_K v_K = m_K v_K; weak rows m_W v_W = p_W.
-          GridScalar coupling(p);
-          K.vmult(coupling, v_known);
+      for (unsigned int b = 0; b < n_blocks; ++b)
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            double      &inverse = inverse_diagonal.block(b).local_element(i);
+            const double diagonal =
+              (1 - delta) *
+                (K_diagonal.local_element(i) + weak_coupling.local_element(i)) +
+              delta * m.local_element(i);
+            inverse = inverse != 0 && diagonal > 0 ? 1. / diagonal : 0.;
+          }
+
+      // r0 = p − A x0 on free rows: the known values of x0 enter through
+      // (1 − δ) K_FK v_K, weak and empty nodes not at all.
+      const auto initial_residual = [&](const GridVectorField &x0,
+                                        GridVectorField       &r0) {
+        GridVectorField &x0_coupled = w.coupled_start;
+        x0_coupled                  = x0;
+        for (unsigned int b = 0; b < n_blocks; ++b)
           for (unsigned int i = 0; i < n; ++i)
-            if (known.local_element(i) != 0)
-              rhs.local_element(i) =
-                m.local_element(i) * v_known.local_element(i);
-            else if (weak.local_element(i) == 0)
-              rhs.local_element(i) -= (1 - delta) * coupling.local_element(i);
+            if (is_uncoupled(i))
+              x0_coupled.block(b).local_element(i) = 0;
+        apply_full_mass(K, r0, x0_coupled);
+        for (unsigned int b = 0; b < n_blocks; ++b)
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              const double x_i = x0.block(b).local_element(i);
+              double      &r_i = r0.block(b).local_element(i);
+              r_i = inverse_diagonal.block(b).local_element(i) == 0 ?
+                      0. :
+                      p.block(b).local_element(i) -
+                        (1 - delta) *
+                          (r_i + weak_coupling.local_element(i) * x_i) -
+                        delta * m.local_element(i) * x_i;
+            }
+      };
+      // Start from v only where it is the better start (it is not, e.g.,
+      // in the first step or after the mesh changed).
+      GridVectorField &residual = w.residual, &correction = w.correction;
+      initial_residual(lumped_start, residual);
+      if (start_from_v)
+        {
+          initial_residual(v, correction);
+          if (correction.l2_norm() < residual.l2_norm())
+            residual.swap(correction);
+          else
+            v = lumped_start;
         }
-      const double norm = rhs.l2_norm();
+      else
+        v = lumped_start;
+      correction = 0;
+
+      // The residual that counts as converged: relative to |p|, or to a
+      // larger scale the caller gives (accelerations: momenta over Δt).
+      const double norm = std::max(p.l2_norm(), settings.residual_scale);
       if (norm == 0)
         return result;
-      SolverControl control(max_iterations, tolerance * norm, false, false);
-      SolverCG<GridScalar> cg(control);
+
       try
         {
-          cg.solve(A, v, rhs, preconditioner);
+          result.iterations = solve_cg(A,
+                                       inverse_diagonal,
+                                       correction,
+                                       residual,
+                                       w.direction,
+                                       w.product,
+                                       settings.tolerance * norm,
+                                       settings.max_iterations);
+          v += correction;
         }
       catch (const std::exception &)
         {
-          result.converged = false;
-          // Breakdown or stagnation: lumped velocities for this field.
-          preconditioner.vmult(v, p);
-          for (unsigned int i = 0; i < n; ++i)
-            if (known.local_element(i) != 0)
-              v.local_element(i) = v_known.local_element(i);
+          result.converged  = false;
+          result.iterations = settings.max_iterations;
+          // Breakdown or stagnation: lumped velocities on the unknown nodes.
+          for (unsigned int b = 0; b < p.n_blocks(); ++b)
+            for (unsigned int i = 0; i < n; ++i)
+              if (!(known_mask && (*known_mask)[b].local_element(i) != 0))
+                {
+                  const double m_i = m.local_element(i);
+                  v.block(b).local_element(i) =
+                    m_i > floor ? p.block(b).local_element(i) / m_i : 0.;
+                }
         }
-      result.iterations = control.last_step();
       return result;
+    }
+
+    template FullMassSolve
+    solve_full_mass_system(const TrilinosWrappers::SparseMatrix &,
+                           const GridScalar &,
+                           const GridScalar &,
+                           const std::vector<GridScalar> *,
+                           const GridScalar &,
+                           const GridVectorField &,
+                           GridVectorField &,
+                           const bool,
+                           const FullMassSolveSettings &,
+                           FullMassWorkspace *);
+    template FullMassSolve
+    solve_full_mass_system(const CellwiseMatrix &,
+                           const GridScalar &,
+                           const GridScalar &,
+                           const std::vector<GridScalar> *,
+                           const GridScalar &,
+                           const GridVectorField &,
+                           GridVectorField &,
+                           const bool,
+                           const FullMassSolveSettings &,
+                           FullMassWorkspace *);
+
+
+
+    void
+    FullMassWorkspace::reinit(const GridVectorField &like)
+    {
+      for (GridVectorField *field : {&lumped_start,
+                                     &inverse_diagonal,
+                                     &residual,
+                                     &correction,
+                                     &direction,
+                                     &product,
+                                     &coupled_start})
+        if (field->n_blocks() != like.n_blocks() ||
+            field->block(0).get_partitioner() !=
+              like.block(0).get_partitioner())
+          field->reinit(like, true);
+    }
+
+
+
+    template <int dim>
+    const CellwiseMatrix *
+    Full<dim>::cellwise_matrix() const
+    {
+      return this->get_simulator().get_cellwise_full_mass_matrix();
     }
 
 
@@ -219,37 +488,70 @@ namespace fmpm
     void
     Full<dim>::solve(const GridVectorField &p, GridVectorField &v) const
     {
-      const GridScalar  &m         = this->get_lumped_mass();
-      const double       floor     = this->get_simulator().mass_floor();
-      const auto        &zero_mask = this->get_known_velocity_mask();
-      const auto        &values    = this->get_known_velocity_values();
-      const unsigned int n         = m.locally_owned_size();
+      solve_system(p, v, false, 0);
+    }
+
+
+
+    template <int dim>
+    void
+    Full<dim>::solve_from_guess(const GridVectorField &p,
+                                GridVectorField       &v,
+                                const double           residual_scale) const
+    {
+      solve_system(p, v, true, residual_scale);
+    }
+
+
+
+    template <int dim>
+    void
+    Full<dim>::solve_system(const GridVectorField &p,
+                            GridVectorField       &v,
+                            const bool             start_from_v,
+                            const double           residual_scale) const
+    {
+      const auto        &mask   = this->get_known_velocity_mask();
+      const auto        &values = this->get_known_velocity_values();
+      const unsigned int n      = this->get_lumped_mass().locally_owned_size();
+      // Known nodes: components held by a grid condition.
       for (unsigned int b = 0; b < p.n_blocks(); ++b)
-        {
-          // Known nodes: components held at zero by a grid condition.
-          known.reinit(m.get_partitioner());
-          for (unsigned int i = 0; i < n; ++i)
-            if (zero_mask[b].local_element(i) != 0)
-              {
-                known.local_element(i)      = 1;
-                v.block(b).local_element(i) = values[b].local_element(i);
-              }
-          const FullMassSolve result = solve_full_mass_system(matrix(),
-                                                              m,
-                                                              known,
-                                                              weak,
-                                                              p.block(b),
-                                                              v.block(b),
-                                                              tolerance,
-                                                              max_iterations,
-                                                              lumped_fraction,
-                                                              floor);
-          ++n_solves;
-          total_iterations += result.iterations;
-          max_iterations_used =
-            std::max(max_iterations_used, result.iterations);
-          n_lumped_fallbacks += result.converged ? 0 : 1;
-        }
+        for (unsigned int i = 0; i < n; ++i)
+          if (mask[b].local_element(i) != 0)
+            v.block(b).local_element(i) = values[b].local_element(i);
+      FullMassSolveSettings settings;
+      settings.tolerance       = tolerance;
+      settings.residual_scale  = residual_scale;
+      settings.max_iterations  = max_iterations;
+      settings.lumped_fraction = lumped_fraction;
+      settings.mass_floor      = this->get_simulator().mass_floor();
+      const GridScalar   &m    = this->get_lumped_mass();
+      const FullMassSolve result =
+        cellwise_matrix() ?
+          solve_full_mass_system(*cellwise_matrix(),
+                                 diagonal,
+                                 m,
+                                 &mask,
+                                 weak,
+                                 p,
+                                 v,
+                                 start_from_v,
+                                 settings,
+                                 &workspace) :
+          solve_full_mass_system(matrix(),
+                                 diagonal,
+                                 m,
+                                 &mask,
+                                 weak,
+                                 p,
+                                 v,
+                                 start_from_v,
+                                 settings,
+                                 &workspace);
+      ++n_solves;
+      total_iterations += result.iterations;
+      max_iterations_used = std::max(max_iterations_used, result.iterations);
+      n_lumped_fallbacks += result.converged ? 0 : 1;
     }
 
 
@@ -259,22 +561,30 @@ namespace fmpm
     Full<dim>::setup()
     {
       const GridScalar &m = this->get_lumped_mass();
-      if (weak.size() != m.size() ||
-          !weak.get_partitioner()->is_compatible(*m.get_partitioner()))
-        weak.reinit(m.get_partitioner());
+      for (GridScalar *vector : {&weak, &diagonal})
+        if (vector->size() != m.size() ||
+            !vector->get_partitioner()->is_compatible(*m.get_partitioner()))
+          vector->reinit(m.get_partitioner());
+      if (const CellwiseMatrix *cellwise = cellwise_matrix())
+        cellwise->diagonal(diagonal);
+      else
+        {
+          const auto &range = m.get_partitioner()->locally_owned_range();
+          for (unsigned int i = 0; i < m.locally_owned_size(); ++i)
+            diagonal.local_element(i) =
+              matrix().diag_element(range.nth_index_in_set(i));
+        }
       weak = 0;
       if (weak_node_threshold <= 0)
         return;
       const double       floor  = this->get_simulator().mass_floor();
-      const auto        &range  = m.get_partitioner()->locally_owned_range();
       unsigned long long n_weak = 0;
       for (unsigned int i = 0; i < m.locally_owned_size(); ++i)
         {
           // A node barely touched by points: m̃ᵢᵢ/mᵢ = Σ M S² / Σ M S < τ.
-          const double m_i = m.local_element(i);
-          const bool   is_weak =
-            m_i > floor && matrix().diag_element(range.nth_index_in_set(i)) <
-                             weak_node_threshold * m_i;
+          const double m_i     = m.local_element(i);
+          const bool   is_weak = m_i > floor && diagonal.local_element(i) <
+                                                  weak_node_threshold * m_i;
           weak.local_element(i) = is_weak ? 1. : 0.;
           n_weak += is_weak;
         }
@@ -384,7 +694,7 @@ namespace fmpm
       Full,
       "full",
       "The exact particle full mass matrix m~ = S^T M S of seed 000 Eq. 1.9, "
-      "solved with CG (lumped-inverse preconditioner) to 'Tolerance'; CG "
+      "solved with CG (Jacobi preconditioner) to 'Tolerance'; CG "
       "iteration counts go to summary.json.")
     FMPM_REGISTER_MASS_MATRIX(
       Consistent,

@@ -26,6 +26,27 @@ namespace fmpm
 
 
 
+    void
+    apply_full_mass(const TrilinosWrappers::SparseMatrix &full_mass,
+                    GridVectorField                      &dst,
+                    const GridVectorField                &src)
+    {
+      for (unsigned int b = 0; b < src.n_blocks(); ++b)
+        full_mass.vmult(dst.block(b), src.block(b));
+    }
+
+
+
+    void
+    apply_full_mass(const CellwiseMatrix  &full_mass,
+                    GridVectorField       &dst,
+                    const GridVectorField &src)
+    {
+      full_mass.vmult(dst, src);
+    }
+
+
+
     template <int dim>
     void
     Lumped<dim>::solve(const GridVectorField &p, GridVectorField &v) const

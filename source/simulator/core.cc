@@ -199,8 +199,29 @@ namespace fmpm
           double g = 0;
           for (unsigned int d = 0; d < dim; ++d)
             g += parameters.gravity[d] * parameters.gravity[d];
-          const double diameter = GridTools::diameter(triangulation);
-          mesh_diameter         = diameter;
+          // The diagonal of the mesh's bounding box (GridTools::diameter
+          // compares all pairs of boundary vertices: seconds on big meshes).
+          Point<dim> lower, upper;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              lower[d] = std::numeric_limits<double>::max();
+              upper[d] = -std::numeric_limits<double>::max();
+            }
+          const auto &used = triangulation.get_used_vertices();
+          for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+            if (used[v])
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  lower[d] = std::min(lower[d], triangulation.get_vertices()[v][d]);
+                  upper[d] = std::max(upper[d], triangulation.get_vertices()[v][d]);
+                }
+          double diameter = 0;
+          for (unsigned int d = 0; d < dim; ++d)
+            diameter += Utilities::fixed_power<2>(
+              Utilities::MPI::max(upper[d], mpi_communicator) +
+              Utilities::MPI::max(-lower[d], mpi_communicator));
+          diameter      = std::sqrt(diameter);
+          mesh_diameter = diameter;
           initial_energy_scale =
             std::max({statistics.kinetic_energy + statistics.strain_energy,
                       statistics.mass * std::sqrt(g) * diameter,
@@ -349,6 +370,7 @@ namespace fmpm
         velocity_conditions.get_method() ==
           VelocityConditions<dim>::Method::velocity &&
         !velocity_conditions.labels().empty();
+      timer.stop(); // compute_field() times itself
       for (unsigned int f = 0; f < n_grid_fields; ++f)
         if (field_needed[f] || (velocity_method_reactions &&
                                 (f == updated_velocity || f == velocity)))
@@ -541,16 +563,20 @@ namespace fmpm
               }
           }
       }
+    // Iterative solves start from the field's value of the last step.
     switch (field)
       {
         case updated_velocity: // v⁺ = m̃ₖ⁻¹ p⁺
-          mass_matrix->solve(updated_momentum, target);
+          mass_matrix->solve_from_guess(updated_momentum, target, 0);
           break;
-        case acceleration: // m̃ₖ⁻¹ f
-          mass_matrix->solve(force, target);
+        case acceleration: // m̃ₖ⁻¹ f, as accurate in a Δt as v in p
+          mass_matrix->solve_from_guess(force,
+                                        target,
+                                        momentum.l2_norm() / time_step +
+                                          force.l2_norm());
           break;
         case velocity: // v = m̃ₖ⁻¹ p
-          mass_matrix->solve(momentum, target);
+          mass_matrix->solve_from_guess(momentum, target, 0);
           break;
         case lumped_velocity: // m⁻¹ p
           MassMatrix::apply_lumped_inverse(lumped_mass,

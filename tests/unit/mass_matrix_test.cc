@@ -113,6 +113,23 @@ namespace
       return v;
     }
 
+    /** m̃ as cell matrices: here one "cell" per point, M S Sᵀ. */
+    fmpm::CellwiseMatrix
+    cellwise_matrix() const
+    {
+      fmpm::CellwiseMatrix            matrix;
+      std::array<double, n_nodes * n_nodes> local;
+      matrix.clear(n_nodes);
+      for (unsigned int q = 0; q < S.size(); ++q)
+        {
+          for (unsigned int i = 0; i < n_nodes; ++i)
+            for (unsigned int j = 0; j < n_nodes; ++j)
+              local[i * n_nodes + j] = M[q] * S[q][i] * S[q][j];
+          matrix.add_cell(nodes[q].data(), local.data());
+        }
+      return matrix;
+    }
+
     /** S w: a grid field extrapolated to the points. */
     std::vector<Tensor<1, dim>>
     to_points(const fmpm::GridVectorField &w) const
@@ -249,33 +266,55 @@ TEST(MassMatrix, SeriesConvergesToExactSolve)
     }
   EXPECT_LT(previous, 0.1 * v_exact.l2_norm());
 
-  fmpm::GridScalar known(cloud.m);
-  known = 0;
-  for (unsigned int d = 0; d < 2; ++d)
-    {
-      fmpm::GridScalar v(cloud.m), residual(cloud.m);
-      v = 0;
-      // "known" is all zero here: nothing held, nothing weak.
-      const auto result =
-        fmpm::MassMatrix::solve_full_mass_system(cloud.m_tilde,
-                                                 cloud.m,
-                                                 known,
-                                                 known,
-                                                 cloud.p.block(d),
-                                                 v,
-                                                 1e-10,
-                                                 1000,
-                                                 0,
-                                                 0);
-      EXPECT_TRUE(result.converged);
-      EXPECT_GT(result.iterations, 1u);
-      cloud.m_tilde.vmult(residual, v);
-      residual -= cloud.p.block(d);
-      EXPECT_LE(residual.l2_norm(), 1e-10 * cloud.p.block(d).l2_norm());
-      residual = v;
-      residual -= v_exact.block(d);
-      EXPECT_LT(residual.l2_norm(), 1e-7 * v_exact.block(d).l2_norm());
-    }
+  // The exact solve, with m̃ assembled and as cell matrices, from the
+  // lumped start and from a warm start: m̃ v = p to the tolerance.
+  const fmpm::CellwiseMatrix cellwise = cloud.cellwise_matrix();
+  fmpm::GridScalar           diagonal(cloud.m), no_weak(cloud.m);
+  no_weak = 0;
+  for (unsigned int i = 0; i < diagonal.locally_owned_size(); ++i)
+    diagonal.local_element(i) = cloud.m_tilde.diag_element(i);
+  fmpm::MassMatrix::FullMassSolveSettings settings;
+  settings.tolerance = 1e-10;
+  for (const bool use_cellwise : {false, true})
+    for (const bool warm_start : {false, true})
+      {
+        fmpm::GridVectorField v = cloud.new_field();
+        if (warm_start) // v_exact, perturbed by 1 %
+          for (unsigned int d = 0; d < 2; ++d)
+            for (unsigned int i = 0; i < v.block(d).locally_owned_size(); ++i)
+              v.block(d).local_element(i) =
+                v_exact.block(d).local_element(i) * (1 + 0.01 * std::sin(i));
+        const auto result =
+          use_cellwise ?
+            fmpm::MassMatrix::solve_full_mass_system(cellwise,
+                                                     diagonal,
+                                                     cloud.m,
+                                                     nullptr,
+                                                     no_weak,
+                                                     cloud.p,
+                                                     v,
+                                                     warm_start,
+                                                     settings) :
+            fmpm::MassMatrix::solve_full_mass_system(cloud.m_tilde,
+                                                     diagonal,
+                                                     cloud.m,
+                                                     nullptr,
+                                                     no_weak,
+                                                     cloud.p,
+                                                     v,
+                                                     warm_start,
+                                                     settings);
+        SCOPED_TRACE(std::string(use_cellwise ? "cell-wise" : "assembled") +
+                     (warm_start ? ", warm start" : ", lumped start"));
+        EXPECT_TRUE(result.converged);
+        EXPECT_GT(result.iterations, 1u);
+        fmpm::GridVectorField residual = cloud.new_field();
+        for (unsigned int d = 0; d < 2; ++d)
+          cloud.m_tilde.vmult(residual.block(d), v.block(d));
+        residual -= cloud.p;
+        EXPECT_LE(residual.l2_norm(), 1e-10 * cloud.p.l2_norm());
+        EXPECT_LT(difference(v, v_exact), 1e-7 * v_exact.l2_norm());
+      }
 }
 
 
@@ -285,42 +324,53 @@ TEST(MassMatrix, SeriesConvergesToExactSolve)
 // zero.
 TEST(MassMatrix, HeldNodesStayAtTheirValues)
 {
-  Cloud<2>         cloud(3, 5);
-  fmpm::GridScalar known(cloud.m), v(cloud.m);
-  known = 0;
-  v     = 0;
-  for (unsigned int i = 0; i < cloud.m.size(); i += 7)
-    {
-      known.local_element(i) = 1;
-      v.local_element(i)     = 0.25;
-    }
-  fmpm::GridScalar no_weak(cloud.m);
+  Cloud<2>                      cloud(3, 5);
+  std::vector<fmpm::GridScalar> masks(2, cloud.m);
+  fmpm::GridVectorField         v = cloud.new_field();
+  fmpm::GridScalar              diagonal(cloud.m), no_weak(cloud.m);
   no_weak = 0;
-  fmpm::MassMatrix::solve_full_mass_system(cloud.m_tilde,
-                                           cloud.m,
-                                           known,
-                                           no_weak,
-                                           cloud.p.block(0),
-                                           v,
-                                           1e-12,
-                                           1000,
-                                           0,
-                                           0);
-  fmpm::GridScalar residual(cloud.m);
-  cloud.m_tilde.vmult(residual, v);
-  residual -= cloud.p.block(0);
-  for (unsigned int i = 0; i < cloud.m.size(); ++i)
+  for (unsigned int i = 0; i < diagonal.locally_owned_size(); ++i)
+    diagonal.local_element(i) = cloud.m_tilde.diag_element(i);
+  // Component 0 holds every 7th node at 0.25, component 1 every 5th at −1.
+  for (unsigned int d = 0; d < 2; ++d)
     {
-      if (known.local_element(i) != 0)
+      masks[d] = 0;
+      for (unsigned int i = 0; i < cloud.m.size(); i += (d == 0 ? 7 : 5))
         {
-          EXPECT_EQ(v.local_element(i), 0.25);
-        }
-      else
-        {
-          EXPECT_LT(std::abs(residual.local_element(i)),
-                    1e-9 * cloud.p.block(0).l2_norm());
+          masks[d].local_element(i)    = 1;
+          v.block(d).local_element(i) = d == 0 ? 0.25 : -1.;
         }
     }
+  fmpm::MassMatrix::FullMassSolveSettings settings;
+  settings.tolerance = 1e-12;
+  fmpm::MassMatrix::solve_full_mass_system(cloud.m_tilde,
+                                           diagonal,
+                                           cloud.m,
+                                           &masks,
+                                           no_weak,
+                                           cloud.p,
+                                           v,
+                                           false,
+                                           settings);
+  for (unsigned int d = 0; d < 2; ++d)
+    {
+      fmpm::GridScalar residual(cloud.m);
+      cloud.m_tilde.vmult(residual, v.block(d));
+      residual -= cloud.p.block(d);
+      for (unsigned int i = 0; i < cloud.m.size(); ++i)
+        {
+          if (masks[d].local_element(i) != 0)
+            {
+              EXPECT_EQ(v.block(d).local_element(i), d == 0 ? 0.25 : -1.);
+            }
+          else
+            {
+              EXPECT_LT(std::abs(residual.local_element(i)),
+                        1e-9 * cloud.p.l2_norm());
+            }
+        }
+    }
+  const fmpm::GridScalar &known = masks[0];
 
   std::vector<fmpm::GridScalar> mask(2, known);
   fmpm::GridVectorField         w = cloud.new_field();
@@ -340,20 +390,42 @@ TEST(MassMatrix, HeldNodesStayAtTheirValues)
 // The cell-wise form of m̃ (one dense local matrix per cell, the fast path
 // of FMPM(k)) equals the assembled sparse matrix: m̃v and the FMPM(k)
 // velocities agree to round-off.
+namespace
+{
+  /** m̃ x for all components: cell-wise kernels against the sparse matrix. */
+  template <int dim>
+  void
+  check_cellwise_products(const Cloud<dim> &cloud)
+  {
+    const fmpm::CellwiseMatrix cellwise = cloud.cellwise_matrix();
+    fmpm::GridVectorField      x = cloud.new_field(), y_sparse = x,
+                          y_cellwise = x;
+    for (unsigned int d = 0; d < dim; ++d)
+      for (unsigned int i = 0; i < x.block(d).locally_owned_size(); ++i)
+        x.block(d).local_element(i) = std::sin(1.7 * i + 0.3 + d);
+    for (unsigned int d = 0; d < dim; ++d)
+      cloud.m_tilde.vmult(y_sparse.block(d), x.block(d));
+    fmpm::MassMatrix::apply_full_mass(cellwise, y_cellwise, x);
+    EXPECT_LT(difference(y_sparse, y_cellwise), 1e-13 * y_sparse.l2_norm())
+      << dim << "D";
+    fmpm::GridScalar diagonal(cloud.m);
+    cellwise.diagonal(diagonal);
+    for (unsigned int i = 0; i < diagonal.locally_owned_size(); ++i)
+      EXPECT_NEAR(diagonal.local_element(i),
+                  cloud.m_tilde.diag_element(i),
+                  1e-14 * cloud.m.linfty_norm());
+  }
+} // namespace
+
+
+
 TEST(MassMatrix, CellwiseMatrixEqualsAssembledMatrix)
 {
-  Cloud<2>                  cloud(3, 3);
-  constexpr unsigned int    n = Cloud<2>::n_nodes;
-  fmpm::CellwiseMatrix      cellwise;
-  std::array<double, n * n> local;
-  cellwise.clear(n);
-  for (unsigned int q = 0; q < cloud.S.size(); ++q)
-    {
-      for (unsigned int i = 0; i < n; ++i)
-        for (unsigned int j = 0; j < n; ++j)
-          local[i * n + j] = cloud.M[q] * cloud.S[q][i] * cloud.S[q][j];
-      cellwise.add_cell(cloud.nodes[q].data(), local.data());
-    }
+  check_cellwise_products(Cloud<2>(3, 3));
+  check_cellwise_products(Cloud<3>(2, 2));
+
+  Cloud<2>                   cloud(3, 3);
+  const fmpm::CellwiseMatrix cellwise = cloud.cellwise_matrix();
   fmpm::GridScalar x(cloud.m), y_sparse(cloud.m), y_cellwise(cloud.m);
   for (unsigned int i = 0; i < x.locally_owned_size(); ++i)
     x.local_element(i) = std::sin(1.7 * i + 0.3);

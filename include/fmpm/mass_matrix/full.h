@@ -22,32 +22,78 @@ namespace fmpm
       bool         converged  = true;
     };
 
+    /** @brief How solve_full_mass_system() solves. */
+    struct FullMassSolveSettings
+    {
+      /**
+       * CG stops at |p − A v| <= tolerance max(|p|, residual_scale), over
+       * all components.
+       */
+      double tolerance = 1e-10;
+      /** A scale of the residual larger than |p| (0: none). */
+      double residual_scale = 0;
+      /** CG iterations before the solve counts as failed. */
+      unsigned int max_iterations = 1000;
+      /** δ of ((1 − δ) K' + δ m) v = p. */
+      double lumped_fraction = 0;
+      /** Nodes with m_i <= mass_floor are empty: v_i = 0. */
+      double mass_floor = 0;
+    };
+
+    /** @brief Scratch fields of solve_full_mass_system(), kept between
+     * solves so that a solve allocates nothing. */
+    struct FullMassWorkspace
+    {
+      GridVectorField lumped_start, inverse_diagonal, residual, correction,
+        direction, product, coupled_start;
+
+      /** Give every field the layout of @p like (kept if it has it). */
+      void
+      reinit(const GridVectorField &like);
+    };
+
     /**
-     * @brief Solve ((1 − δ) K' + δ m) v = p with CG, preconditioned by the
-     * lumped inverse m⁻¹. On nodes where @p known is 1, v keeps its input
-     * value and the other rows see it as given (Dirichlet). On nodes where
-     * @p weak is 1, K' is lumped: row and column become m_i, and their
-     * couplings move onto the neighbours' diagonals, so K' keeps the column
-     * sums m of K = m̃ and the extrapolated momentum Σ M S v stays Σ p.
-     * Stops at |residual| <= tolerance |rhs|. On breakdown or no convergence,
-     * v = m⁻¹p on the unknown nodes and converged = false.
+     * @brief Solve ((1 − δ) K' + δ m) v = p for all components at once with
+     * CG, preconditioned by the inverse diagonal (Jacobi).
+     *
+     * - Known nodes (@p known_mask of the component is 1, or nullptr for
+     *   none): v keeps its input value and the other rows see it as given
+     *   (Dirichlet).
+     * - Weak nodes (@p weak is 1): K' is lumped there: row and column
+     *   become m_i, and their couplings move onto the neighbours' diagonals,
+     *   so K' keeps the column sums m of K = m̃ and the extrapolated momentum
+     *   Σ M S v stays Σ p.
+     * - Empty nodes (m_i <= mass floor): v_i = 0.
+     * - The other nodes start from v if @p start_from_v (a warm start, e.g.
+     *   the last step's field), else from m⁻¹p.
+     *
+     * CG runs on the correction from that start, whose search directions
+     * vanish on known, weak and empty nodes. On breakdown or no
+     * convergence, v = m⁻¹p on the unknown nodes and converged = false.
+     *
+     * @param K m̃ as a sparse matrix or as cell matrices
+     * @param K_diagonal the diagonal K_ii (locally owned)
      */
+    template <typename MatrixType>
     FullMassSolve
-    solve_full_mass_system(const TrilinosWrappers::SparseMatrix &K,
-                           const GridScalar                     &m,
-                           const GridScalar                     &known,
-                           const GridScalar                     &weak,
-                           const GridScalar                     &p,
-                           GridScalar                           &v,
-                           const double                          tolerance,
-                           const unsigned int                    max_iterations,
-                           const double                          delta,
-                           const double                          mass_floor);
+    solve_full_mass_system(const MatrixType              &K,
+                           const GridScalar              &K_diagonal,
+                           const GridScalar              &m,
+                           const std::vector<GridScalar> *known_mask,
+                           const GridScalar              &weak,
+                           const GridVectorField         &p,
+                           GridVectorField               &v,
+                           const bool                     start_from_v,
+                           const FullMassSolveSettings   &settings,
+                           FullMassWorkspace             *workspace = nullptr);
 
     /**
      * @brief The exact particle full mass matrix m̃ = SᵀMS (seed 000 Eq. 1.9):
-     * v = m̃⁻¹p solved with CG, preconditioned by the lumped inverse m⁻¹, to a
-     * relative tolerance.
+     * v = m̃⁻¹p solved with CG, preconditioned by the diagonal of m̃ (Jacobi),
+     * to a relative tolerance, all components at once. m̃ is kept as cell
+     * matrices (CellwiseMatrix) where the mesh allows (no hanging nodes,
+     * classic shape functions), else as a Trilinos sparse matrix. Each field
+     * starts from its value of the last step (solve_from_guess()).
      *
      * m̃ is singular or nearly so where few points support a node (few points
      * per cell, a point that just entered a cell at a body edge): there
@@ -79,17 +125,30 @@ namespace fmpm
         return true;
       }
 
+      bool
+      accepts_cellwise_full_mass_matrix() const override
+      {
+        return true;
+      }
+
       void
       solve(const GridVectorField &momentum,
             GridVectorField       &velocity) const override;
 
-      /** p = K v with the assembled matrix (m̃, or the consistent one). */
+      void
+      solve_from_guess(const GridVectorField &momentum,
+                       GridVectorField       &velocity,
+                       const double           residual_scale) const override;
+
+      /** p = K v with the matrix solved with (m̃, or the consistent one). */
       void
       vmult(const GridVectorField &velocity,
             GridVectorField       &momentum) const override
       {
-        for (unsigned int b = 0; b < velocity.n_blocks(); ++b)
-          matrix().vmult(momentum.block(b), velocity.block(b));
+        if (const CellwiseMatrix *cellwise = cellwise_matrix())
+          apply_full_mass(*cellwise, momentum, velocity);
+        else
+          apply_full_mass(matrix(), momentum, velocity);
       }
 
       unsigned int
@@ -121,15 +180,27 @@ namespace fmpm
         return this->get_full_mass_matrix();
       }
 
+      /** m̃ as cell matrices when the simulator keeps it so, else nullptr. */
+      virtual const CellwiseMatrix *
+      cellwise_matrix() const;
+
     private:
+      /** v = K⁻¹p, from v (warm start) or from m⁻¹p. */
+      void
+      solve_system(const GridVectorField &p,
+                   GridVectorField       &v,
+                   const bool             start_from_v,
+                   const double           residual_scale) const;
+
       mutable unsigned long long n_solves            = 0;
       mutable unsigned long long total_iterations    = 0;
       mutable unsigned int       max_iterations_used = 0;
       mutable unsigned long long n_lumped_fallbacks  = 0;
       /** 1 on weak nodes (owned entries), else 0. */
       GridScalar weak;
-      /** Scratch: 1 on nodes whose velocity is known in the current solve. */
-      mutable GridScalar known;
+      /** The diagonal K_ii of the matrix solved with (owned entries). */
+      GridScalar diagonal;
+      mutable FullMassWorkspace workspace;
       unsigned long long n_weak_node_steps = 0;
       unsigned long long n_setups          = 0;
     };
@@ -166,6 +237,12 @@ namespace fmpm
       matrix() const override
       {
         return consistent_mass;
+      }
+
+      const CellwiseMatrix *
+      cellwise_matrix() const override
+      {
+        return nullptr;
       }
 
     private:

@@ -67,6 +67,22 @@ namespace fmpm
             GridVectorField       &velocity) const = 0;
 
       /**
+       * @brief As solve(), but @p velocity holds on entry a guess of the
+       * result (the same field one step earlier) that iterative solvers
+       * start from, and their residual counts relative to
+       * max(|momentum|, @p residual_scale) (for accelerations: momenta over
+       * Δt, so that a Δt is as accurate as the velocities).
+       */
+      virtual void
+      solve_from_guess(const GridVectorField &momentum,
+                       GridVectorField       &velocity,
+                       const double           residual_scale) const
+      {
+        (void)residual_scale;
+        solve(momentum, velocity);
+      }
+
+      /**
        * @brief p = M v with the forward operator of this mass matrix (m for
        * lumped, m̃ for fmpm and full, the FE matrix for consistent), on
        * locally owned nodes; used by the unlumped #2 boundary-condition
@@ -112,6 +128,21 @@ namespace fmpm
                          const GridVectorField &momentum,
                          GridVectorField       &velocity,
                          const double           mass_floor);
+
+    /** @brief dst = m̃ src, component by component. */
+    void
+    apply_full_mass(const TrilinosWrappers::SparseMatrix &full_mass,
+                    GridVectorField                      &dst,
+                    const GridVectorField                &src);
+
+    /**
+     * @brief dst = m̃ src for all components in one pass over the cell
+     * matrices.
+     */
+    void
+    apply_full_mass(const CellwiseMatrix  &full_mass,
+                    GridVectorField       &dst,
+                    const GridVectorField &src);
   } // namespace MassMatrix
 } // namespace fmpm
 
