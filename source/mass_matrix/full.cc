@@ -71,22 +71,51 @@ namespace fmpm
         }
       };
 
+      /** Runs [begin, end) of locally owned nodes the CG passes visit. */
+      using NodeRanges = std::vector<std::pair<unsigned int, unsigned int>>;
+
+      /**
+       * The ranges of nodes where @p inverse_diagonal is non-zero in some
+       * component (the free nodes); gaps shorter than 16 nodes are bridged.
+       */
+      NodeRanges
+      free_node_ranges(const GridVectorField &inverse_diagonal)
+      {
+        const unsigned int n = inverse_diagonal.block(0).locally_owned_size();
+        NodeRanges         ranges;
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            bool is_free = false;
+            for (unsigned int b = 0; b < inverse_diagonal.n_blocks(); ++b)
+              is_free |= inverse_diagonal.block(b).local_element(i) != 0;
+            if (!is_free)
+              continue;
+            if (!ranges.empty() && i < ranges.back().second + 16)
+              ranges.back().second = i + 1;
+            else
+              ranges.emplace_back(i, i + 1);
+          }
+        return ranges;
+      }
+
       /**
        * Preconditioned CG (Jacobi) on all components at once, each with its
        * own step lengths α_b, β_b (one Krylov space per component, as if
        * solved one by one) but one matrix pass for all of them. The solve is
        * bound by memory traffic and latency, so the vector work is fused
-       * into three passes per iteration, z = D⁻¹r is never stored, and the
-       * sums run in four interleaved parts, two doubles at a time. The
-       * inverse diagonal D⁻¹ is zero on fixed nodes, so directions,
-       * products and residuals vanish there. Starts from x = 0 with
-       * residual @p r; stops when |r| <= @p threshold. Returns the
-       * iterations, or throws on breakdown or no convergence.
+       * into three passes per iteration over the free nodes only, z = D⁻¹r
+       * is never stored, and the sums run in interleaved parts, two doubles
+       * at a time. The inverse diagonal D⁻¹ is zero on fixed nodes, so
+       * directions, products and residuals vanish there. Starts from x = 0
+       * with residual @p r (zero off the free nodes); stops when
+       * |r| <= @p threshold. Returns the iterations, or throws on breakdown
+       * or no convergence.
        */
       template <typename MatrixType>
       unsigned int
       solve_cg(const BlendedMass<MatrixType> &A,
                const GridVectorField         &inverse_diagonal,
+               const NodeRanges              &ranges,
                GridVectorField               &x,
                GridVectorField               &r,
                GridVectorField               &direction,
@@ -97,8 +126,6 @@ namespace fmpm
         const MPI_Comm comm =
           x.block(0).get_partitioner()->get_mpi_communicator();
         const unsigned int n_blocks = x.n_blocks();
-        const unsigned int n        = x.block(0).locally_owned_size();
-        const unsigned int n_pairs  = n / 2;
         // A component whose residual falls below this stops moving.
         const double component_threshold =
           threshold / std::sqrt(static_cast<double>(n_blocks));
@@ -106,17 +133,19 @@ namespace fmpm
         // Per component: r·D⁻¹r, then r·r.
         double local[2 * 3] = {}, global[2 * 3] = {};
         x                   = 0;
+        direction           = 0;
         for (unsigned int b = 0; b < n_blocks; ++b)
           {
             const double *d  = inverse_diagonal.block(b).begin();
             const double *rb = r.block(b).begin();
             double       *pb = direction.block(b).begin();
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                pb[i] = d[i] * rb[i];
-                local[b] += rb[i] * pb[i];
-                local[3 + b] += rb[i] * rb[i];
-              }
+            for (const auto &[begin, end] : ranges)
+              for (unsigned int i = begin; i < end; ++i)
+                {
+                  pb[i] = d[i] * rb[i];
+                  local[b] += rb[i] * pb[i];
+                  local[3 + b] += rb[i] * rb[i];
+                }
           }
         Utilities::MPI::sum(local, comm, global);
         double r_dot_z[3], r_dot_r[3];
@@ -145,15 +174,18 @@ namespace fmpm
             double p_dot_q_local[3] = {}, p_dot_q[3] = {};
             for (unsigned int b = 0; b < n_blocks; ++b)
               {
-                const double *pb     = direction.block(b).begin();
-                const double *qb     = q.block(b).begin();
-                Pair          sum[2] = {};
-                for (unsigned int k = 0; k < n_pairs; ++k)
-                  sum[k % 2] += load(pb + 2 * k) * load(qb + 2 * k);
-                const Pair total = sum[0] + sum[1];
-                p_dot_q_local[b] = total[0] + total[1];
-                if (n % 2)
-                  p_dot_q_local[b] += pb[n - 1] * qb[n - 1];
+                const double *pb  = direction.block(b).begin();
+                const double *qb  = q.block(b).begin();
+                Pair          sum = {};
+                for (const auto &[begin, end] : ranges)
+                  {
+                    unsigned int i = begin;
+                    for (; i + 2 <= end; i += 2)
+                      sum += load(pb + i) * load(qb + i);
+                    if (i < end)
+                      p_dot_q_local[b] += pb[i] * qb[i];
+                  }
+                p_dot_q_local[b] += sum[0] + sum[1];
               }
             Utilities::MPI::sum(p_dot_q_local, comm, p_dot_q);
 
@@ -171,27 +203,28 @@ namespace fmpm
                 const double *qb    = q.block(b).begin();
                 double       *xb    = x.block(b).begin();
                 double       *rb    = r.block(b).begin();
-                Pair          rz[2] = {}, rr[2] = {};
-                for (unsigned int k = 0; k < n_pairs; ++k)
+                Pair          rz = {}, rr = {};
+                for (const auto &[begin, end] : ranges)
                   {
-                    const unsigned int i = 2 * k;
-                    store(xb + i, load(xb + i) + alpha * load(pb + i));
-                    const Pair r_i = load(rb + i) - alpha * load(qb + i);
-                    store(rb + i, r_i);
-                    rz[k % 2] += r_i * load(d + i) * r_i;
-                    rr[k % 2] += r_i * r_i;
+                    unsigned int i = begin;
+                    for (; i + 2 <= end; i += 2)
+                      {
+                        store(xb + i, load(xb + i) + alpha * load(pb + i));
+                        const Pair r_i = load(rb + i) - alpha * load(qb + i);
+                        store(rb + i, r_i);
+                        rz += r_i * load(d + i) * r_i;
+                        rr += r_i * r_i;
+                      }
+                    if (i < end)
+                      {
+                        xb[i] += alpha * pb[i];
+                        rb[i] -= alpha * qb[i];
+                        local[b] += rb[i] * d[i] * rb[i];
+                        local[3 + b] += rb[i] * rb[i];
+                      }
                   }
-                const Pair rz_total = rz[0] + rz[1];
-                const Pair rr_total = rr[0] + rr[1];
-                local[b]            = rz_total[0] + rz_total[1];
-                local[3 + b]        = rr_total[0] + rr_total[1];
-                if (n % 2)
-                  {
-                    xb[n - 1] += alpha * pb[n - 1];
-                    rb[n - 1] -= alpha * qb[n - 1];
-                    local[b] += rb[n - 1] * d[n - 1] * rb[n - 1];
-                    local[3 + b] += rb[n - 1] * rb[n - 1];
-                  }
+                local[b] += rz[0] + rz[1];
+                local[3 + b] += rr[0] + rr[1];
               }
             Utilities::MPI::sum(local, comm, global);
 
@@ -206,14 +239,15 @@ namespace fmpm
                 const double *d   = inverse_diagonal.block(b).begin();
                 const double *rb  = r.block(b).begin();
                 double       *pb  = direction.block(b).begin();
-                for (unsigned int k = 0; k < n_pairs; ++k)
+                for (const auto &[begin, end] : ranges)
                   {
-                    const unsigned int i = 2 * k;
-                    store(pb + i,
-                          load(d + i) * load(rb + i) + beta * load(pb + i));
+                    unsigned int i = begin;
+                    for (; i + 2 <= end; i += 2)
+                      store(pb + i,
+                            load(d + i) * load(rb + i) + beta * load(pb + i));
+                    if (i < end)
+                      pb[i] = d[i] * rb[i] + beta * pb[i];
                   }
-                if (n % 2)
-                  pb[n - 1] = d[n - 1] * rb[n - 1] + beta * pb[n - 1];
               }
           }
       }
@@ -266,6 +300,58 @@ namespace fmpm
       lumped_fraction     = prm.get_double("Lumped fraction");
       weak_node_threshold = prm.get_double("Weak node threshold");
     }
+
+
+
+    namespace
+    {
+      /**
+       * Σ_j m_j v_j = Σ_i p_i holds for the exact solution (the columns of
+       * m̃ sum to m, Eq. 1.9, and lumping weak nodes keeps the sums); CG
+       * leaves it off by the sum of its residual. In each component without
+       * known nodes that carry mass, a uniform shift c of the free nodes'
+       * velocities,
+       * c = (Σ p − Σ m v) / Σ_free m, restores it to round-off.
+       */
+      void
+      restore_momentum(const GridScalar              &m,
+                       const double                   mass_floor,
+                       const std::vector<GridScalar> *known_mask,
+                       const GridVectorField         &inverse_diagonal,
+                       const GridVectorField         &p,
+                       GridVectorField               &v)
+      {
+        const MPI_Comm comm = m.get_partitioner()->get_mpi_communicator();
+        const unsigned int n = m.locally_owned_size();
+        for (unsigned int b = 0; b < p.n_blocks(); ++b)
+          {
+            // Known nodes that carry mass exchange momentum with the walls.
+            bool has_known_mass = false;
+            if (known_mask)
+              for (unsigned int i = 0; i < n; ++i)
+                has_known_mass |= (*known_mask)[b].local_element(i) != 0 &&
+                                  m.local_element(i) > mass_floor;
+            if (Utilities::MPI::logical_or(has_known_mass, comm))
+              continue;
+            double local[2] = {}, global[2];
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                const double m_i = m.local_element(i);
+                local[0] += p.block(b).local_element(i) -
+                            m_i * v.block(b).local_element(i);
+                if (inverse_diagonal.block(b).local_element(i) != 0)
+                  local[1] += m_i;
+              }
+            Utilities::MPI::sum(local, comm, global);
+            if (global[1] == 0)
+              continue;
+            const double shift = global[0] / global[1];
+            for (unsigned int i = 0; i < n; ++i)
+              if (inverse_diagonal.block(b).local_element(i) != 0)
+                v.block(b).local_element(i) += shift;
+          }
+      }
+    } // namespace
 
 
 
@@ -407,6 +493,7 @@ namespace fmpm
         {
           result.iterations = solve_cg(A,
                                        inverse_diagonal,
+                                       free_node_ranges(inverse_diagonal),
                                        correction,
                                        residual,
                                        w.direction,
@@ -414,6 +501,8 @@ namespace fmpm
                                        settings.tolerance * norm,
                                        settings.max_iterations);
           v += correction;
+          if (settings.conserve_momentum)
+            restore_momentum(m, floor, known_mask, inverse_diagonal, p, v);
         }
       catch (const std::exception &)
         {
@@ -525,6 +614,7 @@ namespace fmpm
       settings.max_iterations  = max_iterations;
       settings.lumped_fraction = lumped_fraction;
       settings.mass_floor      = this->get_simulator().mass_floor();
+      settings.conserve_momentum = columns_sum_to_lumped_mass();
       const GridScalar   &m    = this->get_lumped_mass();
       const FullMassSolve result =
         cellwise_matrix() ?

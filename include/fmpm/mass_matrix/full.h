@@ -38,6 +38,13 @@ namespace fmpm
       double lumped_fraction = 0;
       /** Nodes with m_i <= mass_floor are empty: v_i = 0. */
       double mass_floor = 0;
+      /**
+       * Whether the columns of K sum to m (m̃ does, the consistent FE matrix
+       * does not): then, in components without known nodes, v is shifted
+       * uniformly on the free nodes so that Σ m v = Σ p to round-off, as
+       * the exact solution has it, instead of to the CG tolerance.
+       */
+      bool conserve_momentum = true;
     };
 
     /** @brief Scratch fields of solve_full_mass_system(), kept between
@@ -173,6 +180,13 @@ namespace fmpm
       setup() override;
 
     protected:
+      /** Whether the columns of matrix() sum to the lumped masses m. */
+      virtual bool
+      columns_sum_to_lumped_mass() const
+      {
+        return true;
+      }
+
       /** The matrix to solve with (m̃ here, the FE mass in Consistent). */
       virtual const TrilinosWrappers::SparseMatrix &
       matrix() const
@@ -243,6 +257,12 @@ namespace fmpm
       cellwise_matrix() const override
       {
         return nullptr;
+      }
+
+      bool
+      columns_sum_to_lumped_mass() const override
+      {
+        return false;
       }
 
     private:
