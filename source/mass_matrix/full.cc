@@ -262,8 +262,10 @@ namespace fmpm
       prm.declare_entry("Tolerance",
                         "1e-10",
                         Patterns::Double(0, 1),
-                        "Relative residual |p - m~ v| / |p| at which CG stops. "
-                        "Units: none.");
+                        "Relative residual |p - m~ v| / |p| at which CG stops "
+                        "(all components together; for accelerations "
+                        "|f - m~ a| dt / (|p| + |f| dt), so that a dt is as "
+                        "accurate as the velocities). Units: none.");
       prm.declare_entry("Maximum iterations",
                         "1000",
                         Patterns::Integer(1),
