@@ -35,6 +35,28 @@ namespace
     fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD);
     simulator.run();
   }
+
+  /**
+   * Runs the scene read from @p sources; returns its summary.json on rank 0
+   * (empty on the others).
+   */
+  boost::property_tree::ptree
+  run_scene(const std::vector<std::pair<std::string, std::string>> &sources)
+  {
+    dealii::ParameterHandler prm;
+    fmpm::Parameters         parameters;
+    fmpm::read_scene(sources, prm, parameters);
+    if (parameters.size.dimension == 2)
+      run<2>(parameters, prm);
+    else
+      run<3>(parameters, prm);
+    boost::property_tree::ptree summary;
+    if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+      boost::property_tree::read_json(parameters.output.directory +
+                                        "/summary.json",
+                                      summary);
+    return summary;
+  }
 } // namespace
 
 namespace
@@ -99,21 +121,12 @@ namespace
               "\n  end\nend\nsubsection Time\n  set Strain update mass "
               "matrix = lumped\nend\nsubsection Output\n  set Directory = " +
               directory + "\nend\n");
-          ParameterHandler prm;
-          fmpm::Parameters parameters;
-          fmpm::read_scene(sources, prm, parameters);
           if (is_root)
             std::cout << "\n=== round " << round + 1 << "/" << rounds << ", "
                       << method.label << std::endl;
-          if (parameters.size.dimension == 2)
-            run<2>(parameters, prm);
-          else
-            run<3>(parameters, prm);
+          const boost::property_tree::ptree summary = run_scene(sources);
           if (!is_root)
             continue;
-          boost::property_tree::ptree summary;
-          boost::property_tree::read_json(directory + "/summary.json",
-                                          summary);
           // Each phase's fastest round.
           if (round == 0)
             summaries[k] = summary;
@@ -196,20 +209,10 @@ main(int argc, char **argv)
     {
       std::vector<std::string> files = {scene};
       files.insert(files.end(), overrides.begin(), overrides.end());
-      ParameterHandler prm;
-      fmpm::Parameters parameters;
-      fmpm::read_scene(fmpm::load_scene_sources(files), prm, parameters);
-      if (parameters.size.dimension == 2)
-        run<2>(parameters, prm);
-      else
-        run<3>(parameters, prm);
-
+      const boost::property_tree::ptree summary =
+        run_scene(fmpm::load_scene_sources(files));
       if (!is_root)
         continue;
-      boost::property_tree::ptree summary;
-      boost::property_tree::read_json(parameters.output.directory +
-                                        "/summary.json",
-                                      summary);
       const double n_steps = summary.get<double>("n_steps");
       std::cout << "\n=== benchmark " << scene << "\n"
                 << "    " << summary.get<std::string>("status") << ", "

@@ -523,28 +523,21 @@ namespace fmpm
       return result;
     }
 
-    template FullMassSolve
-    solve_full_mass_system(const TrilinosWrappers::SparseMatrix &,
-                           const GridScalar &,
-                           const GridScalar &,
-                           const std::vector<GridScalar> *,
-                           const GridScalar &,
-                           const GridVectorField &,
-                           GridVectorField &,
-                           const bool,
-                           const FullMassSolveSettings &,
-                           FullMassWorkspace *);
-    template FullMassSolve
-    solve_full_mass_system(const CellwiseMatrix &,
-                           const GridScalar &,
-                           const GridScalar &,
-                           const std::vector<GridScalar> *,
-                           const GridScalar &,
-                           const GridVectorField &,
-                           GridVectorField &,
-                           const bool,
-                           const FullMassSolveSettings &,
-                           FullMassWorkspace *);
+#define FMPM_INSTANTIATE(MatrixType)                                     \
+  template FullMassSolve solve_full_mass_system(                        \
+    const MatrixType &,                                                 \
+    const GridScalar &,                                                 \
+    const GridScalar &,                                                 \
+    const std::vector<GridScalar> *,                                    \
+    const GridScalar &,                                                 \
+    const GridVectorField &,                                            \
+    GridVectorField &,                                                  \
+    const bool,                                                         \
+    const FullMassSolveSettings &,                                      \
+    FullMassWorkspace *);
+    FMPM_INSTANTIATE(TrilinosWrappers::SparseMatrix)
+    FMPM_INSTANTIATE(CellwiseMatrix)
+#undef FMPM_INSTANTIATE
 
 
 
