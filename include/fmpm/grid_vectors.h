@@ -118,9 +118,9 @@ namespace fmpm
                  const unsigned int   n_blocks) const
     {
       if (nodes_per_cell == 4 && n_blocks == 2)
-        add_products_paired<4>(destination, source);
+        add_products_paired<4, false>(destination, source);
       else if (nodes_per_cell == 8 && n_blocks == 3)
-        add_products<8, 3>(destination, source);
+        add_products_paired<8, true>(destination, source);
       else if (nodes_per_cell == 4 && n_blocks == 1)
         add_products<4, 1>(destination, source);
       else if (nodes_per_cell == 8 && n_blocks == 1)
@@ -173,21 +173,25 @@ namespace fmpm
     }
 
     /**
-     * The kernel for two components: each node's pair (x, y) travels as
-     * one two-lane vector (GCC/Clang vector extension; SSE2 on x86-64), so
-     * one multiply serves both components.
+     * The kernel for two components (and a third one if @p third): each
+     * node's pair (x, y) travels as one two-lane vector (GCC/Clang vector
+     * extension; SSE2 on x86-64), so one multiply serves both components;
+     * z, in 3D, goes alone.
      */
-    template <unsigned int n>
+    template <unsigned int n, bool third>
     void
     add_products_paired(double *const       *destination,
                         const double *const *source) const
     {
-      typedef double     pair __attribute__((vector_size(16)));
-      const unsigned int n_cells = local_indices.size() / n;
+      typedef double         pair __attribute__((vector_size(16)));
+      const unsigned int     n_cells = local_indices.size() / n;
       constexpr unsigned int n_upper = n * (n + 1) / 2;
       const double *const    src0 = source[0], *const src1 = source[1];
-      double *const          dst0 = destination[0], *const dst1 = destination[1];
-      pair                   x[n], y[n];
+      const double *const    src2 = third ? source[2] : nullptr;
+      double *const dst0 = destination[0], *const dst1 = destination[1];
+      double *const dst2 = third ? destination[2] : nullptr;
+      pair          x[n], y[n];
+      double        x2[n], y2[n];
       for (unsigned int c = 0; c < n_cells; ++c)
         {
           const unsigned int *index = &local_indices[c * n];
@@ -196,14 +200,26 @@ namespace fmpm
             {
               x[j] = pair{src0[index[j]], src1[index[j]]};
               y[j] = pair{0., 0.};
+              if constexpr (third)
+                {
+                  x2[j] = src2[index[j]];
+                  y2[j] = 0;
+                }
             }
           for (unsigned int i = 0; i < n; ++i)
             {
               y[i] += a[0] * x[i];
+              if constexpr (third)
+                y2[i] += a[0] * x2[i];
               for (unsigned int j = i + 1; j < n; ++j)
                 {
                   y[i] += a[j - i] * x[j];
                   y[j] += a[j - i] * x[i];
+                  if constexpr (third)
+                    {
+                      y2[i] += a[j - i] * x2[j];
+                      y2[j] += a[j - i] * x2[i];
+                    }
                 }
               a += n - i;
             }
@@ -211,6 +227,8 @@ namespace fmpm
             {
               dst0[index[i]] += y[i][0];
               dst1[index[i]] += y[i][1];
+              if constexpr (third)
+                dst2[index[i]] += y2[i];
             }
         }
     }
