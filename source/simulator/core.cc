@@ -263,6 +263,16 @@ namespace fmpm
               << "*** The run failed at step " << failure.step << ", time "
               << failure.time << ":" << std::endl
               << "    " << failure.what() << std::endl;
+        // Stresses from full-mass velocities need about 1/√3 of the lumped
+        // stable time step and less at free surfaces (doc/benchmarks.md).
+        if (parameters.method.strain_update_mass_matrix != "lumped" &&
+            mass_matrix->order() > 1)
+          pcout << "    The stresses are updated with velocities from the "
+                << "mass matrix '" << parameters.method.mass_matrix
+                << "', which needs a smaller time step than the lumped one: "
+                << "lower Time/Courant number (to about 0.2) or Time step, "
+                << "or set Time/Strain update mass matrix = lumped."
+                << std::endl;
         tout << "FAILED at step " << failure.step << ": " << failure.what()
              << std::endl;
         const GlobalStatistics<dim> statistics = compute_statistics();
