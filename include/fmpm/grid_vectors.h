@@ -39,7 +39,7 @@ namespace fmpm
     void
     clear(const unsigned int n)
     {
-      Assert(n <= 8, dealii::ExcInternalError());
+      Assert(n == 4 || n == 8, dealii::ExcInternalError());
       nodes_per_cell = n;
       local_indices.clear();
       values.clear();
@@ -58,17 +58,6 @@ namespace fmpm
         values.insert(values.end(),
                       cell_values + i * n + i,
                       cell_values + (i + 1) * n);
-    }
-
-    /** @brief dst = m̃ src; @p src needs its ghost values. */
-    void
-    vmult(GridScalar &dst, const GridScalar &src) const
-    {
-      dst                       = 0;
-      const double *source      = src.begin();
-      double       *destination = dst.begin();
-      add_products(&destination, &source, 1);
-      dst.compress(dealii::VectorOperation::add);
     }
 
     /**
@@ -117,64 +106,20 @@ namespace fmpm
                  const double *const *source,
                  const unsigned int   n_blocks) const
     {
-      if (nodes_per_cell == 4 && n_blocks == 2)
+      // A Q1 cell has 4 nodes in 2D and 8 in 3D, one component each way.
+      Assert((nodes_per_cell == 4 && n_blocks == 2) ||
+               (nodes_per_cell == 8 && n_blocks == 3),
+             dealii::ExcInternalError());
+      if (nodes_per_cell == 4)
         add_products_paired<4, false>(destination, source);
-      else if (nodes_per_cell == 8 && n_blocks == 3)
-        add_products_paired<8, true>(destination, source);
-      else if (nodes_per_cell == 4 && n_blocks == 1)
-        add_products<4, 1>(destination, source);
-      else if (nodes_per_cell == 8 && n_blocks == 1)
-        add_products<8, 1>(destination, source);
       else
-        for (unsigned int b = 0; b < n_blocks; ++b)
-          add_products<0, 1>(destination + b, source + b);
-    }
-
-    /**
-     * The kernel, with the nodes per cell @p n_fixed (0: read at run time)
-     * and the number of components known at compile time. Each stored
-     * entry a_ij (i <= j) adds a_ij x_j to y_i and, off the diagonal,
-     * a_ij x_i to y_j.
-     */
-    template <unsigned int n_fixed, unsigned int n_blocks>
-    void
-    add_products(double *const *destination, const double *const *source) const
-    {
-      const unsigned int n       = n_fixed > 0 ? n_fixed : nodes_per_cell;
-      const unsigned int n_cells = n == 0 ? 0 : local_indices.size() / n;
-      const unsigned int n_upper = n * (n + 1) / 2;
-      double             x[n_blocks][8], y[n_blocks][8];
-      for (unsigned int c = 0; c < n_cells; ++c)
-        {
-          const unsigned int *index = &local_indices[c * n];
-          const double       *a     = &values[c * n_upper];
-          for (unsigned int b = 0; b < n_blocks; ++b)
-            for (unsigned int j = 0; j < n; ++j)
-              {
-                x[b][j] = source[b][index[j]];
-                y[b][j] = 0;
-              }
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              for (unsigned int b = 0; b < n_blocks; ++b)
-                y[b][i] += a[0] * x[b][i];
-              for (unsigned int j = i + 1; j < n; ++j)
-                for (unsigned int b = 0; b < n_blocks; ++b)
-                  {
-                    y[b][i] += a[j - i] * x[b][j];
-                    y[b][j] += a[j - i] * x[b][i];
-                  }
-              a += n - i;
-            }
-          for (unsigned int b = 0; b < n_blocks; ++b)
-            for (unsigned int i = 0; i < n; ++i)
-              destination[b][index[i]] += y[b][i];
-        }
+        add_products_paired<8, true>(destination, source);
     }
 
     /**
      * The kernel for two components (and a third one if @p third): each
-     * node's pair (x, y) travels as one two-lane vector (GCC/Clang vector
+     * stored entry a_ij (i <= j) adds a_ij x_j to y_i and, off the diagonal,
+     * a_ij x_i to y_j; each node's pair (x, y) travels as one two-lane vector (GCC/Clang vector
      * extension; SSE2 on x86-64), so one multiply serves both components;
      * z, in 3D, goes alone.
      */
