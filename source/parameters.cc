@@ -11,7 +11,9 @@
 #include <deal.II/base/utilities.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <iterator>
 #include <sstream>
@@ -171,6 +173,38 @@ namespace fmpm
     if (const auto *deal_ii = dynamic_cast<const ExceptionBase *>(&e))
       return message_of(*deal_ii);
     return e.what();
+  }
+
+
+
+  std::string
+  format_number(const double value, const unsigned int max_digits)
+  {
+    if (!std::isfinite(value))
+      return std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");
+    // The fewest significant digits that read back as the same double
+    // (17 always do).
+    std::string text;
+    for (unsigned int digits = 1; digits <= std::min(max_digits, 17u); ++digits)
+      {
+        std::ostringstream out;
+        out << std::setprecision(digits) << value;
+        text = out.str();
+        if (std::strtod(text.c_str(), nullptr) == value)
+          break;
+      }
+    // "1e+308" -> "1e308", "1e-05" -> "1e-5".
+    const auto e = text.find('e');
+    if (e == std::string::npos)
+      return text;
+    std::string exponent = text.substr(e + 1);
+    const bool  negative = !exponent.empty() && exponent[0] == '-';
+    if (!exponent.empty() && (exponent[0] == '-' || exponent[0] == '+'))
+      exponent.erase(0, 1);
+    exponent.erase(0,
+                   std::min(exponent.find_first_not_of('0'),
+                            exponent.size() - 1));
+    return text.substr(0, e + 1) + (negative ? "-" : "") + exponent;
   }
 
 
@@ -943,7 +977,7 @@ namespace fmpm
     prm.leave_subsection();
     AssertThrow(!time.check_stability || time.courant_number <= 1,
                 ExcMessage("Time/Courant number = " +
-                           std::to_string(time.courant_number) +
+                           format_number(time.courant_number) +
                            " is above the stable limit 1. Allowed: (0, 1], "
                            "or set Time/Check stability limit = false."));
     AssertThrow(time.time_step > 0 || time.courant_number > 0,
@@ -999,7 +1033,7 @@ namespace fmpm
         prm.leave_subsection();
         AssertThrow(materials[m].density > 0,
                     ExcMessage(where + "/Density = " +
-                               std::to_string(materials[m].density) +
+                               format_number(materials[m].density) +
                                " is not positive. Allowed: any value > 0 "
                                "(kg/m^3)."));
       }
@@ -1086,6 +1120,40 @@ namespace fmpm
                          std::istreambuf_iterator<char>());
     }
 
+    /**
+     * Refuse a source that is not a parameter file: binary data, or text
+     * without a single 'set', 'subsection' or 'include' line (a mesh or a
+     * results file given by mistake), which deal.II would otherwise accept
+     * as a scene with every parameter at its default value.
+     */
+    void
+    check_is_parameter_file(const std::string &name, const std::string &text)
+    {
+      for (const char c : text)
+        AssertThrow(c == '\t' || c == '\n' || c == '\r' || c == '\f' ||
+                      c == '\v' || static_cast<unsigned char>(c) >= 32,
+                    ExcMessage("The scene file <" + name +
+                               "> is not a parameter file: it holds binary "
+                               "data. Give a text .prm file with 'set' and "
+                               "'subsection' lines (see fmpm "
+                               "--print-default-scene)."));
+      std::istringstream in(text);
+      std::string        line;
+      while (std::getline(in, line))
+        {
+          std::istringstream words(line);
+          std::string        first;
+          words >> first;
+          if (first == "set" || first == "subsection" || first == "include")
+            return;
+        }
+      AssertThrow(false,
+                  ExcMessage("The scene file <" + name +
+                             "> is not a parameter file: it has no 'set' or "
+                             "'subsection' line. Give a text .prm file "
+                             "(see fmpm --print-default-scene)."));
+    }
+
     void
     parse_source(ParameterHandler  &prm,
                  const std::string &text,
@@ -1115,9 +1183,27 @@ namespace fmpm
     if (files.empty())
       sources.emplace_back("default scene", default_scene());
     for (const auto &file : files)
-      sources.emplace_back(file == "-" ? "standard input" : file,
-                           read_source(file));
+      {
+        sources.emplace_back(file == "-" ? "standard input" : file,
+                             read_source(file));
+        check_is_parameter_file(sources.back().first, sources.back().second);
+      }
     return sources;
+  }
+
+
+
+  SceneSize
+  read_scene_size(
+    const std::vector<std::pair<std::string, std::string>> &sources)
+  {
+    ParameterHandler size_prm;
+    SceneSize::declare_parameters(size_prm);
+    for (const auto &source : sources)
+      parse_source(size_prm, source.second, source.first, true);
+    SceneSize size;
+    size.parse_parameters(size_prm);
+    return size;
   }
 
 
@@ -1128,12 +1214,7 @@ namespace fmpm
              Parameters                                             &parameters)
   {
     // Pass 1: how many bodies and materials, and which dimension.
-    ParameterHandler size_prm;
-    SceneSize::declare_parameters(size_prm);
-    for (const auto &source : sources)
-      parse_source(size_prm, source.second, source.first, true);
-    SceneSize size;
-    size.parse_parameters(size_prm);
+    const SceneSize size = read_scene_size(sources);
 
     // Pass 2: everything, strictly.
     Parameters::declare_parameters(prm, size);

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 namespace
 {
@@ -27,7 +28,10 @@ namespace
     "  -h, --help                 show this text\n"
     "  --validate                 check the scene and exit without running\n"
     "  --print-parameters[=json]  print every parameter with its default,\n"
-    "                             allowed values and description\n"
+    "                             allowed values and description; with\n"
+    "                             scene files, those of the scene (its\n"
+    "                             Body N, Material N, Moving wall N, ...)\n"
+    "                             with the scene's values\n"
     "  --print-default-scene      print the built-in default scene\n"
     "\n"
     "Results (VTU/PVD, history.csv, summary.json, parameters.prm) go to the\n"
@@ -48,6 +52,46 @@ namespace
       }
     return 0;
   }
+
+  /**
+   * --print-parameters: every parameter, declared for the scene given by
+   * @p files (its dimension and its numbers of bodies, materials, moving
+   * walls and tractions, each with its numbered subsection) and set to the
+   * scene's values, or for the default sizes without files.
+   */
+  int
+  print_scene_parameters(const std::vector<std::string>             &files,
+                         const dealii::ParameterHandler::OutputStyle format,
+                         const bool                                  is_root)
+  {
+    using namespace dealii;
+    if (!is_root)
+      return 0;
+    ParameterHandler prm;
+    try
+      {
+        if (files.empty())
+          fmpm::Parameters::declare_parameters(prm, fmpm::SceneSize());
+        else
+          {
+            const auto sources = fmpm::load_scene_sources(files);
+            fmpm::Parameters::declare_parameters(
+              prm, fmpm::read_scene_size(sources));
+            for (const auto &source : sources)
+              {
+                std::istringstream in(source.second);
+                prm.parse_input(in, source.first, "", false);
+              }
+          }
+      }
+    catch (const std::exception &e)
+      {
+        std::cerr << "fmpm: " << fmpm::error_message(e) << std::endl;
+        return 1;
+      }
+    prm.print_parameters(std::cout, format);
+    return 0;
+  }
 } // namespace
 
 
@@ -59,8 +103,10 @@ main(int argc, char **argv)
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const bool is_root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 
-  std::vector<std::string> files;
-  bool                     validate_only = false;
+  std::vector<std::string>      files;
+  bool                          validate_only    = false;
+  bool                          print_parameters = false;
+  ParameterHandler::OutputStyle print_format     = ParameterHandler::PRM;
   for (int i = 1; i < argc; ++i)
     {
       const std::string arg = argv[i];
@@ -76,14 +122,12 @@ main(int argc, char **argv)
                arg == "--print-parameters=json" ||
                arg == "--print-parameters=prm")
         {
-          ParameterHandler prm;
-          fmpm::Parameters::declare_parameters(prm, fmpm::SceneSize());
-          if (is_root)
-            prm.print_parameters(std::cout,
-                                 arg == "--print-parameters=json" ?
-                                   ParameterHandler::JSON :
-                                   ParameterHandler::PRM);
-          return 0;
+          // Printed after all arguments are read: the scene files decide
+          // which numbered subsections exist.
+          print_parameters = true;
+          print_format     = arg == "--print-parameters=json" ?
+                               ParameterHandler::JSON :
+                               ParameterHandler::PRM;
         }
       else if (arg == "--print-default-scene")
         {
@@ -100,6 +144,9 @@ main(int argc, char **argv)
       else
         files.push_back(arg);
     }
+
+  if (print_parameters)
+    return print_scene_parameters(files, print_format, is_root);
 
   // Read and check the scene on rank 0 first, so that an error is reported
   // once; the other ranks then read the same text.

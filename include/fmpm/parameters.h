@@ -289,6 +289,26 @@ namespace fmpm
   std::string
   default_scene();
 
+  /**
+   * @brief A number as error messages print it: the shortest text that reads
+   * back as the same double, in the form of printf's %g with a short
+   * exponent ("0.3", "-5", "2.1e11", "-1e308", "1e-5"), so that a value is
+   * echoed as the user wrote it rather than with std::to_string's six fixed
+   * decimals (a 300-digit "-1e308", or "0.000000" for 1e-9). Computed
+   * values (a stable time step) pass @p max_digits = 6 to round.
+   */
+  std::string
+  format_number(const double value, const unsigned int max_digits = 17);
+
+  /**
+   * @brief The scene's size (dimension and the counts of the numbered
+   * subsections Body N, Material N, Moving wall N, Traction N): the first
+   * pass of read_scene(), which ignores every other parameter.
+   */
+  SceneSize
+  read_scene_size(
+    const std::vector<std::pair<std::string, std::string>> &sources);
+
   /** @brief "Body 0", "Material 2", ...: names of numbered subsections. */
   std::string
   numbered_subsection(const std::string &name, const unsigned int index);

@@ -185,6 +185,9 @@ namespace fmpm
 
   private:
     // --- set-up (simulator/setup.cc) ---
+    /** Everything the constructor does (core.cc). */
+    void
+    set_up(ParameterHandler &prm);
     void
     make_grid();
     void

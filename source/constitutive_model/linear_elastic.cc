@@ -2,6 +2,7 @@
 // Copyright (C) 2026 by the fmpm authors
 
 #include <fmpm/constitutive_model/linear_elastic.h>
+#include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
 
 #include <cmath>
@@ -53,11 +54,11 @@ namespace fmpm
     {
       AssertThrow(youngs_modulus > 0,
                   ExcMessage(where + "/Young's modulus = " +
-                             std::to_string(youngs_modulus) +
+                             format_number(youngs_modulus) +
                              " is not positive. Allowed: any value > 0 (Pa)."));
       AssertThrow(poissons_ratio > -1 && poissons_ratio < 0.5,
                   ExcMessage(where + "/Poisson's ratio = " +
-                             std::to_string(poissons_ratio) +
+                             format_number(poissons_ratio) +
                              " is outside the allowed range (-1, 0.5)."));
     }
 

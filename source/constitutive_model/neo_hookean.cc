@@ -2,6 +2,7 @@
 // Copyright (C) 2026 by the fmpm authors
 
 #include <fmpm/constitutive_model/neo_hookean.h>
+#include <fmpm/parameters.h>
 
 #include <cmath>
 
@@ -44,12 +45,12 @@ namespace fmpm
     {
       AssertThrow(bulk_modulus > 0,
                   ExcMessage(where +
-                             "/Bulk modulus = " + std::to_string(bulk_modulus) +
+                             "/Bulk modulus = " + format_number(bulk_modulus) +
                              " is not positive. Allowed: any value > 0 (Pa)."));
       AssertThrow(shear_modulus > 0,
-                  ExcMessage(where + "/Shear modulus = " +
-                             std::to_string(shear_modulus) +
-                             " is not positive. Allowed: any value > 0 (Pa)."));
+                  ExcMessage(
+                    where + "/Shear modulus = " + format_number(shear_modulus) +
+                    " is not positive. Allowed: any value > 0 (Pa)."));
     }
 
 

@@ -226,10 +226,10 @@ namespace fmpm
     if (parameters.time.time_step > 0 && parameters.time.check_stability &&
         parameters.time.time_step > stable)
       throw SimulationFailure(
-        "Time/Time step = " + std::to_string(parameters.time.time_step) +
+        "Time/Time step = " + format_number(parameters.time.time_step) +
           " s is above the stable limit h_min / (wave speed + point speed) "
           "= " +
-          std::to_string(stable) +
+          format_number(stable, 6) +
           " s of the adapted mesh. Choose a smaller time step, a lower Mesh "
           "refinement/Maximum level, or Time/Courant number.",
         timestep_number,

@@ -41,6 +41,27 @@ namespace fmpm
            Utilities::MPI::this_mpi_process(mpi_communicator) == 0 &&
              parameters.test_mode)
   {
+    // An error found during set-up (bad input the parameter checks cannot
+    // see) propagates out of this constructor; the TimerOutput would then
+    // print its summary from its destructor, in front of the error message
+    // that main() prints. A run that never started has no timings to show.
+    try
+      {
+        set_up(prm);
+      }
+    catch (...)
+      {
+        computing_timer.disable_output();
+        throw;
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::set_up(ParameterHandler &prm)
+  {
     wall_start = MPI_Wtime();
     TimerOutput::Scope timer(computing_timer, "setup");
     shape_function = ShapeFunction::parse(parameters.method.shape_function);

@@ -616,14 +616,15 @@ namespace fmpm
           AssertThrow(
             box.lower_bound(d) >= mesh_box.lower_bound(d) - tolerance &&
               box.upper_bound(d) <= mesh_box.upper_bound(d) + tolerance,
-            ExcMessage(
-              numbered_subsection("Body", b) +
-              " reaches outside the mesh in direction " + std::to_string(d) +
-              ": the body spans [" + std::to_string(box.lower_bound(d)) + ", " +
-              std::to_string(box.upper_bound(d)) + "] but the mesh spans [" +
-              std::to_string(mesh_box.lower_bound(d)) + ", " +
-              std::to_string(mesh_box.upper_bound(d)) +
-              "]. Change its Center or Half lengths."));
+            ExcMessage(numbered_subsection("Body", b) +
+                       " reaches outside the mesh in direction " +
+                       std::to_string(d) + ": the body spans [" +
+                       format_number(box.lower_bound(d), 6) + ", " +
+                       format_number(box.upper_bound(d), 6) +
+                       "] but the mesh spans [" +
+                       format_number(mesh_box.lower_bound(d), 6) + ", " +
+                       format_number(mesh_box.upper_bound(d), 6) +
+                       "]. Change its Center or Half lengths."));
       }
 
     // A fixed time step must be stable.
@@ -631,10 +632,10 @@ namespace fmpm
     AssertThrow(
       !parameters.time.check_stability || parameters.time.time_step <= stable,
       ExcMessage(
-        "Time/Time step = " + std::to_string(parameters.time.time_step) +
+        "Time/Time step = " + format_number(parameters.time.time_step) +
         " s is above the stable limit h_min / (wave speed "
         "+ point speed) = " +
-        std::to_string(stable) +
+        format_number(stable, 6) +
         " s of this scene. Choose a smaller time step, or "
         "set it to 0 and use Time/Courant number (or set Time/Check "
         "stability limit = false for a stability study)."));

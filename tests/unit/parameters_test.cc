@@ -6,12 +6,14 @@
 // size the declared parameters; and every kind of error (unknown parameter,
 // value outside its pattern, malformed line, non-positive density, a body
 // made of a non-existing material, a gmsh mesh without a readable file)
-// throws with a message naming the problem and where it is.
+// throws with a message naming the problem and where it is; numbers in the
+// messages are short; files that are not parameter files are refused.
 
 #include <fmpm/parameters.h>
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -348,5 +350,108 @@ namespace
                               "  set Random distortion = 0.8\n"
                               "end\n"),
                  {"Random distortion", "0.8"});
+  }
+
+
+
+  // Numbers in error messages read as written or in short scientific form,
+  // not as std::to_string's fixed six decimals (a 300-digit -1e308).
+  TEST(FormatNumber, ShortestFormThatReadsBack)
+  {
+    EXPECT_EQ(fmpm::format_number(-1e308), "-1e308");
+    EXPECT_EQ(fmpm::format_number(-5), "-5");
+    EXPECT_EQ(fmpm::format_number(0.3), "0.3");
+    EXPECT_EQ(fmpm::format_number(0.5), "0.5");
+    EXPECT_EQ(fmpm::format_number(1e-9), "1e-9");
+    EXPECT_EQ(fmpm::format_number(2.1e11), "2.1e11");
+    EXPECT_EQ(fmpm::format_number(1234.5), "1234.5");
+    EXPECT_EQ(fmpm::format_number(-2.5e-300), "-2.5e-300");
+    // Values that need all 17 digits keep them, unless rounded on request.
+    EXPECT_EQ(std::stod(fmpm::format_number(1. / 3)), 1. / 3);
+    EXPECT_EQ(fmpm::format_number(1. / 3, 6), "0.333333");
+    EXPECT_EQ(fmpm::format_number(0.0023570226039551584, 6), "0.00235702");
+  }
+
+
+
+  // Error messages of the parameter checks use that form.
+  TEST(ReadScene, NumbersInMessagesAsWritten)
+  {
+    const std::string message =
+      expect_error(default_plus("density.prm",
+                                "subsection Material 0\n"
+                                "  set Density = -1e308\n"
+                                "end\n"),
+                   {"Material 0/Density = -1e308 is not positive"});
+    EXPECT_LT(message.size(), 200u) << message;
+    expect_error(default_plus("courant.prm",
+                              "subsection Time\n"
+                              "  set Courant number = 1.25\n"
+                              "end\n"),
+                 {"Time/Courant number = 1.25 is above"});
+  }
+
+
+
+  // The first pass of read_scene gives the numbered subsections' counts
+  // (what --print-parameters scene.prm declares).
+  TEST(ReadScene, SceneSizeFromTheFirstPass)
+  {
+    const fmpm::SceneSize size = fmpm::read_scene_size(
+      default_plus("counts.prm",
+                   "set Dimension = 3\n"
+                   "set Number of materials = 3\n"
+                   "set Number of moving walls = 2\n"
+                   "set Number of tractions = 1\n"
+                   "subsection Material 2\n  set Density = -1\nend\n"));
+    EXPECT_EQ(size.dimension, 3u);
+    EXPECT_EQ(size.n_bodies, 2u);
+    EXPECT_EQ(size.n_materials, 3u);
+    EXPECT_EQ(size.n_moving_walls, 2u);
+    EXPECT_EQ(size.n_tractions, 1u);
+  }
+
+
+
+  // A file that is not a parameter file is refused, naming the file: binary
+  // data, or text without any 'set' or 'subsection' line (a mesh file).
+  TEST(LoadSceneSources, RefusesFilesThatAreNotParameterFiles)
+  {
+    const std::string binary = "output-not-prm.bin";
+    {
+      std::ofstream out(binary, std::ios::binary);
+      const char    bytes[] = {'\x7f', 'E', 'L', 'F', '\0', '\x02', 's'};
+      out.write(bytes, sizeof(bytes));
+      out << "\nset End time = 1\n";
+    }
+    const std::string mesh = "output-not-prm.msh";
+    {
+      std::ofstream out(mesh);
+      out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n# set nothing\n";
+    }
+    const std::string scene = "output-is-prm.prm";
+    {
+      std::ofstream out(scene);
+      out << "# comment\n  set End time = 1 # indented\n";
+    }
+    for (const auto &file_and_words :
+         std::vector<std::pair<std::string, std::string>>{
+           {binary, "binary data"}, {mesh, "no 'set' or 'subsection' line"}})
+      try
+        {
+          fmpm::load_scene_sources({scene, file_and_words.first});
+          ADD_FAILURE() << file_and_words.first << " was accepted";
+        }
+      catch (const std::exception &e)
+        {
+          const std::string message = fmpm::error_message(e);
+          EXPECT_NE(message.find("<" + file_and_words.first +
+                                 "> is not a parameter file"),
+                    std::string::npos)
+            << message;
+          EXPECT_NE(message.find(file_and_words.second), std::string::npos)
+            << message;
+        }
+    EXPECT_EQ(fmpm::load_scene_sources({scene}).size(), 1u);
   }
 } // namespace
