@@ -517,12 +517,27 @@ namespace fmpm
       prm.declare_entry("Courant number",
                         std::to_string(time.courant_number),
                         Patterns::Double(0, 10),
-                        "Time step as a fraction of h_min / (largest wave "
+                        "Time step as a fraction of the method's stable "
+                        "limit, 'Stability factor' x h_min / (largest wave "
                         "speed + largest point speed), used when 'Time step' "
                         "is 0. Values above 1 exceed the stable limit of "
                         "lumped-mass MPM and are only accepted with "
                         "'Check stability limit = false' (stability "
                         "studies). Units: none.");
+      prm.declare_entry(
+        "Stability factor",
+        "auto",
+        Patterns::Anything(),
+        "The automatic time step is Courant number x this factor x h_min / "
+        "(largest wave speed + largest point speed). 'auto': the factor "
+        "of the chosen mass matrix, its order, particle update, strain "
+        "update and strain-update mass matrix, from fmpm's stability "
+        "measurements (doc/studies/stability.md; 1 for the lumped mass "
+        "matrix, 0.5 to 0.9 for FMPM(k), 1/3 for the exact full mass "
+        "matrix with full-mass strain velocities), printed at start-up, so "
+        "that the Courant number is the fraction of the method's own "
+        "limit; or a number in (0, 1] (1: the lumped limit, as stability "
+        "studies that measure the limits need). Units: none.");
       prm.declare_entry("Check stability limit",
                         "true",
                         Patterns::Bool(),
@@ -974,7 +989,22 @@ namespace fmpm
     time.max_steps       = prm.get_integer("Maximum number of steps");
     method.strain_update = prm.get("Strain update");
     time.check_stability = prm.get_bool("Check stability limit");
+    const std::string stability_factor = prm.get("Stability factor");
     prm.leave_subsection();
+    if (stability_factor == "auto")
+      time.stability_factor = 0;
+    else
+      {
+        char *end             = nullptr;
+        time.stability_factor = std::strtod(stability_factor.c_str(), &end);
+        AssertThrow(end != stability_factor.c_str() && *end == '\0' &&
+                      time.stability_factor > 0 &&
+                      time.stability_factor <= 1,
+                    ExcMessage("Time/Stability factor = <" +
+                               stability_factor +
+                               "> is not allowed. Allowed: 'auto' (the "
+                               "method's factor) or a number in (0, 1]."));
+      }
     AssertThrow(!time.check_stability || time.courant_number <= 1,
                 ExcMessage("Time/Courant number = " +
                            format_number(time.courant_number) +

@@ -134,6 +134,10 @@ namespace fmpm
     double       courant_number  = 0.5;
     unsigned int max_steps       = 1000000000;
     bool         check_stability = true;
+    /** The factor of the method's stability limit the automatic time step
+     * multiplies the Courant number with; 0: from the method
+     * (stability_limit(), 'auto'). */
+    double stability_factor = 0;
   };
 
   /** @brief Choice of the MPM algorithm. */

@@ -12,6 +12,7 @@
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
 #include <fmpm/postprocess/history.h>
+#include <fmpm/time_step_stability.h>
 #include <fmpm/shape_function.h>
 #include <fmpm/simulator_access.h>
 #include <fmpm/velocity_conditions.h>
@@ -382,6 +383,9 @@ namespace fmpm
     History<dim> history;
 
     double       time              = 0;
+    /** The method's stability factor of the automatic time step (set-up,
+     * from Time/Stability factor or stability_limit()). */
+    StabilityLimit stability;
     double       time_step         = 0;
     unsigned int timestep_number   = 0;
     double       next_output_time  = 0;

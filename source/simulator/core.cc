@@ -173,8 +173,8 @@ namespace fmpm
   {
     double dt = parameters.time.time_step;
     if (dt == 0)
-      dt =
-        parameters.time.courant_number * minimum_cell_size / max_signal_speed;
+      dt = parameters.time.courant_number * stability.factor *
+           minimum_cell_size / max_signal_speed;
     // Do not step past the end time (avoid a tiny last step by splitting the
     // rest evenly when it is less than two steps).
     const double rest = parameters.time.end_time - time;
@@ -211,6 +211,13 @@ namespace fmpm
           << "', strain update '" << parameters.method.strain_update << "'"
           << std::endl
           << "      output in " << parameters.output.directory << std::endl;
+    if (parameters.time.time_step == 0)
+      pcout << "      time step: Courant number "
+            << format_number(parameters.time.courant_number)
+            << " x stability factor " << format_number(stability.factor, 3)
+            << " (" << stability.basis << ")" << std::endl;
+    if (!stability.warning.empty() && is_root && !parameters.test_mode)
+      std::cerr << "fmpm: warning: " << stability.warning << std::endl;
 
     try
       {
@@ -290,9 +297,12 @@ namespace fmpm
             mass_matrix->order() > 1)
           pcout << "    The stresses are updated with velocities from the "
                 << "mass matrix '" << parameters.method.mass_matrix
-                << "', which needs a smaller time step than the lumped one: "
-                << "lower Time/Courant number (to about 0.2) or Time step, "
-                << "or set Time/Strain update mass matrix = lumped."
+                << "', which needs a smaller time step than the lumped one "
+                << "(this run's stability factor: "
+                << format_number(stability.factor, 3) << ", "
+                << stability.basis << "): lower Time/Courant number or "
+                << "Time step, or set Time/Strain update mass matrix = "
+                << "lumped."
                 << std::endl;
         tout << "FAILED at step " << failure.step << ": " << failure.what()
              << std::endl;

@@ -586,6 +586,29 @@ namespace fmpm
           }
       }
 
+    // The method's stability factor: the automatic time step multiplies the
+    // Courant number with it (doc/studies/stability.md).
+    {
+      StabilityMethod method;
+      method.mass_matrix = parameters.method.mass_matrix;
+      method.order       = mass_matrix->order();
+      const auto fields  = particle_update->required_fields();
+      method.flip_type   = std::find(fields.begin(),
+                                   fields.end(),
+                                   ParticleUpdate::acceleration) !=
+                         fields.end();
+      method.strain_update = parameters.method.strain_update;
+      method.strain_update_mass_matrix =
+        parameters.method.strain_update_mass_matrix;
+      stability = stability_limit(method);
+      if (parameters.time.stability_factor > 0)
+        {
+          stability.basis = "Time/Stability factor (the method's: " +
+                            format_number(stability.factor, 3) + ")";
+          stability.factor = parameters.time.stability_factor;
+        }
+    }
+
     field_needed.fill(false);
     field_needed[ParticleUpdate::updated_velocity] = true;
     for (const auto field : particle_update->required_fields())
@@ -639,6 +662,14 @@ namespace fmpm
         " s of this scene. Choose a smaller time step, or "
         "set it to 0 and use Time/Courant number (or set Time/Check "
         "stability limit = false for a stability study)."));
+    if (parameters.time.time_step > stability.factor * stable)
+      stability.warning +=
+        std::string(stability.warning.empty() ? "" : " Also: ") +
+        "Time/Time step = " + format_number(parameters.time.time_step) +
+        " s is above this method's stable limit, stability factor x h_min "
+        "/ (wave speed + point speed) = " +
+        format_number(stability.factor * stable, 6) +
+        " s; set Time step = 0 to use Time/Courant number.";
   }
 
   template <int dim>

@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// The stability factors of the automatic time step. Every number here is a
+// measurement of doc/studies/stability.md (vibrating bar, 1D, and the
+// shipped 2D scenes of its section "The stability factor of the automatic
+// time step"); change them only together with that document.
+
+#include <fmpm/time_step_stability.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace fmpm
+{
+  namespace
+  {
+    /**
+     * FMPM(k) with the FMPM update and full-mass strain velocities: measured
+     * critical Courant numbers of the vibrating bar (lower end of each
+     * bracket) over the lumped one with the same strain update. USAVG+:
+     * lumped > 1.2 (so 1, the cap), k = 2: 0.9, 3: 0.75, 5: 0.6, 10: 0.5.
+     * USL-: lumped 0.75, k = 2: 0.6, 3: 0.55, 5 and 10: 0.5.
+     */
+    double
+    fmpm_order_factor(const unsigned int k, const bool averaged_strain_update)
+    {
+      struct Entry
+      {
+        unsigned int order;
+        double       usavg, usl;
+      };
+      static const Entry table[] = {{1, 1, 1},
+                                    {2, 0.9, 0.6 / 0.75},
+                                    {3, 0.75, 0.55 / 0.75},
+                                    {5, 0.6, 0.5 / 0.75},
+                                    {10, 0.5, 0.5 / 0.75}};
+      for (const Entry &entry : table)
+        if (k <= entry.order)
+          return averaged_strain_update ? entry.usavg : entry.usl;
+      return -1; // above 10: the full matrix
+    }
+
+    /**
+     * The leapfrog limit of FMPM(k) with this particle mass matrix (2
+     * points per cell: S^T M S is 1/4 of the lumped mass for the shortest
+     * wave): 1 / sqrt(sum_{j<k} (3/4)^j), item 1 of doc/studies/
+     * stability.md. FLIP-type updates lack the damping of the FMPM update
+     * that lets it exceed this limit.
+     */
+    double
+    leapfrog_factor(const unsigned int k)
+    {
+      double sum = 0;
+      for (unsigned int j = 0; j < std::min(k, 200u); ++j)
+        sum += std::pow(0.75, j);
+      return 1 / std::sqrt(sum);
+    }
+
+    /** Exact full mass matrix, full-mass strain velocities: the rigid
+     * rotation fails at C = 0.15 and completes at 0.12 (0.1 with 1/3 of
+     * its 0.3), the colliding disks fail at 0.23 and 0.3, complete at 0.15
+     * and 0.2, the bar (USL-) completes at 0.4. */
+    constexpr double full_factor = 1. / 3.;
+
+    /** Exact full (or FMPM(k)) matrix with lumped strain velocities: the
+     * colliding disks complete at C = 0.4 and fail at 0.5 (lumped: stable
+     * at 1), the rigid rotation completes at 0.6, the bar at 0.8. */
+    constexpr double lumped_strain_factor = 0.75;
+
+    /** The consistent matrix with FLIP and USAVG+: 0.45-0.5 (0.4 in a run
+     * with another build). */
+    constexpr double consistent_factor = 0.4;
+  } // namespace
+
+
+
+  StabilityLimit
+  stability_limit(const StabilityMethod &method)
+  {
+    StabilityLimit     limit;
+    const std::string &su       = method.strain_update;
+    const bool         averaged = (su == "usavg" || su == "usavg+");
+    const bool         full_mass_strain_velocities =
+      method.strain_update_mass_matrix != "lumped";
+    const std::string strain_text =
+      "strain update '" + su + "' with " +
+      (full_mass_strain_velocities ? "the same" : "lumped") + " mass matrix";
+    const std::string update_text =
+      method.flip_type ? "a FLIP-type update" : "a PIC-type update";
+
+    if (method.mass_matrix == "lumped" ||
+        (method.mass_matrix == "fmpm" && method.order <= 1))
+      {
+        limit.factor = 1;
+        limit.basis  = "lumped mass matrix";
+        return limit;
+      }
+
+    if (method.mass_matrix == "fmpm" || method.mass_matrix == "full")
+      {
+        const bool   full = method.mass_matrix == "full";
+        const double k_factor =
+          full ? -1 : fmpm_order_factor(method.order, averaged);
+        const std::string name = full ?
+                                   std::string("full mass matrix") :
+                                   "FMPM(" + std::to_string(method.order) + ")";
+        if (k_factor > 0)
+          {
+            limit.factor = k_factor;
+            limit.basis  = name + ", " + strain_text +
+                          ": measured critical Courant number of the "
+                          "vibrating bar over the lumped one";
+          }
+        else
+          {
+            limit.factor = full_factor;
+            limit.basis  = name + ", " + strain_text +
+                          ": free-surface scenes (rigid rotation, colliding "
+                          "disks) need a third of the lumped Courant number";
+          }
+        // Lumped strain velocities are at least as stable as full-mass ones.
+        if (!full_mass_strain_velocities && limit.factor < lumped_strain_factor)
+          {
+            limit.factor = lumped_strain_factor;
+            limit.basis  = name + ", " + strain_text +
+                          ": colliding disks stable at C = 0.4, unstable "
+                          "at 0.5";
+          }
+        if (method.flip_type && method.order > 1)
+          {
+            const double leapfrog = leapfrog_factor(method.order);
+            if (leapfrog < limit.factor)
+              {
+                limit.factor = leapfrog;
+                limit.basis  = name + " with " + update_text +
+                              ": the leapfrog limit 1/sqrt(sum_{j<k} "
+                              "(3/4)^j) of this particle mass matrix";
+              }
+          }
+        if (method.flip_type && (full || method.order > 10))
+          limit.warning =
+            "FLIP-type updates (V += S m~^-1 f dt) with the exact full "
+            "mass matrix blow up at free surfaces at any time step (the "
+            "rigid rotation fails at Courant numbers 0.1 and 0.05; doc/"
+            "studies/stability.md). Use 'Particle update/Model name = fmpm' "
+            "with the full mass matrix, or keep FLIP with 'Mass matrix/"
+            "Model name = fmpm' of order 2 to 5 or 'lumped'.";
+        return limit;
+      }
+
+    if (method.mass_matrix == "consistent")
+      {
+        limit.factor = consistent_factor;
+        limit.basis  = "consistent mass matrix, " + strain_text +
+                      ": FLIP on the vibrating bar stable up to C = 0.4";
+        limit.warning =
+          "the consistent finite element mass matrix amplifies a mode at "
+          "free surfaces once material points move relative to the cells, "
+          "at any time step (with " +
+          update_text + " and strain update '" + su +
+          "' the vibrating bar of doc/studies/stability.md is unstable at " +
+          (method.flip_type && averaged ? "Courant numbers above 0.45 and " :
+                                          "every Courant number and ") +
+          "at large displacements); use it for small-displacement studies "
+          "only, or choose 'Mass matrix/Model name = full' with the fmpm "
+          "update or 'fmpm' (FMPM(k)).";
+        return limit;
+      }
+
+    // A mass matrix without a measurement: no factor.
+    limit.factor = 1;
+    limit.basis =
+      "mass matrix '" + method.mass_matrix + "' (not measured: no factor)";
+    return limit;
+  }
+} // namespace fmpm
