@@ -215,27 +215,24 @@ namespace fmpm
     static Point<dim>
     reference_point(const CellData &cell, const Point<dim> &x, Point<dim> xi)
     {
+      // Affine cells: x = x₀ + J ξ inverts in one product.
+      if (cell.is_affine)
+        return Point<dim>(transpose(cell.inverse_jacobian_transpose) *
+                          (x - cell.vertex[0]));
       std::array<double, n_nodes>         S;
       std::array<Tensor<1, dim>, n_nodes> dS;
-      for (unsigned int iteration = 0; iteration < (cell.is_affine ? 1 : 8);
+      for (unsigned int iteration = 0; iteration < 8;
            ++iteration)
         {
           values(xi, S);
           Point<dim> x_xi;
           for (unsigned int i = 0; i < n_nodes; ++i)
             x_xi += S[i] * cell.vertex[i];
-          Tensor<2, dim> inverse_jacobian_transpose =
-            cell.inverse_jacobian_transpose;
-          if (!cell.is_affine)
-            {
-              reference_gradients(xi, dS);
-              Tensor<2, dim> J;
-              for (unsigned int i = 0; i < n_nodes; ++i)
-                J += outer_product(cell.vertex[i], dS[i]);
-              inverse_jacobian_transpose = transpose(invert(J));
-            }
-          const Tensor<1, dim> step =
-            transpose(inverse_jacobian_transpose) * (x - x_xi);
+          reference_gradients(xi, dS);
+          Tensor<2, dim> J;
+          for (unsigned int i = 0; i < n_nodes; ++i)
+            J += outer_product(cell.vertex[i], dS[i]);
+          const Tensor<1, dim> step = invert(J) * (x - x_xi);
           xi += step;
           if (step.norm() < 1e-13)
             break;

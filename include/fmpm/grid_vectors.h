@@ -29,35 +29,58 @@ namespace fmpm
    * cell with material points (seed 000 Eq. 1.9 before assembly): filling
    * it costs n² multiply-adds per point and no sparse-matrix insertion, and
    * m̃v is a gather-multiply-scatter over those cells. The local matrices
-   * are symmetric and stored as their upper triangles. Used by FMPM(k) and
-   * the exact solve on meshes without hanging nodes.
+   * are symmetric and stored as their upper triangles. A cell's nodes are
+   * the union of its points' supports: its own 4 or 8 nodes for classic
+   * shape functions, more for GIMP/CPDI and where hanging nodes pass their
+   * weights on. Used by FMPM(k) and the exact solve.
    */
   class CellwiseMatrix
   {
   public:
-    /** @brief Forget all cells; @p n is the number of nodes per cell. */
+    /** @brief Forget all cells; @p n is the default number of nodes of a
+     * cell (add_cell() without a size). */
     void
-    clear(const unsigned int n)
+    clear(const unsigned int n = 0)
     {
-      Assert(n == 4 || n == 8, dealii::ExcInternalError());
       nodes_per_cell = n;
+      uniform_size   = 0;
       local_indices.clear();
       values.clear();
+      cell_node_begin.assign(1, 0);
+      cell_value_begin.assign(1, 0);
     }
 
     /**
-     * @brief Append a cell: its nodes' local indices and its symmetric
+     * @brief Append a cell: its @p n nodes' local indices and its symmetric
      * n x n matrix (row by row; the upper triangle is kept).
      */
     void
-    add_cell(const unsigned int *indices, const double *cell_values)
+    add_cell(const unsigned int  n,
+             const unsigned int *indices,
+             const double       *cell_values)
     {
-      const unsigned int n = nodes_per_cell;
+      uniform_size = (n_cells() == 0 || uniform_size == n) ? n : 0;
       local_indices.insert(local_indices.end(), indices, indices + n);
       for (unsigned int i = 0; i < n; ++i)
         values.insert(values.end(),
                       cell_values + i * n + i,
                       cell_values + (i + 1) * n);
+      cell_node_begin.push_back(local_indices.size());
+      cell_value_begin.push_back(values.size());
+    }
+
+    /** @brief add_cell() with the default number of nodes of clear(). */
+    void
+    add_cell(const unsigned int *indices, const double *cell_values)
+    {
+      add_cell(nodes_per_cell, indices, cell_values);
+    }
+
+    /** @brief Number of cells. */
+    unsigned int
+    n_cells() const
+    {
+      return cell_node_begin.size() - 1;
     }
 
     /**
@@ -88,14 +111,15 @@ namespace fmpm
     void
     diagonal(GridScalar &dst) const
     {
-      dst                        = 0;
-      const unsigned int n       = nodes_per_cell;
-      const unsigned int n_cells = n == 0 ? 0 : local_indices.size() / n;
-      const unsigned int n_upper = n * (n + 1) / 2;
-      for (unsigned int c = 0; c < n_cells; ++c)
-        for (unsigned int i = 0, k = 0; i < n; k += n - i, ++i)
-          dst.local_element(local_indices[c * n + i]) +=
-            values[c * n_upper + k];
+      dst = 0;
+      for (unsigned int c = 0; c < n_cells(); ++c)
+        {
+          const unsigned int  n     = cell_node_begin[c + 1] - cell_node_begin[c];
+          const unsigned int *index = &local_indices[cell_node_begin[c]];
+          const double       *a     = &values[cell_value_begin[c]];
+          for (unsigned int i = 0; i < n; a += n - i, ++i)
+            dst.local_element(index[i]) += a[0];
+        }
       dst.compress(dealii::VectorOperation::add);
     }
 
@@ -106,14 +130,48 @@ namespace fmpm
                  const double *const *source,
                  const unsigned int   n_blocks) const
     {
-      // A Q1 cell has 4 nodes in 2D and 8 in 3D, one component each way.
-      Assert((nodes_per_cell == 4 && n_blocks == 2) ||
-               (nodes_per_cell == 8 && n_blocks == 3),
-             dealii::ExcInternalError());
-      if (nodes_per_cell == 4)
+      // Classic Q1 cells: 4 nodes in 2D and 8 in 3D, one component each way.
+      if (uniform_size == 4 && n_blocks == 2)
         add_products_paired<4, false>(destination, source);
-      else
+      else if (uniform_size == 8 && n_blocks == 3)
         add_products_paired<8, true>(destination, source);
+      else
+        add_products_generic(destination, source, n_blocks);
+    }
+
+    /** Cells of any size (GIMP/CPDI supports, hanging nodes). */
+    void
+    add_products_generic(double *const       *destination,
+                         const double *const *source,
+                         const unsigned int   n_blocks) const
+    {
+      double x[3][64], y[3][64];
+      for (unsigned int c = 0; c < n_cells(); ++c)
+        {
+          const unsigned int  n     = cell_node_begin[c + 1] - cell_node_begin[c];
+          const unsigned int *index = &local_indices[cell_node_begin[c]];
+          const double       *a     = &values[cell_value_begin[c]];
+          Assert(n <= 64, dealii::ExcInternalError());
+          for (unsigned int b = 0; b < n_blocks; ++b)
+            for (unsigned int j = 0; j < n; ++j)
+              {
+                x[b][j] = source[b][index[j]];
+                y[b][j] = 0;
+              }
+          for (unsigned int i = 0; i < n; a += n - i, ++i)
+            for (unsigned int b = 0; b < n_blocks; ++b)
+              {
+                y[b][i] += a[0] * x[b][i];
+                for (unsigned int j = i + 1; j < n; ++j)
+                  {
+                    y[b][i] += a[j - i] * x[b][j];
+                    y[b][j] += a[j - i] * x[b][i];
+                  }
+              }
+          for (unsigned int b = 0; b < n_blocks; ++b)
+            for (unsigned int i = 0; i < n; ++i)
+              destination[b][index[i]] += y[b][i];
+        }
     }
 
     /**
@@ -178,9 +236,14 @@ namespace fmpm
         }
     }
 
-    unsigned int              nodes_per_cell = 0;
+    unsigned int nodes_per_cell = 0;
+    /** The size of every cell if all have the same, else 0. */
+    unsigned int              uniform_size = 0;
     std::vector<unsigned int> local_indices;
     std::vector<double>       values;
+    /** Cell c's nodes and upper-triangle values start here. */
+    std::vector<unsigned int> cell_node_begin{0};
+    std::vector<std::size_t>  cell_value_begin{0};
   };
 } // namespace fmpm
 

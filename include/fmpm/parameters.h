@@ -140,6 +140,15 @@ namespace fmpm
     double stability_factor = 0;
   };
 
+  /** @brief How F^(n+1) follows from F^n and L (Deformation gradient/Update). */
+  enum class DeformationGradientUpdate
+  {
+    first_order,
+    taylor,
+    subcycle,
+    cayley
+  };
+
   /** @brief Choice of the MPM algorithm. */
   struct MethodParameters
   {
@@ -155,6 +164,18 @@ namespace fmpm
     std::string  deformation_gradient_update = "cayley";
     unsigned int taylor_terms                = 3;
     double       subcycle_strain_increment   = 0.01;
+    /** deformation_gradient_update as an enum (resolved before the loops). */
+    DeformationGradientUpdate
+    deformation_gradient_method() const
+    {
+      if (deformation_gradient_update == "first order")
+        return DeformationGradientUpdate::first_order;
+      if (deformation_gradient_update == "taylor")
+        return DeformationGradientUpdate::taylor;
+      if (deformation_gradient_update == "subcycle")
+        return DeformationGradientUpdate::subcycle;
+      return DeformationGradientUpdate::cayley;
+    }
     /** α_g and α_p of seed 003 Eq. 1.17. Units: 1/s. */
     double grid_damping     = 0;
     double particle_damping = 0;

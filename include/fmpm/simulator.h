@@ -15,6 +15,7 @@
 #include <fmpm/time_step_stability.h>
 #include <fmpm/shape_function.h>
 #include <fmpm/simulator_access.h>
+#include <fmpm/support_cache.h>
 #include <fmpm/velocity_conditions.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -233,9 +234,17 @@ namespace fmpm
     is_output_step();
     void
     do_time_step();
-    /** GIMP/CPDI: S̄ and Ḡ of every point for this step. */
+    /** The support cache: S and G (S̄, Ḡ) of every point for this step. */
     void
     compute_supports();
+    /** Whether a point's body force depends on the point (b(x, t), a
+     * rotating frame, tractions), not only on gravity. */
+    bool
+    has_point_body_force() const
+    {
+      return body_acceleration || angular_velocity ||
+             !traction_functions.empty();
+    }
     void
     particles_to_grid(const bool with_forces);
     void
@@ -275,10 +284,6 @@ namespace fmpm
     update_stresses(const GridVectorField &grid_velocity, const double dt);
     void
     update_particles();
-    /** ΔF with F^{n+1} = ΔF F^n for velocity gradient L over Δt. */
-    Tensor<2, 3>
-    deformation_gradient_increment(const Tensor<2, 3> &L,
-                                   const double        dt) const;
     void
     sort_particles_into_cells();
     void
@@ -312,10 +317,8 @@ namespace fmpm
     bool                has_hanging_nodes = false;
     GridTransfer<dim>   transfer;
     ShapeFunction::Type shape_function = ShapeFunction::Type::classic;
-    /** GIMP/CPDI supports of the points (traversal order) for this step:
-     * point k's nodes are support_nodes[support_offsets[k], ...[k+1]). */
-    std::vector<unsigned int>             support_offsets;
-    std::vector<ShapeFunction::Node<dim>> support_nodes;
+    /** Every locally owned point and its support (S, G) for this step. */
+    SupportCache<dim> supports;
 
     ParticleProperties<dim>         particle_properties;
     Particles::ParticleHandler<dim> particle_handler;
@@ -367,11 +370,9 @@ namespace fmpm
     /** Cells around each vertex, for finding the new cell of a moved point. */
     std::vector<std::set<typename Triangulation<dim>::active_cell_iterator>>
       vertex_to_cells;
-    /** Points whose new position left their cell in this step. */
-    std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
-      points_that_left_their_cell;
-    /** New reference location of each point (traversal order), or -1. */
-    std::vector<Point<dim>> new_reference_locations;
+    /** Points (support cache indices) whose new position left their cell
+     * in this step. */
+    std::vector<unsigned int> points_that_left_their_cell;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
                                                 constitutive_models;

@@ -27,7 +27,7 @@ namespace fmpm
                         "Poisson's ratio nu of the material, in [0, 0.5). "
                         "Units: none.");
       prm.declare_entry("Strain measure",
-                        defaults.strain_measure,
+                        "incremental",
                         Patterns::Selection("incremental|total"),
                         "'incremental': sigma += dt C : sym(L) (classic MPM, "
                         "no stress from rigid rotation); 'total': sigma = C : "
@@ -43,7 +43,9 @@ namespace fmpm
     {
       youngs_modulus = prm.get_double("Young's modulus");
       poissons_ratio = prm.get_double("Poisson's ratio");
-      strain_measure = prm.get("Strain measure");
+      strain_measure = prm.get("Strain measure") == "incremental" ?
+                         StrainMeasure::incremental :
+                         StrainMeasure::total;
     }
 
 
@@ -73,7 +75,7 @@ namespace fmpm
       const double lambda = youngs_modulus * poissons_ratio /
                             ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
       const SymmetricTensor<2, 3> identity = unit_symmetric_tensor<3>();
-      if (strain_measure == "incremental")
+      if (strain_measure == StrainMeasure::incremental)
         {
           using Index = PropertyIndex<dim>;
           for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)

@@ -101,6 +101,19 @@ namespace fmpm
                        density);
     }
 
+    template <int dim>
+    double
+    NeoHookean<dim>::max_wave_speed(const double                   density,
+                                    const ArrayView<const double> &J) const
+    {
+      double c = 0;
+      for (const double J_q : J)
+        c = std::max(c, NeoHookean<dim>::wave_speed(density, J_q));
+      return c;
+    }
+
+
+
     FMPM_REGISTER_CONSTITUTIVE_MODEL(
       NeoHookean,
       "neo hookean",

@@ -139,7 +139,9 @@ namespace fmpm
       }
     else if (strategy == "kelly")
       {
-        // The lumped grid velocity m⁻¹p, continuous across hanging nodes.
+        // The lumped grid velocity m⁻¹p, continuous across hanging nodes
+        // (supports of the points on the current mesh).
+        compute_supports();
         particles_to_grid(false);
         GridVectorField &v = grid_fields[ParticleUpdate::lumped_velocity];
         MassMatrix::apply_lumped_inverse(lumped_mass,

@@ -374,8 +374,7 @@ namespace fmpm
       }
     for (auto &impulse : step_impulse)
       impulse = Tensor<1, dim>();
-    if (shape_function != ShapeFunction::Type::classic)
-      compute_supports();
+    compute_supports();
 
     // 1. Extrapolate mass and momentum (and, when the stresses are not
     //    updated first, the forces from the last stresses):

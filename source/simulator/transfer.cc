@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
-// The particle-grid passes of the time step: extrapolations to the grid
-// (Sᵀ, Gᵀ), the particle update (S) and the strain update (G), and the
-// re-sorting of moved points into cells.
+// The particle-grid passes of the time step: the support cache (S, G of
+// every point, once per step), extrapolations to the grid (Sᵀ, Gᵀ), the
+// particle update (S) and the strain update (G), and the re-sorting of
+// moved points into cells. Every pass loops over the support cache.
 
 #include <fmpm/simulator.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -15,60 +17,17 @@ namespace fmpm
   namespace
   {
     /**
-     * Add a cell's nodal contributions to a ghosted grid vector: directly
-     * when no hanging node touches the cell, else through the constraints
-     * (condensation of the particle-to-grid result).
-     */
-    template <int dim, typename CellData>
-    inline void
-    add_to_grid(const CellData                             &cell,
-                const double                               *values,
-                LinearAlgebra::distributed::Vector<double> &vector,
-                const AffineConstraints<double>            &constraints)
-    {
-      constexpr unsigned int n = GeometryInfo<dim>::vertices_per_cell;
-      if (!cell.has_constraints)
-        for (unsigned int i = 0; i < n; ++i)
-          vector.local_element(cell.local_index[i]) += values[i];
-      else
-        {
-          Vector<double>                       local(values, values + n);
-          std::vector<types::global_dof_index> dofs(cell.dof_index.begin(),
-                                                    cell.dof_index.end());
-          constraints.distribute_local_to_global(local, dofs, vector);
-        }
-    }
-
-    /**
-     * Add a value to one node of a point's support (GIMP/CPDI): directly,
-     * or for a hanging node to the nodes it is constrained to.
-     */
-    template <int dim>
-    inline void
-    add_to_grid(const ShapeFunction::Node<dim>             &node,
-                const double                                value,
-                LinearAlgebra::distributed::Vector<double> &vector,
-                const AffineConstraints<double>            &constraints)
-    {
-      if (!node.constrained)
-        vector.local_element(node.local_index) += value;
-      else
-        for (const auto &entry : *constraints.get_constraint_entries(node.dof))
-          vector(entry.first) += entry.second * value;
-    }
-
-    /**
      * The force component @p a one point gives its node (Eq. 2.11):
      * M S b_a − V Σ_b σ_ab G_b, with @p MS = M S and the point's body
      * acceleration (tractions included) @p b.
      */
-    template <int dim, typename Stress>
+    template <int dim>
     inline double
     nodal_force(const unsigned int    a,
                 const double          MS,
                 const Tensor<1, dim> &b,
                 const double          V,
-                const Stress         &sigma,
+                const double (&sigma)[dim][dim],
                 const Tensor<1, dim> &G)
     {
       double f = MS * b[a];
@@ -77,56 +36,81 @@ namespace fmpm
       return f;
     }
 
-    /** A 3x3 tensor with the dim x dim block @p t (plane strain in 2D). */
+    /** The dim x dim block of the stored Cauchy stress (Voigt-like order). */
     template <int dim>
-    inline Tensor<2, 3>
-    embed(const Tensor<2, dim> &t)
+    inline void
+    stress_block(const double *stored, double (&sigma)[dim][dim])
     {
-      Tensor<2, 3> result;
-      for (unsigned int i = 0; i < dim; ++i)
-        for (unsigned int j = 0; j < dim; ++j)
-          result[i][j] = t[i][j];
-      return result;
+      for (unsigned int c = 0; c < 6; ++c)
+        if (stress_component_i[c] < dim && stress_component_j[c] < dim)
+          sigma[stress_component_i[c]][stress_component_j[c]] =
+            sigma[stress_component_j[c]][stress_component_i[c]] = stored[c];
     }
+
+    /**
+     * ΔF with F^{n+1} = ΔF F^n for each velocity gradient L[q] over Δt,
+     * ΔF ≈ exp(L Δt) for L constant over the step (seed 001,
+     * computeDeformationGradientFromVelocity). The method is chosen once
+     * for the batch.
+     */
+    void
+    deformation_gradient_increments(
+      const DeformationGradientUpdate update,
+      const MethodParameters         &method,
+      const std::vector<Tensor<2, 3>> &L,
+      const double                     dt,
+      const unsigned int               n_points,
+      std::vector<Tensor<2, 3>>       &dF)
+    {
+      const Tensor<2, 3> I = unit_symmetric_tensor<3>();
+      switch (update)
+        {
+          case DeformationGradientUpdate::first_order:
+            for (unsigned int q = 0; q < n_points; ++q)
+              dF[q] = I + L[q] * dt;
+            return;
+          case DeformationGradientUpdate::cayley:
+            for (unsigned int q = 0; q < n_points; ++q)
+              {
+                const Tensor<2, 3> half_L_dt = L[q] * (0.5 * dt);
+                dF[q] = invert(I - half_L_dt) * (I + half_L_dt);
+              }
+            return;
+          case DeformationGradientUpdate::taylor:
+            for (unsigned int q = 0; q < n_points; ++q)
+              {
+                const Tensor<2, 3> L_dt = L[q] * dt;
+                Tensor<2, 3>       term = I, sum = I;
+                for (unsigned int k = 1; k <= method.taylor_terms; ++k)
+                  {
+                    term = term * L_dt / static_cast<double>(k);
+                    sum += term;
+                  }
+                dF[q] = sum;
+              }
+            return;
+          case DeformationGradientUpdate::subcycle:
+            // First-order substeps with |L Δt_sub| below the bound.
+            for (unsigned int q = 0; q < n_points; ++q)
+              {
+                const Tensor<2, 3> L_dt = L[q] * dt;
+                const unsigned int n_sub =
+                  std::max(1u,
+                           static_cast<unsigned int>(std::ceil(
+                             L_dt.norm() / method.subcycle_strain_increment)));
+                const Tensor<2, 3> step = I + L_dt / static_cast<double>(n_sub);
+                Tensor<2, 3>       result = I;
+                for (unsigned int k = 0; k < n_sub; ++k)
+                  result = step * result;
+                dF[q] = result;
+              }
+            return;
+        }
+    }
+
+    /** Points per batch of the strain update (constitutive model calls). */
+    constexpr unsigned int stress_batch_size = 64;
   } // namespace
-
-
-
-  template <int dim>
-  Tensor<2, 3>
-  Simulator<dim>::deformation_gradient_increment(const Tensor<2, 3> &L,
-                                                 const double        dt) const
-  {
-    // F^{n+1} = ΔF F^n with ΔF ≈ exp(L Δt) for a velocity gradient constant
-    // over the step (seed 001, computeDeformationGradientFromVelocity).
-    const Tensor<2, 3> I      = unit_symmetric_tensor<3>();
-    const Tensor<2, 3> L_dt   = L * dt;
-    const std::string &update = parameters.method.deformation_gradient_update;
-    if (update == "first order")
-      return I + L_dt;
-    if (update == "cayley")
-      return invert(I - 0.5 * L_dt) * (I + 0.5 * L_dt);
-    if (update == "taylor")
-      {
-        Tensor<2, 3> term = I, sum = I;
-        for (unsigned int k = 1; k <= parameters.method.taylor_terms; ++k)
-          {
-            term = term * L_dt / static_cast<double>(k);
-            sum += term;
-          }
-        return sum;
-      }
-    // subcycle: first-order substeps with |L Δt_sub| below the bound.
-    const unsigned int n_sub =
-      std::max(1u,
-               static_cast<unsigned int>(std::ceil(
-                 L_dt.norm() / parameters.method.subcycle_strain_increment)));
-    const Tensor<2, 3> step   = I + L_dt / static_cast<double>(n_sub);
-    Tensor<2, 3>       result = I;
-    for (unsigned int k = 0; k < n_sub; ++k)
-      result = step * result;
-    return result;
-  }
 
 
 
@@ -225,74 +209,151 @@ namespace fmpm
 
 
 
+
+
   template <int dim>
   void
   Simulator<dim>::compute_supports()
   {
     TimerOutput::Scope timer(computing_timer, "shape functions");
-    using Index = PropertyIndex<dim>;
-    support_offsets.clear();
-    support_nodes.clear();
-    support_offsets.reserve(particle_handler.n_locally_owned_particles() + 1);
-    support_offsets.push_back(0);
+    using Index              = PropertyIndex<dim>;
+    constexpr unsigned int n = GridTransfer<dim>::n_nodes;
+    auto &pool               = particle_handler.get_property_pool();
+    supports.clear();
+    const unsigned int n_points = particle_handler.n_locally_owned_particles();
+    if (n_points == 0)
+      return;
+    supports.handle.reserve(n_points);
+    supports.cell.reserve(n_points);
+    supports.support_begin.reserve(n_points + 1);
+    supports.node.reserve(n * n_points);
+    supports.S.reserve(n * n_points);
+    supports.G.reserve(n * n_points);
+    // Handles index the pool's arrays: a point's handle is its location's
+    // place in them.
+    const Point<dim> *const first_location = &pool.get_location(0);
+    const auto             &partitioner    = *lumped_mass.get_partitioner();
+    const bool classic = (shape_function == ShapeFunction::Type::classic);
+
+    // A node of a support: itself, or for a hanging node its masters with
+    // the constraint weights (S_jp += c_ij S_ip).
+    auto add_node = [&](const unsigned int             first,
+                        const unsigned int             local_index,
+                        const types::global_dof_index  dof,
+                        const bool                     constrained,
+                        const double                   S,
+                        const Tensor<1, dim>          &G) {
+      if (!constrained)
+        supports.add_entry(first, local_index, S, G);
+      else
+        for (const auto &entry : *constraints.get_constraint_entries(dof))
+          supports.add_entry(first,
+                             partitioner.global_to_local(entry.first),
+                             entry.second * S,
+                             entry.second * G);
+    };
+
+    std::array<double, n>                 S;
+    std::array<Tensor<1, dim>, n>         G;
     std::vector<ShapeFunction::Node<dim>> support;
     for (const auto &cell : triangulation.active_cell_iterators())
       {
         if (!cell->is_locally_owned())
           continue;
-        for (const auto &particle : particle_handler.particles_in_cell(cell))
+        const auto particles = particle_handler.particles_in_cell(cell);
+        if (particles.begin() == particles.end())
+          continue;
+        const unsigned int c    = cell->active_cell_index();
+        const auto        &data = transfer.cell_data(c);
+        for (const auto &particle : particles)
           {
-            const auto     p = particle.get_properties();
-            Tensor<2, dim> F;
-            Tensor<1, dim> l0;
-            for (unsigned int a = 0; a < dim; ++a)
+            supports.handle.push_back(&particle.get_location() -
+                                      first_location);
+            supports.cell.push_back(c);
+            const unsigned int first = supports.node.size();
+            if (classic)
               {
-                l0[a] = p[Index::initial_half_length + a];
-                for (unsigned int b = 0; b < dim; ++b)
-                  F[a][b] = p[Index::deformation_gradient + 3 * a + b];
+                GridTransfer<dim>::values_and_gradients(
+                  data, particle.get_reference_location(), S, G);
+                if (!data.has_constraints)
+                  for (unsigned int i = 0; i < n; ++i)
+                    {
+                      supports.node.push_back(data.local_index[i]);
+                      supports.S.push_back(S[i]);
+                      supports.G.push_back(G[i]);
+                    }
+                else
+                  for (unsigned int i = 0; i < n; ++i)
+                    add_node(first,
+                             data.local_index[i],
+                             data.dof_index[i],
+                             data.constrained_nodes & (1u << i),
+                             S[i],
+                             G[i]);
               }
-            const ShapeFunction::Status status =
-              ShapeFunction::compute_support(shape_function,
-                                             transfer,
-                                             cell->active_cell_index(),
-                                             particle.get_location(),
-                                             F,
-                                             l0,
-                                             support);
-            if (status != ShapeFunction::Status::ok)
+            else
               {
-                if (local_failure.empty())
+                const auto     p = particle.get_properties();
+                Tensor<2, dim> F;
+                Tensor<1, dim> l0;
+                for (unsigned int a = 0; a < dim; ++a)
                   {
-                    std::ostringstream message;
-                    message
-                      << "the domain of material point " << particle.get_id()
-                      << " at (" << particle.get_location() << ") "
-                      << (status == ShapeFunction::Status::outside_mesh ?
-                            "reaches outside the mesh by more than half a "
-                            "cell" :
-                            "reaches beyond the cells that share a vertex "
-                            "with its cell (one layer of neighbour or ghost "
-                            "cells)")
-                      << " (Shape function/Type = "
-                      << parameters.method.shape_function
-                      << "): use smaller points (more Points per cell), a "
-                         "coarser mesh there, or classic shape functions";
-                    local_failure = message.str();
+                    l0[a] = p[Index::initial_half_length + a];
+                    for (unsigned int b = 0; b < dim; ++b)
+                      F[a][b] = p[Index::deformation_gradient + 3 * a + b];
                   }
-                // Carry on with the classic weights; the step fails.
-                ShapeFunction::compute_support(ShapeFunction::Type::classic,
-                                               transfer,
-                                               cell->active_cell_index(),
-                                               particle.get_location(),
-                                               F,
-                                               l0,
-                                               support);
+                const ShapeFunction::Status status =
+                  ShapeFunction::compute_support(shape_function,
+                                                 transfer,
+                                                 c,
+                                                 particle.get_location(),
+                                                 F,
+                                                 l0,
+                                                 support);
+                if (status != ShapeFunction::Status::ok)
+                  {
+                    if (local_failure.empty())
+                      {
+                        std::ostringstream message;
+                        message
+                          << "the domain of material point "
+                          << particle.get_id() << " at ("
+                          << particle.get_location() << ") "
+                          << (status == ShapeFunction::Status::outside_mesh ?
+                                "reaches outside the mesh by more than half a "
+                                "cell" :
+                                "reaches beyond the cells that share a vertex "
+                                "with its cell (one layer of neighbour or "
+                                "ghost cells)")
+                          << " (Shape function/Type = "
+                          << parameters.method.shape_function
+                          << "): use smaller points (more Points per cell), "
+                             "a coarser mesh there, or classic shape "
+                             "functions";
+                        local_failure = message.str();
+                      }
+                    // Carry on with the classic weights; the step fails.
+                    ShapeFunction::compute_support(ShapeFunction::Type::classic,
+                                                   transfer,
+                                                   c,
+                                                   particle.get_location(),
+                                                   F,
+                                                   l0,
+                                                   support);
+                  }
+                for (const auto &node : support)
+                  add_node(first,
+                           node.local_index,
+                           node.dof,
+                           node.constrained,
+                           node.S,
+                           node.G);
               }
-            support_nodes.insert(support_nodes.end(),
-                                 support.begin(),
-                                 support.end());
-            support_offsets.push_back(support_nodes.size());
+            supports.support_begin.push_back(supports.node.size());
           }
+        supports.cell_index.push_back(c);
+        supports.cell_iterator.push_back(cell);
+        supports.cell_point_begin.push_back(supports.n_points());
       }
   }
 
@@ -304,19 +365,16 @@ namespace fmpm
   {
     TimerOutput::Scope timer(computing_timer, "particles to grid");
     using Index              = PropertyIndex<dim>;
-    constexpr unsigned int n = GridTransfer<dim>::n_nodes;
 
-    // m̃ as cell-wise matrices where the mass matrix accepts them and the
-    // cell's nodes are its DoFs (no hanging nodes, classic shape
-    // functions); else the assembled sparse matrix.
+    // m̃ as cell-wise matrices where the mass matrix accepts them, else the
+    // assembled sparse matrix (the collection BC methods need its entries).
     use_cellwise_full_mass = mass_matrix->needs_full_mass_matrix() &&
                              mass_matrix->accepts_cellwise_full_mass_matrix() &&
-                             !velocity_conditions.needs_full_mass_matrix() &&
-                             !has_hanging_nodes &&
-                             shape_function == ShapeFunction::Type::classic;
+                             !velocity_conditions.needs_full_mass_matrix();
     const bool assemble_full =
       !use_cellwise_full_mass && (mass_matrix->needs_full_mass_matrix() ||
                                   velocity_conditions.needs_full_mass_matrix());
+    const bool with_full_mass = use_cellwise_full_mass || assemble_full;
     lumped_mass = 0;
     momentum    = 0;
     if (with_forces)
@@ -324,170 +382,116 @@ namespace fmpm
     if (assemble_full)
       full_mass_matrix = 0;
     if (use_cellwise_full_mass)
-      cellwise_full_mass.clear(n);
+      cellwise_full_mass.clear();
 
+    auto        &pool = particle_handler.get_property_pool();
+    const auto  &partitioner     = *lumped_mass.get_partitioner();
+    const bool   uniform_body_force = !has_point_body_force();
     Tensor<1, dim> gravity;
     for (unsigned int d = 0; d < dim; ++d)
       gravity[d] = parameters.gravity[d];
 
-    std::array<double, n>                S;
-    std::array<Tensor<1, dim>, n>        G;
-    double                               cell_mass[n];
-    double                               cell_momentum[dim][n];
-    double                               cell_force[dim][n];
-    FullMatrix<double>                   cell_full_mass(n, n);
-    std::vector<types::global_dof_index> dofs(n);
-
-    // GIMP/CPDI: every point scatters to its own support (S̄, Ḡ).
-    unsigned int point = 0;
-    for (const auto &cell : triangulation.active_cell_iterators())
+    // Raw views of the ghosted grid vectors (owned and ghost entries).
+    double *const m = lumped_mass.begin();
+    double       *p[dim], *f[dim];
+    for (unsigned int d = 0; d < dim; ++d)
       {
-        if (shape_function == ShapeFunction::Type::classic)
-          break;
-        if (!cell->is_locally_owned())
-          continue;
-        for (const auto &particle : particle_handler.particles_in_cell(cell))
-          {
-            const auto         p     = particle.get_properties();
-            const double       M     = p[Index::mass];
-            const unsigned int begin = support_offsets[point];
-            const unsigned int end   = support_offsets[point + 1];
-            ++point;
-            Tensor<1, dim>        body_force;
-            SymmetricTensor<2, 3> sigma;
-            const double          V = p[Index::volume];
-            if (with_forces)
-              {
-                body_force =
-                  external_acceleration(p, particle.get_location(), gravity);
-                sigma = get_symmetric_tensor3(p, Index::stress);
-              }
-            for (unsigned int k = begin; k < end; ++k)
-              {
-                const auto  &node = support_nodes[k];
-                const double MS   = M * node.S;
-                add_to_grid<dim>(node, MS, lumped_mass, constraints);
-                for (unsigned int d = 0; d < dim; ++d)
-                  add_to_grid<dim>(node,
-                                   MS * p[Index::velocity + d],
-                                   momentum.block(d),
-                                   constraints);
-                if (with_forces)
-                  for (unsigned int a = 0; a < dim; ++a)
-                    add_to_grid<dim>(
-                      node,
-                      nodal_force<dim>(a, MS, body_force, V, sigma, node.G),
-                      force.block(a),
-                      constraints);
-              }
-            if (assemble_full ||
-                use_cellwise_full_mass) // m̃ = SᵀMS (1.9) over the support
-              {
-                const unsigned int n_support = end - begin;
-                cell_full_mass.reinit(n_support, n_support);
-                dofs.resize(n_support);
-                for (unsigned int i = 0; i < n_support; ++i)
-                  {
-                    dofs[i] = support_nodes[begin + i].dof;
-                    for (unsigned int j = 0; j < n_support; ++j)
-                      cell_full_mass(i, j) = M * support_nodes[begin + i].S *
-                                             support_nodes[begin + j].S;
-                  }
-                constraints.distribute_local_to_global(cell_full_mass,
-                                                       dofs,
-                                                       full_mass_matrix);
-              }
-          }
+        p[d] = momentum.block(d).begin();
+        f[d] = force.block(d).begin();
       }
+    const unsigned int *const        node = supports.node.data();
+    const double *const              S    = supports.S.data();
+    const Tensor<1, dim> *const      G    = supports.G.data();
+    // m̃ of one cell over the union of its points' supports: the nodes, and
+    // the place in them of each support entry of the cell's points.
+    std::vector<unsigned int>            cell_nodes, slot;
+    std::vector<double>                  local_full_mass;
+    std::vector<types::global_dof_index> dofs;
 
-    for (const auto &cell : triangulation.active_cell_iterators())
+    for (unsigned int c = 0; c < supports.n_cells(); ++c)
       {
-        if (shape_function != ShapeFunction::Type::classic)
-          break;
-        if (!cell->is_locally_owned())
-          continue;
-        const auto particles = particle_handler.particles_in_cell(cell);
-        if (particles.begin() == particles.end())
-          continue;
-        const auto &data = transfer.cell_data(cell->active_cell_index());
-
-        std::fill(cell_mass, cell_mass + n, 0.);
-        for (unsigned int d = 0; d < dim; ++d)
+        const unsigned int first_entry =
+          supports.support_begin[supports.cell_point_begin[c]];
+        if (with_full_mass)
           {
-            std::fill(cell_momentum[d], cell_momentum[d] + n, 0.);
-            std::fill(cell_force[d], cell_force[d] + n, 0.);
-          }
-        if (assemble_full || use_cellwise_full_mass)
-          cell_full_mass = 0;
-
-        for (const auto &particle : particles)
-          {
-            const auto   p = particle.get_properties();
-            const double M = p[Index::mass];
-            if (with_forces)
-              GridTransfer<dim>::values_and_gradients(
-                data, particle.get_reference_location(), S, G);
-            else
-              GridTransfer<dim>::values(particle.get_reference_location(), S);
-
-            for (unsigned int i = 0; i < n; ++i)
+            const unsigned int entry_end =
+              supports.support_begin[supports.cell_point_begin[c + 1]];
+            cell_nodes.clear();
+            slot.resize(entry_end - first_entry);
+            for (unsigned int j = first_entry; j < entry_end; ++j)
               {
-                const double MS = M * S[i];
-                cell_mass[i] += MS; // m = SᵀM (Eq. 1.6)
-                for (unsigned int d = 0; d < dim; ++d)
-                  cell_momentum[d][i] += MS * p[Index::velocity + d]; // p = SᵀP
+                const auto place =
+                  std::find(cell_nodes.begin(), cell_nodes.end(), node[j]);
+                slot[j - first_entry] = place - cell_nodes.begin();
+                if (place == cell_nodes.end())
+                  cell_nodes.push_back(node[j]);
               }
-            if (assemble_full || use_cellwise_full_mass) // m̃ = SᵀMS (1.9)
-              for (unsigned int i = 0; i < n; ++i)
-                for (unsigned int j = 0; j < n; ++j)
-                  cell_full_mass(i, j) += M * S[i] * S[j];
-
+            local_full_mass.assign(cell_nodes.size() * cell_nodes.size(), 0.);
+          }
+        const unsigned int n_cell_nodes = cell_nodes.size();
+        for (unsigned int k = supports.cell_point_begin[c];
+             k < supports.cell_point_begin[c + 1];
+             ++k)
+          {
+            const double *const P     = pool.get_properties(supports.handle[k]).data();
+            const double        M     = P[Index::mass];
+            const unsigned int  begin = supports.support_begin[k];
+            const unsigned int  end   = supports.support_begin[k + 1];
+            double              MV[dim];
+            for (unsigned int d = 0; d < dim; ++d)
+              MV[d] = M * P[Index::velocity + d];
+            // m = SᵀM (Eq. 1.6), p = SᵀMV
+            for (unsigned int j = begin; j < end; ++j)
+              {
+                const unsigned int i = node[j];
+                m[i] += M * S[j];
+                for (unsigned int d = 0; d < dim; ++d)
+                  p[d][i] += MV[d] * S[j];
+              }
             if (with_forces)
               {
                 // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
                 // τ/ρ₀ M = σ V; F_p the traction force)
-                const Tensor<1, dim> body_force =
-                  external_acceleration(p, particle.get_location(), gravity);
-                const double V = p[Index::volume];
-                double       sigma[dim][dim];
-                for (unsigned int a = 0; a < dim; ++a)
-                  for (unsigned int b = 0; b < dim; ++b)
-                    sigma[a][b] = 0;
-                {
-                  const SymmetricTensor<2, 3> s =
-                    get_symmetric_tensor3(p, Index::stress);
+                const Tensor<1, dim> b =
+                  uniform_body_force ?
+                    gravity :
+                    external_acceleration(
+                      ArrayView<const double>(P, particle_properties.n_properties()),
+                      pool.get_location(supports.handle[k]),
+                      gravity);
+                double sigma[dim][dim];
+                stress_block<dim>(P + Index::stress, sigma);
+                const double V = P[Index::volume];
+                for (unsigned int j = begin; j < end; ++j)
                   for (unsigned int a = 0; a < dim; ++a)
-                    for (unsigned int b = 0; b < dim; ++b)
-                      sigma[a][b] = s[a][b];
-                }
-                for (unsigned int i = 0; i < n; ++i)
-                  for (unsigned int a = 0; a < dim; ++a)
-                    cell_force[a][i] +=
-                      nodal_force<dim>(a, M * S[i], body_force, V, sigma, G[i]);
+                    f[a][node[j]] +=
+                      nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
               }
-          }
-
-        add_to_grid<dim>(data, cell_mass, lumped_mass, constraints);
-        for (unsigned int d = 0; d < dim; ++d)
-          add_to_grid<dim>(data,
-                           cell_momentum[d],
-                           momentum.block(d),
-                           constraints);
-        if (with_forces)
-          for (unsigned int d = 0; d < dim; ++d)
-            add_to_grid<dim>(data, cell_force[d], force.block(d), constraints);
-        if (assemble_full)
-          {
-            std::copy(data.dof_index.begin(),
-                      data.dof_index.end(),
-                      dofs.begin());
-            constraints.distribute_local_to_global(cell_full_mass,
-                                                   dofs,
-                                                   full_mass_matrix);
+            if (with_full_mass) // m̃ = SᵀMS (1.9)
+              for (unsigned int i = begin; i < end; ++i)
+                {
+                  const double MS_i = M * S[i];
+                  double      *row =
+                    &local_full_mass[slot[i - first_entry] * n_cell_nodes];
+                  for (unsigned int j = begin; j < end; ++j)
+                    row[slot[j - first_entry]] += MS_i * S[j];
+                }
           }
         if (use_cellwise_full_mass)
-          cellwise_full_mass.add_cell(data.local_index.data(),
-                                      &cell_full_mass(0, 0));
+          cellwise_full_mass.add_cell(n_cell_nodes,
+                                      cell_nodes.data(),
+                                      local_full_mass.data());
+        else if (assemble_full)
+          {
+            dofs.resize(n_cell_nodes);
+            for (unsigned int i = 0; i < n_cell_nodes; ++i)
+              dofs[i] = partitioner.local_to_global(cell_nodes[i]);
+            for (unsigned int i = 0; i < n_cell_nodes; ++i)
+              full_mass_matrix.add(dofs[i],
+                                   n_cell_nodes,
+                                   dofs.data(),
+                                   &local_full_mass[i * n_cell_nodes]);
+          }
       }
 
     lumped_mass.compress(VectorOperation::add);
@@ -507,78 +511,39 @@ namespace fmpm
   Simulator<dim>::compute_forces()
   {
     TimerOutput::Scope timer(computing_timer, "particles to grid");
-    using Index              = PropertyIndex<dim>;
-    constexpr unsigned int n = GridTransfer<dim>::n_nodes;
-    force                    = 0;
+    using Index = PropertyIndex<dim>;
+    force       = 0;
+    auto          &pool               = particle_handler.get_property_pool();
+    const bool     uniform_body_force = !has_point_body_force();
     Tensor<1, dim> gravity;
     for (unsigned int d = 0; d < dim; ++d)
       gravity[d] = parameters.gravity[d];
+    double *f[dim];
+    for (unsigned int d = 0; d < dim; ++d)
+      f[d] = force.block(d).begin();
+    const unsigned int *const   node = supports.node.data();
+    const double *const         S    = supports.S.data();
+    const Tensor<1, dim> *const G    = supports.G.data();
 
-    std::array<double, n>         S;
-    std::array<Tensor<1, dim>, n> G;
-    double                        cell_force[dim][n];
-    unsigned int                  point = 0;
-    for (const auto &cell : triangulation.active_cell_iterators())
+    for (unsigned int k = 0; k < supports.n_points(); ++k)
       {
-        if (shape_function == ShapeFunction::Type::classic)
-          break;
-        if (!cell->is_locally_owned())
-          continue;
-        for (const auto &particle : particle_handler.particles_in_cell(cell))
-          {
-            const auto                  p = particle.get_properties();
-            const double                M = p[Index::mass];
-            const double                V = p[Index::volume];
-            const SymmetricTensor<2, 3> sigma =
-              get_symmetric_tensor3(p, Index::stress);
-            const Tensor<1, dim> body_force =
-              external_acceleration(p, particle.get_location(), gravity);
-            for (unsigned int k = support_offsets[point];
-                 k < support_offsets[point + 1];
-                 ++k)
-              {
-                const auto &node = support_nodes[k];
-                for (unsigned int a = 0; a < dim; ++a)
-                  add_to_grid<dim>(
-                    node,
-                    nodal_force<dim>(
-                      a, M * node.S, body_force, V, sigma, node.G),
-                    force.block(a),
-                    constraints);
-              }
-            ++point;
-          }
-      }
-    for (const auto &cell : triangulation.active_cell_iterators())
-      {
-        if (shape_function != ShapeFunction::Type::classic)
-          break;
-        if (!cell->is_locally_owned())
-          continue;
-        const auto particles = particle_handler.particles_in_cell(cell);
-        if (particles.begin() == particles.end())
-          continue;
-        const auto &data = transfer.cell_data(cell->active_cell_index());
-        for (unsigned int d = 0; d < dim; ++d)
-          std::fill(cell_force[d], cell_force[d] + n, 0.);
-        for (const auto &particle : particles)
-          {
-            const auto p = particle.get_properties();
-            GridTransfer<dim>::values_and_gradients(
-              data, particle.get_reference_location(), S, G);
-            const double                M = p[Index::mass];
-            const double                V = p[Index::volume];
-            const SymmetricTensor<2, 3> sigma =
-              get_symmetric_tensor3(p, Index::stress);
-            const Tensor<1, dim> body_force =
-              external_acceleration(p, particle.get_location(), gravity);
-            for (unsigned int i = 0; i < n; ++i)
-              for (unsigned int a = 0; a < dim; ++a)
-                cell_force[a][i] +=
-                  nodal_force<dim>(a, M * S[i], body_force, V, sigma, G[i]);
-          }
-        for (unsigned int d = 0; d < dim; ++d)
-          add_to_grid<dim>(data, cell_force[d], force.block(d), constraints);
+        const double *const P = pool.get_properties(supports.handle[k]).data();
+        const double        M = P[Index::mass];
+        const double        V = P[Index::volume];
+        double              sigma[dim][dim];
+        stress_block<dim>(P + Index::stress, sigma);
+        const Tensor<1, dim> b =
+          uniform_body_force ?
+            gravity :
+            external_acceleration(
+              ArrayView<const double>(P, particle_properties.n_properties()),
+              pool.get_location(supports.handle[k]),
+              gravity);
+        for (unsigned int j = supports.support_begin[k];
+             j < supports.support_begin[k + 1];
+             ++j)
+          for (unsigned int a = 0; a < dim; ++a)
+            f[a][node[j]] += nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
       }
     force.compress(VectorOperation::add);
   }
@@ -590,94 +555,62 @@ namespace fmpm
   Simulator<dim>::update_particles()
   {
     TimerOutput::Scope timer(computing_timer, "particle update");
-    using Index              = PropertyIndex<dim>;
-    constexpr unsigned int n = GridTransfer<dim>::n_nodes;
+    using Index = PropertyIndex<dim>;
 
-    std::vector<unsigned int> fields;
+    unsigned int fields[ParticleUpdate::n_grid_fields];
+    unsigned int n_fields = 0;
+    const double *field_values[ParticleUpdate::n_grid_fields][dim];
     for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
       if (field_needed[f])
-        fields.push_back(f);
+        {
+          fields[n_fields++] = f;
+          for (unsigned int d = 0; d < dim; ++d)
+            field_values[f][d] = grid_fields[f].block(d).begin();
+        }
 
+    auto                      &pool = particle_handler.get_property_pool();
     ParticleUpdate::Batch<dim> batch;
     batch.time_step = time_step;
-    new_reference_locations.clear();
-    new_reference_locations.reserve(
-      particle_handler.n_locally_owned_particles());
-    Point<dim> outside_marker;
-    for (unsigned int d = 0; d < dim; ++d)
-      outside_marker[d] = -1;
+    points_that_left_their_cell.clear();
     const bool   track_dissipation = parameters.output.track_dissipation;
     const double grid_damping      = parameters.method.grid_damping;
     const double particle_damping  = parameters.method.particle_damping;
     std::vector<Tensor<1, dim>> old_velocity, damping_velocity;
     std::vector<Point<dim>>     old_position;
-    std::array<double, n>       S;
-    double                      speed = 0;
-    const bool   has_moving_walls     = velocity_conditions.has_moving_boxes();
-    const bool   classic     = (shape_function == ShapeFunction::Type::classic);
-    unsigned int first_point = 0; // of the cell, in traversal order
+    double                      max_V2 = 0;
+    const bool has_moving_walls = velocity_conditions.has_moving_boxes();
+    const unsigned int *const node = supports.node.data();
+    const double *const       S    = supports.S.data();
 
-    for (const auto &cell : triangulation.active_cell_iterators())
+    // One batch per cell with points (the plugin's virtual call per batch).
+    for (unsigned int c = 0; c < supports.n_cells(); ++c)
       {
-        if (!cell->is_locally_owned())
-          continue;
-        const auto         particles = particle_handler.particles_in_cell(cell);
+        const unsigned int first_point = supports.cell_point_begin[c];
         const unsigned int n_points =
-          particle_handler.n_particles_in_cell(cell);
-        if (n_points == 0)
-          continue;
-        const auto &data = transfer.cell_data(cell->active_cell_index());
+          supports.cell_point_begin[c + 1] - first_point;
+        const auto &data = transfer.cell_data(supports.cell_index[c]);
         batch.resize(n_points);
-        const unsigned int cell_first_point = first_point;
-        first_point += n_points;
 
         // Gather: V, X and the requested fields extrapolated with S.
-        unsigned int q = 0;
-        for (const auto &particle : particles)
+        for (unsigned int q = 0; q < n_points; ++q)
           {
-            const auto p      = particle.get_properties();
-            batch.velocity[q] = get_vector<dim>(p, Index::velocity);
-            batch.position[q] = particle.get_location();
-            if (!classic)
+            const unsigned int  k = first_point + q;
+            const double *const P =
+              pool.get_properties(supports.handle[k]).data();
+            for (unsigned int d = 0; d < dim; ++d)
+              batch.velocity[q][d] = P[Index::velocity + d];
+            batch.position[q] = pool.get_location(supports.handle[k]);
+            const unsigned int begin = supports.support_begin[k];
+            const unsigned int end   = supports.support_begin[k + 1];
+            for (unsigned int field = 0; field < n_fields; ++field)
               {
-                // S̄ of the point's support (GIMP/CPDI).
-                const unsigned int begin =
-                  support_offsets[cell_first_point + q];
-                const unsigned int end =
-                  support_offsets[cell_first_point + q + 1];
-                for (const unsigned int f : fields)
-                  {
-                    Tensor<1, dim> value;
-                    for (unsigned int d = 0; d < dim; ++d)
-                      {
-                        const auto &block = grid_fields[f].block(d);
-                        double      sum   = 0;
-                        for (unsigned int k = begin; k < end; ++k)
-                          sum +=
-                            support_nodes[k].S *
-                            block.local_element(support_nodes[k].local_index);
-                        value[d] = sum;
-                      }
-                    batch.grid[f][q] = value;
-                  }
-                ++q;
-                continue;
-              }
-            GridTransfer<dim>::values(particle.get_reference_location(), S);
-            for (const unsigned int f : fields)
-              {
-                Tensor<1, dim> value;
-                for (unsigned int d = 0; d < dim; ++d)
-                  {
-                    const auto &block = grid_fields[f].block(d);
-                    double      sum   = 0;
-                    for (unsigned int i = 0; i < n; ++i)
-                      sum += S[i] * block.local_element(data.local_index[i]);
-                    value[d] = sum;
-                  }
+                const unsigned int f = fields[field];
+                Tensor<1, dim>     value;
+                for (unsigned int j = begin; j < end; ++j)
+                  for (unsigned int d = 0; d < dim; ++d)
+                    value[d] += S[j] * field_values[f][d][node[j]];
                 batch.grid[f][q] = value;
               }
-            ++q;
           }
 
         // Keep V^(n), X^(n) where damping or the dissipation measure need
@@ -701,79 +634,72 @@ namespace fmpm
         // A_damp = α_g S v + α_p V^(n); V^(n+1) -= A_damp Δt and, the
         // effective velocity being unchanged, X^(n+1) -= A_damp Δt²/2.
         if (grid_damping != 0 || particle_damping != 0)
-          for (unsigned int p = 0; p < n_points; ++p)
+          for (unsigned int q = 0; q < n_points; ++q)
             {
               Tensor<1, dim> A_damp;
               if (grid_damping != 0)
                 A_damp +=
-                  grid_damping * batch.grid[ParticleUpdate::velocity][p];
+                  grid_damping * batch.grid[ParticleUpdate::velocity][q];
               if (particle_damping != 0)
-                A_damp += particle_damping * (*V_n)[p];
-              batch.velocity[p] -= A_damp * time_step;
-              batch.position[p] -= A_damp * (0.5 * time_step * time_step);
+                A_damp += particle_damping * (*V_n)[q];
+              batch.velocity[q] -= A_damp * time_step;
+              batch.position[q] -= A_damp * (0.5 * time_step * time_step);
             }
 
         // Energy dissipated compared with non-dissipative FLIP (seed 003
         // Eqs. 1.44-1.45): M [A_g→p Δt·(V_g→p + A_g→p Δt/2) − ΔV·ΔX/Δt].
         if (track_dissipation)
-          {
-            unsigned int p_index = 0;
-            for (const auto &particle : particles)
-              {
-                const double         M = particle.get_properties()[Index::mass];
-                const Tensor<1, dim> a_dt =
-                  batch.grid[ParticleUpdate::acceleration][p_index] * time_step;
-                const Tensor<1, dim> &v_g =
-                  batch.grid[ParticleUpdate::velocity][p_index];
-                const Tensor<1, dim> dV =
-                  batch.velocity[p_index] - old_velocity[p_index];
-                const Tensor<1, dim> dX_dt =
-                  (batch.position[p_index] - old_position[p_index]) / time_step;
-                local_dissipation +=
-                  M * (a_dt * (v_g + 0.5 * a_dt) - dV * dX_dt);
-                ++p_index;
-              }
-          }
+          for (unsigned int q = 0; q < n_points; ++q)
+            {
+              const double M = pool.get_properties(
+                supports.handle[first_point + q])[Index::mass];
+              const Tensor<1, dim> a_dt =
+                batch.grid[ParticleUpdate::acceleration][q] * time_step;
+              const Tensor<1, dim> &v_g =
+                batch.grid[ParticleUpdate::velocity][q];
+              const Tensor<1, dim> dV = batch.velocity[q] - old_velocity[q];
+              const Tensor<1, dim> dX_dt =
+                (batch.position[q] - old_position[q]) / time_step;
+              local_dissipation +=
+                M * (a_dt * (v_g + 0.5 * a_dt) - dV * dX_dt);
+            }
 
-        // Scatter the new V and X.
-        q = 0;
-        for (auto particle_iterator = particles.begin();
-             particle_iterator != particles.end();
-             ++particle_iterator)
+        // Scatter the new V and X, and the new reference location of each
+        // point still in its cell (no later pass of the step reads it: they
+        // use the support cache); the others are sorted at the step's end.
+        for (unsigned int q = 0; q < n_points; ++q)
           {
-            auto                 &particle = *particle_iterator;
-            const Tensor<1, dim> &V        = batch.velocity[q];
-            const double          V2       = V * V;
+            const unsigned int    k = first_point + q;
+            const auto            h = supports.handle[k];
+            double *const         P = pool.get_properties(h).data();
+            const Tensor<1, dim> &V = batch.velocity[q];
+            const double          V2 = V * V;
             if (!std::isfinite(V2) && local_failure.empty())
               {
                 std::ostringstream message;
-                message << "velocity of material point " << particle.get_id()
-                        << " at (" << particle.get_location()
+                message << "velocity of material point " << pool.get_id(h)
+                        << " at (" << pool.get_location(h)
                         << ") is not finite (NaN or Inf)";
                 local_failure = message.str();
               }
-            speed = std::max(speed, std::sqrt(V2));
-            set_vector<dim>(particle.get_properties(), Index::velocity, V);
+            max_V2 = std::max(max_V2, V2);
+            for (unsigned int d = 0; d < dim; ++d)
+              P[Index::velocity + d] = V[d];
             // Points do not enter a moving wall's box.
             if (has_moving_walls)
               velocity_conditions.push_out_of_walls(batch.position[q]);
-            // The new reference location, set after the strain update (which
-            // still uses the shape functions of the step's start); only
-            // points that left their cell need sorting.
-            const Point<dim> xi = GridTransfer<dim>::reference_point(
-              data, batch.position[q], particle.get_reference_location());
-            particle.set_location(batch.position[q]);
+            const Point<dim> xi =
+              GridTransfer<dim>::reference_point(data,
+                                                 batch.position[q],
+                                                 pool.get_reference_location(h));
+            pool.set_location(h, batch.position[q]);
             if (GridTransfer<dim>::is_inside(xi))
-              new_reference_locations.push_back(xi);
+              pool.set_reference_location(h, xi);
             else
-              {
-                new_reference_locations.push_back(outside_marker);
-                points_that_left_their_cell.push_back(particle_iterator);
-              }
-            ++q;
+              points_that_left_their_cell.push_back(k);
           }
       }
-    local_max_point_speed = speed;
+    local_max_point_speed = std::sqrt(max_V2);
   }
 
 
@@ -784,101 +710,100 @@ namespace fmpm
   {
     TimerOutput::Scope timer(computing_timer, "stress update");
     using Index                        = PropertyIndex<dim>;
-    constexpr unsigned int n           = GridTransfer<dim>::n_nodes;
     const unsigned int     n_materials = constitutive_models.size();
+    const DeformationGradientUpdate F_update =
+      parameters.method.deformation_gradient_method();
+    auto &pool = particle_handler.get_property_pool();
+    const unsigned int n_properties = particle_properties.n_properties();
 
-    std::array<double, n>                  S;
-    std::array<Tensor<1, dim>, n>          G;
     ConstitutiveModel::StressUpdateInputs  inputs;
     ConstitutiveModel::StressUpdateOutputs outputs;
-    inputs.time_step  = dt;
-    double wave_speed = 0;
+    inputs.time_step = dt;
+    inputs.resize(stress_batch_size);
+    outputs.resize(stress_batch_size);
+    std::vector<Tensor<2, 3>> dF(stress_batch_size);
+    double                    wave_speed = 0;
+    const double *v_a[dim];
+    for (unsigned int a = 0; a < dim; ++a)
+      v_a[a] = v.block(a).begin();
+    const unsigned int *const   node = supports.node.data();
+    const Tensor<1, dim> *const G    = supports.G.data();
 
-    // Points of one cell, grouped by material for the batched model call.
-    std::vector<
-      std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>>
-      by_material(n_materials);
-    // The index of each point of by_material in traversal order (supports).
-    std::vector<std::vector<unsigned int>> point_index(n_materials);
-    const bool   classic = (shape_function == ShapeFunction::Type::classic);
-    unsigned int point   = 0;
+    // Points of a batch grouped by material for the model call (one group
+    // when the scene has one material).
+    std::vector<std::vector<unsigned int>> by_material(n_materials);
+    for (auto &group : by_material)
+      group.reserve(stress_batch_size);
+    unsigned int group_points[stress_batch_size];
+    double       J_of_group[stress_batch_size];
 
-    for (const auto &cell : triangulation.active_cell_iterators())
+    for (unsigned int batch_begin = 0; batch_begin < supports.n_points();
+         batch_begin += stress_batch_size)
       {
-        if (!cell->is_locally_owned())
-          continue;
-        const auto particles = particle_handler.particles_in_cell(cell);
-        if (particles.begin() == particles.end())
-          continue;
-        const auto &data = transfer.cell_data(cell->active_cell_index());
-        for (auto &group : by_material)
-          group.clear();
-        for (auto &group : point_index)
-          group.clear();
-        for (auto particle = particles.begin(); particle != particles.end();
-             ++particle)
-          {
-            const unsigned int m =
-              n_materials == 1 ?
-                0 :
-                static_cast<unsigned int>(
-                  particle->get_properties()[Index::material_id]);
-            by_material[m].push_back(particle);
-            point_index[m].push_back(point++);
-          }
+        const unsigned int batch_end =
+          std::min(batch_begin + stress_batch_size, supports.n_points());
+        for (unsigned int m = 0; m < n_materials; ++m)
+          by_material[m].clear();
+        for (unsigned int k = batch_begin; k < batch_end; ++k)
+          by_material[n_materials == 1 ?
+                        0 :
+                        static_cast<unsigned int>(
+                          pool.get_properties(
+                            supports.handle[k])[Index::material_id])]
+            .push_back(k);
 
         for (unsigned int m = 0; m < n_materials; ++m)
           {
-            const auto &group = by_material[m];
-            if (group.empty())
+            const unsigned int n_group = by_material[m].size();
+            if (n_group == 0)
               continue;
-            inputs.resize(group.size());
-            outputs.resize(group.size());
-            for (unsigned int q = 0; q < group.size(); ++q)
+            std::copy(by_material[m].begin(),
+                      by_material[m].end(),
+                      group_points);
+            inputs.resize(n_group);
+            outputs.resize(n_group);
+            // L = ∇v = Σ_i v_i ⊗ G_pi (Eqs. 2.7, 2.18), plane strain in 2D.
+            for (unsigned int q = 0; q < n_group; ++q)
               {
-                auto       particle = group[q];
-                const auto p        = particle->get_properties();
-                // ∇v = Σ_i v_i ⊗ G_pi (Eq. 2.7, 2.18)
-                Tensor<2, dim> grad_v;
-                if (classic)
-                  {
-                    GridTransfer<dim>::values_and_gradients(
-                      data, particle->get_reference_location(), S, G);
-                    for (unsigned int i = 0; i < n; ++i)
-                      for (unsigned int a = 0; a < dim; ++a)
-                        {
-                          const double v_ia =
-                            v.block(a).local_element(data.local_index[i]);
-                          for (unsigned int b = 0; b < dim; ++b)
-                            grad_v[a][b] += v_ia * G[i][b];
-                        }
-                  }
-                else // Ḡ of the point's support (GIMP/CPDI)
-                  for (unsigned int k = support_offsets[point_index[m][q]];
-                       k < support_offsets[point_index[m][q] + 1];
-                       ++k)
-                    for (unsigned int a = 0; a < dim; ++a)
-                      {
-                        const double v_ia = v.block(a).local_element(
-                          support_nodes[k].local_index);
-                        for (unsigned int b = 0; b < dim; ++b)
-                          grad_v[a][b] += v_ia * support_nodes[k].G[b];
-                      }
-                const Tensor<2, 3> L = embed<dim>(grad_v);
-                const Tensor<2, 3> F_old =
-                  get_tensor3(p, Index::deformation_gradient);
-                const Tensor<2, 3> F =
-                  deformation_gradient_increment(L, dt) * F_old;
-                inputs.deformation_gradient[q] = F;
-                inputs.velocity_gradient[q]    = L;
-                inputs.properties[q]           = p;
-                const double J                 = determinant(F);
+                const unsigned int k = group_points[q];
+                Tensor<2, 3>       L;
+                for (unsigned int j = supports.support_begin[k];
+                     j < supports.support_begin[k + 1];
+                     ++j)
+                  for (unsigned int a = 0; a < dim; ++a)
+                    {
+                      const double v_ia = v_a[a][node[j]];
+                      for (unsigned int b = 0; b < dim; ++b)
+                        L[a][b] += v_ia * G[j][b];
+                    }
+                inputs.velocity_gradient[q] = L;
+                inputs.properties[q] =
+                  ArrayView<double>(pool.get_properties(supports.handle[k])
+                                      .data(),
+                                    n_properties);
+              }
+            deformation_gradient_increments(F_update,
+                                            parameters.method,
+                                            inputs.velocity_gradient,
+                                            dt,
+                                            n_group,
+                                            dF);
+            for (unsigned int q = 0; q < n_group; ++q)
+              {
+                const double *const P = inputs.properties[q].data();
+                Tensor<2, 3>        F_old;
+                for (unsigned int a = 0; a < 3; ++a)
+                  for (unsigned int b = 0; b < 3; ++b)
+                    F_old[a][b] = P[Index::deformation_gradient + 3 * a + b];
+                inputs.deformation_gradient[q] = dF[q] * F_old;
+                const double J = determinant(inputs.deformation_gradient[q]);
                 if (!(J > 0) && local_failure.empty())
                   {
+                    const auto         h = supports.handle[group_points[q]];
                     std::ostringstream message;
                     message
-                      << "material point " << particle->get_id() << " at ("
-                      << particle->get_location()
+                      << "material point " << pool.get_id(h) << " at ("
+                      << pool.get_location(h)
                       << ") has an inverted deformation gradient, J = " << J;
                     local_failure = message.str();
                   }
@@ -886,35 +811,36 @@ namespace fmpm
 
             constitutive_models[m]->update_stress(inputs, outputs);
 
-            const double density = parameters.materials[m].density;
-            for (unsigned int q = 0; q < group.size(); ++q)
+            for (unsigned int q = 0; q < n_group; ++q)
               {
-                auto         particle = group[q];
-                const auto   p        = particle->get_properties();
-                const double J = determinant(inputs.deformation_gradient[q]);
-                set_tensor3(p,
-                            Index::deformation_gradient,
-                            inputs.deformation_gradient[q]);
-                set_symmetric_tensor3(p,
+                const ArrayView<double> &P = inputs.properties[q];
+                const Tensor<2, 3>      &F = inputs.deformation_gradient[q];
+                const double             J = determinant(F);
+                set_tensor3(P, Index::deformation_gradient, F);
+                set_symmetric_tensor3(P,
                                       Index::stress,
                                       outputs.cauchy_stress[q]);
-                p[Index::strain_energy_density] =
+                P[Index::strain_energy_density] =
                   outputs.strain_energy_density[q];
-                p[Index::volume] = J * p[Index::initial_volume];
-                if (J > 0)
-                  wave_speed =
-                    std::max(wave_speed,
-                             constitutive_models[m]->wave_speed(density, J));
+                P[Index::volume] = J * P[Index::initial_volume];
+                // Inverted points are reported above; they give no speed.
+                J_of_group[q] = J > 0 ? J : 1;
                 if (!std::isfinite(outputs.strain_energy_density[q]) &&
                     local_failure.empty())
                   {
+                    const auto         h = supports.handle[group_points[q]];
                     std::ostringstream message;
-                    message << "stress of material point " << group[q]->get_id()
-                            << " at (" << group[q]->get_location()
+                    message << "stress of material point " << pool.get_id(h)
+                            << " at (" << pool.get_location(h)
                             << ") is not finite (NaN or Inf)";
                     local_failure = message.str();
                   }
               }
+            wave_speed = std::max(wave_speed,
+                                  constitutive_models[m]->max_wave_speed(
+                                    parameters.materials[m].density,
+                                    ArrayView<const double>(J_of_group,
+                                                            n_group)));
           }
       }
     local_max_wave_speed = wave_speed;
@@ -927,7 +853,7 @@ namespace fmpm
   Simulator<dim>::sort_particles_into_cells()
   {
     TimerOutput::Scope timer(computing_timer, "sort points into cells");
-    // The particle update kept the reference locations of the points that
+    // The particle update set the reference locations of the points that
     // stayed in their cells. Move the others to the locally owned cell that
     // now holds them, searching the cells around the old cell's vertices. If
     // a point went to another rank's cell, or could not be found nearby, or
@@ -946,36 +872,52 @@ namespace fmpm
       types::particle_index                             id;
       std::vector<double>                               properties;
     };
-    // Points that stayed in their cell: the reference locations computed in
-    // the particle update (same traversal order).
-    {
-      unsigned int index = 0;
-      for (const auto &cell : triangulation.active_cell_iterators())
-        if (cell->is_locally_owned())
-          for (auto &particle : particle_handler.particles_in_cell(cell))
-            {
-              const Point<dim> &xi = new_reference_locations[index++];
-              if (xi[0] != -1)
-                particle.set_reference_location(xi);
-            }
-    }
 
+    auto &pool = particle_handler.get_property_pool();
+    std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
+                      leaving;
     std::vector<Move> moves;
     bool              need_full_sort = false;
     Point<dim>        center;
     for (unsigned int d = 0; d < dim; ++d)
       center[d] = 0.5;
-    for (const auto &particle : points_that_left_their_cell)
+    for (const unsigned int k : points_that_left_their_cell)
       {
-        const auto       old_cell = particle->get_surrounding_cell();
-        const Point<dim> x        = particle->get_location();
-        bool             found    = false;
-        for (const unsigned int v : old_cell->vertex_indices())
+        // The point's iterator: find it among its cell's points.
+        const Point<dim> *const location =
+          &pool.get_location(supports.handle[k]);
+        typename Particles::ParticleHandler<dim>::particle_iterator particle;
+        bool found_particle = false;
+        const auto cell_with_points =
+          std::upper_bound(supports.cell_point_begin.begin(),
+                           supports.cell_point_begin.end(),
+                           k) -
+          supports.cell_point_begin.begin() - 1;
+        const auto cell = supports.cell_iterator[cell_with_points];
+        auto       range = particle_handler.particles_in_cell(cell);
+        for (auto candidate = range.begin(); candidate != range.end();
+             ++candidate)
+          if (&candidate->get_location() == location)
+            {
+              particle       = candidate;
+              found_particle = true;
+              break;
+            }
+        Assert(found_particle, ExcInternalError());
+        if (!found_particle)
+          {
+            need_full_sort = true;
+            continue;
+          }
+        leaving.push_back(particle);
+        const Point<dim> x     = *location;
+        bool             found = false;
+        for (const unsigned int v : cell->vertex_indices())
           {
             for (const auto &candidate :
-                 vertex_to_cells[old_cell->vertex_index(v)])
+                 vertex_to_cells[cell->vertex_index(v)])
               {
-                if (candidate == old_cell || !candidate->is_locally_owned())
+                if (candidate == cell || !candidate->is_locally_owned())
                   continue;
                 const Point<dim> xi = GridTransfer<dim>::reference_point(
                   transfer.cell_data(candidate->active_cell_index()),
@@ -1016,8 +958,8 @@ namespace fmpm
       particle_handler.sort_particles_into_subdomains_and_cells();
     else if (global_flags[1] != 0)
       {
-        if (!points_that_left_their_cell.empty())
-          particle_handler.remove_particles(points_that_left_their_cell);
+        if (!leaving.empty())
+          particle_handler.remove_particles(leaving);
         for (const auto &move : moves)
           particle_handler.insert_particle(move.x,
                                            move.xi,

@@ -244,7 +244,8 @@ namespace
   {
     constexpr int                               dim = TypeParam::value;
     fmpm::ConstitutiveModel::LinearElastic<dim> model;
-    model.strain_measure = "total";
+    model.strain_measure =
+      fmpm::ConstitutiveModel::LinearElastic<dim>::StrainMeasure::total;
     model.youngs_modulus = 7.0e4;
     model.poissons_ratio = 0.27;
     const double E = model.youngs_modulus, nu = model.poissons_ratio;

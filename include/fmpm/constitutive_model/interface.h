@@ -10,6 +10,7 @@
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -101,6 +102,20 @@ namespace fmpm
        */
       virtual double
       wave_speed(const double density, const double J) const = 0;
+
+      /**
+       * @brief The largest wave_speed() over the volume ratios @p J of a
+       * batch (one virtual call per batch). Models override it with an
+       * inline loop or a closed form. Units: m/s.
+       */
+      virtual double
+      max_wave_speed(const double density, const ArrayView<const double> &J) const
+      {
+        double c = 0;
+        for (const double J_q : J)
+          c = std::max(c, wave_speed(density, J_q));
+        return c;
+      }
 
       /**
        * @brief Throw an ExcMessage naming the parameter if the model's

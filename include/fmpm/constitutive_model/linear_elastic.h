@@ -41,6 +41,14 @@ namespace fmpm
       double
       wave_speed(const double density, const double J) const override;
 
+      /** The wave speed does not depend on J: one evaluation. */
+      double
+      max_wave_speed(const double                   density,
+                     const ArrayView<const double> &J) const override
+      {
+        return J.size() == 0 ? 0. : wave_speed(density, J[0]);
+      }
+
       void
       check_parameters(const std::string &where) const override;
 
@@ -48,8 +56,13 @@ namespace fmpm
       double youngs_modulus = 1.0e6;
       /** Poisson's ratio nu. */
       double poissons_ratio = 0.3;
-      /** "incremental" or "total". */
-      std::string strain_measure = "incremental";
+      /** 'Strain measure', resolved from its name when parsed. */
+      enum class StrainMeasure
+      {
+        incremental,
+        total
+      };
+      StrainMeasure strain_measure = StrainMeasure::incremental;
     };
   } // namespace ConstitutiveModel
 } // namespace fmpm

@@ -36,6 +36,11 @@ namespace fmpm
       double
       wave_speed(const double density, const double J) const override;
 
+      /** wave_speed() over a batch, inline. */
+      double
+      max_wave_speed(const double                   density,
+                     const ArrayView<const double> &J) const override;
+
       void
       check_parameters(const std::string &where) const override;
 
