@@ -19,7 +19,8 @@ namespace fmpm
   template <int dim>
   Simulator<dim>::Simulator(const Parameters &parameters_in,
                             ParameterHandler &prm,
-                            MPI_Comm          mpi_communicator_in)
+                            MPI_Comm          mpi_communicator_in,
+                            const bool        resume)
     : mpi_communicator(mpi_communicator_in)
     , parameters(parameters_in)
     , pcout(std::cout,
@@ -40,6 +41,7 @@ namespace fmpm
     , tout(std::cout,
            Utilities::MPI::this_mpi_process(mpi_communicator) == 0 &&
              parameters.test_mode)
+    , resume_from_checkpoint(resume)
   {
     // An error found during set-up (bad input the parameter checks cannot
     // see) propagates out of this constructor; the TimerOutput would then
@@ -67,8 +69,46 @@ namespace fmpm
     shape_function = ShapeFunction::parse(parameters.method.shape_function);
     make_grid();
     setup_plugins(prm);
+    if (resume_from_checkpoint)
+      {
+        load_checkpoint();
+        return;
+      }
     setup_dofs();
     mass_matrix->initialize();
+    initialize_particle_handler();
+    create_material_points();
+    setup_boundary_conditions();
+    initialize_stress_from_gravity();
+    compute_mass_floor();
+    if (parameters.refinement.strategy != "none")
+      {
+        if (parameters.refinement.initial_refinement)
+          adapt_initial_mesh();
+        // Load balancing by material points (deal.II step-68) whenever the
+        // mesh is adapted; a scene without adaptation connects nothing.
+        connect_cell_weights();
+        // Balance the points of the adapted mesh from the first step on.
+        if (parameters.refinement.point_weight > 0 &&
+            Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+          {
+            particle_handler.prepare_for_coarsening_and_refinement();
+            triangulation.repartition();
+            particle_handler.unpack_after_coarsening_and_refinement();
+            setup_after_mesh_change();
+          }
+      }
+
+    max_signal_speed = compute_max_signal_speed();
+    check_scene();
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::initialize_particle_handler()
+  {
     particle_handler.initialize(triangulation,
                                 mapping,
                                 particle_properties.n_properties());
@@ -88,36 +128,21 @@ namespace fmpm
             lost_point_messages.push_back(message.str());
           }
       });
-    create_material_points();
-    setup_boundary_conditions();
-    initialize_stress_from_gravity();
-    compute_mass_floor();
-    if (parameters.refinement.strategy != "none")
-      {
-        if (parameters.refinement.initial_refinement)
-          adapt_initial_mesh();
-        // Load balancing by material points (deal.II step-68) whenever the
-        // mesh is adapted; a scene without adaptation connects nothing.
-        if (parameters.refinement.point_weight > 0)
-          triangulation.signals.weight.connect(
-            [this](const typename parallel::distributed::Triangulation<
-                     dim>::cell_iterator                        &cell,
-                   const typename Triangulation<dim>::CellStatus status) {
-              return cell_weight(cell, status);
-            });
-        // Balance the points of the adapted mesh from the first step on.
-        if (parameters.refinement.point_weight > 0 &&
-            Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
-          {
-            particle_handler.prepare_for_coarsening_and_refinement();
-            triangulation.repartition();
-            particle_handler.unpack_after_coarsening_and_refinement();
-            setup_after_mesh_change();
-          }
-      }
+  }
 
-    max_signal_speed = compute_max_signal_speed();
-    check_scene();
+
+
+  template <int dim>
+  void
+  Simulator<dim>::connect_cell_weights()
+  {
+    if (parameters.refinement.point_weight > 0)
+      triangulation.signals.weight.connect(
+        [this](const typename parallel::distributed::Triangulation<
+                 dim>::cell_iterator                        &cell,
+               const typename Triangulation<dim>::CellStatus status) {
+          return cell_weight(cell, status);
+        });
   }
 
 
@@ -219,11 +244,25 @@ namespace fmpm
     if (!stability.warning.empty() && is_root && !parameters.test_mode)
       std::cerr << "fmpm: warning: " << stability.warning << std::endl;
 
+    install_signal_handlers();
+    last_checkpoint_wall = MPI_Wtime();
+    if (resume_from_checkpoint)
+      {
+        // Also in test mode: tests check where a run resumed.
+        pcout << "      resumed from " << resumed_checkpoint << " at step "
+              << timestep_number << ", t = " << time << std::endl;
+        tout << "resumed from " << resumed_checkpoint << " at step "
+             << timestep_number << std::endl;
+      }
+
     try
       {
         GlobalStatistics<dim> statistics = compute_statistics();
-        initial_total_energy             = statistics.total_energy();
+        if (resume_from_checkpoint)
+          history.restore(restored_history_rows);
+        else
         {
+          initial_total_energy = statistics.total_energy();
           double g = 0;
           for (unsigned int d = 0; d < dim; ++d)
             g += parameters.gravity[d] * parameters.gravity[d];
@@ -254,8 +293,8 @@ namespace fmpm
             std::max({statistics.kinetic_energy + statistics.strain_energy,
                       statistics.mass * std::sqrt(g) * diameter,
                       1e-300});
+          output_results(statistics);
         }
-        output_results(statistics);
         print_progress(statistics, true);
 
         const double end = parameters.time.end_time;
@@ -279,11 +318,26 @@ namespace fmpm
                 if (progress_now)
                   print_progress(statistics, false);
               }
+            if (checkpoint_due())
+              {
+                write_checkpoint();
+                if (stop_requested)
+                  {
+                    stopped_on_signal = true;
+                    break;
+                  }
+              }
           }
         statistics = compute_statistics();
         print_progress(statistics, true);
+        if (stopped_on_signal)
+          pcout << "*** Stopped by a signal at step " << timestep_number
+                << " after writing a checkpoint; continue with fmpm --resume"
+                << std::endl;
         print_test_particles();
-        write_summary("completed", nullptr, statistics);
+        write_summary(stopped_on_signal ? "stopped: signal" : "completed",
+                      nullptr,
+                      statistics);
       }
     catch (const SimulationFailure &failure)
       {
