@@ -217,27 +217,28 @@ namespace fmpm
         plugin_state[numbered_subsection("Material", m)]);
     if (is_root)
       {
-        std::ofstream                   out(temporary / "state.bin",
-                              std::ios::binary);
-        boost::archive::binary_oarchive archive(out);
-        std::string                     magic = state_magic;
-        unsigned int                    version = state_version,
-                     dimension = dim,
-                     n_properties = particle_properties.n_properties(),
-                     n_coarse_cells = triangulation.n_global_coarse_cells(),
-                     n_ranks =
-                       Utilities::MPI::n_mpi_processes(mpi_communicator);
-        double wall_seconds = MPI_Wtime() - wall_start;
-        std::vector<HistoryRow<dim>> rows = history.rows();
-        archive &magic &version &dimension &n_properties &n_coarse_cells
-          &n_ranks;
-        serialize_scalar_state(archive);
-        archive &wall_seconds &rows &plugin_state;
-        out.flush();
+        const fs::path state_file = temporary / "state.bin";
+        std::ofstream  out(state_file, std::ios::binary);
+        {
+          boost::archive::binary_oarchive archive(out);
+          std::string                     magic   = state_magic;
+          unsigned int                    version = state_version;
+          unsigned int                    dimension = dim;
+          unsigned int n_properties = particle_properties.n_properties();
+          unsigned int n_coarse_cells = triangulation.n_global_coarse_cells();
+          unsigned int n_ranks =
+            Utilities::MPI::n_mpi_processes(mpi_communicator);
+          double wall_seconds = MPI_Wtime() - wall_start;
+          std::vector<HistoryRow<dim>> rows = history.rows();
+          archive &magic &version &dimension &n_properties &n_coarse_cells
+            &n_ranks;
+          serialize_scalar_state(archive);
+          archive &wall_seconds &rows &plugin_state;
+        }
+        out.close();
         AssertThrow(out,
                     ExcMessage("Cannot write the checkpoint file <" +
-                               (temporary / "state.bin").string() +
-                               ">: is the disk full?"));
+                               state_file.string() + ">: is the disk full?"));
       }
 
     // 2. Points and warm-start grid fields ride on the mesh (deal.II

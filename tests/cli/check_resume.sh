@@ -4,7 +4,7 @@
 # the uninterrupted run's results.
 #
 #   check_resume.sh FMPM NAME FULL_RANKS RESUME_RANKS MODE INTERVAL STOP \
-#                   MPIEXEC NP_FLAG -- SCENE...
+#                   SCENE... -- MPIEXEC NP_FLAG [MPIEXEC_PREFLAGS...]
 #
 # MODE: how the first run of the interrupted pair stops (checkpoints every
 # INTERVAL steps):
@@ -18,13 +18,16 @@
 # rank counts: equal to round-off (numdiff -r 1e-9).
 set -u
 fmpm="$1"; name="$2"; full_ranks="$3"; resume_ranks="$4"; mode="$5"
-interval="$6"; stop="$7"; mpiexec="$8"; np_flag="$9"; shift 9
-[ "$1" = "--" ] && shift
-scenes=("$@")
+interval="$6"; stop="$7"; shift 7
+scenes=()
+while [ $# -gt 0 ] && [ "$1" != "--" ]; do scenes+=("$(realpath "$1")"); shift; done
+shift
+mpiexec="$1"; np_flag="$2"; shift 2
+preflags=("$@")
 
 run() {
   local ranks="$1"; shift
-  if [ "$ranks" -eq 1 ]; then "$@"; else "$mpiexec" "$np_flag" "$ranks" "$@"; fi
+  if [ "$ranks" -eq 1 ]; then "$@"; else "$mpiexec" "$np_flag" "$ranks" "${preflags[@]}" "$@"; fi
 }
 fail() { echo "FAIL: $*"; exit 1; }
 
