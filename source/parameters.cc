@@ -197,6 +197,15 @@ namespace fmpm
     const auto e = text.find('e');
     if (e == std::string::npos)
       return text;
+    // Below 1e6 without exponent: "10", "1500", not "1e1", "1.5e3".
+    const int exponent_value = std::atoi(text.c_str() + e + 1);
+    if (exponent_value >= 0 && exponent_value < 6)
+      {
+        std::ostringstream out;
+        // %g switches to an exponent only at precision <= exponent.
+        out << std::setprecision(exponent_value + 1) << value;
+        return out.str();
+      }
     std::string exponent = text.substr(e + 1);
     const bool  negative = !exponent.empty() && exponent[0] == '-';
     if (!exponent.empty() && (exponent[0] == '-' || exponent[0] == '+'))

@@ -45,7 +45,7 @@ namespace
 
   template <int dim>
   int
-  run(const fmpm::Parameters  &parameters,
+  run(const fmpm::Parameters   &parameters,
       dealii::ParameterHandler &prm,
       const bool                resume)
   {

@@ -687,12 +687,12 @@ namespace fmpm
       // weak nodes, which each rank counts on its own nodes: their sum is
       // kept, so that a run resumed on another number of ranks reports the
       // same figures.
-      const MPI_Comm comm = this->get_mpi_communicator();
+      const MPI_Comm comm                = this->get_mpi_communicator();
       status["full.n_solves"]            = std::to_string(n_solves);
       status["full.total_iterations"]    = std::to_string(total_iterations);
       status["full.max_iterations_used"] = std::to_string(max_iterations_used);
-      status["full.n_lumped_fallbacks"] = std::to_string(
-        Utilities::MPI::max(n_lumped_fallbacks, comm));
+      status["full.n_lumped_fallbacks"] =
+        std::to_string(Utilities::MPI::max(n_lumped_fallbacks, comm));
       status["full.n_weak_node_steps"] =
         std::to_string(Utilities::MPI::sum(n_weak_node_steps, comm));
       status["full.n_setups"] = std::to_string(n_setups);

@@ -21,13 +21,6 @@
 #include <deal.II/base/utilities.h>
 #include <deal.II/distributed/solution_transfer.h>
 
-#include <boost/archive/binary_iarchive.hpp>
-#include <boost/archive/binary_oarchive.hpp>
-#include <boost/serialization/map.hpp>
-#include <boost/serialization/string.hpp>
-#include <boost/serialization/utility.hpp>
-#include <boost/serialization/vector.hpp>
-
 #include <algorithm>
 #include <csignal>
 #include <cstdint>
@@ -37,6 +30,13 @@
 #include <iomanip>
 #include <sstream>
 
+#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_oarchive.hpp>
+#include <boost/serialization/map.hpp>
+#include <boost/serialization/string.hpp>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
+
 namespace boost
 {
   namespace serialization
@@ -45,10 +45,10 @@ namespace boost
     void
     serialize(Archive &archive, fmpm::HistoryRow<dim> &row, const unsigned int)
     {
-      archive &row.step &row.time &row.dt &row.kinetic_energy
-        &row.strain_energy &row.potential_energy &row.total_energy
-          &row.momentum &row.mass &row.error_velocity_l2
-            &row.error_displacement_l2 &row.dissipated_energy &row.reactions;
+      archive &row.step &row.time &row.dt &row.kinetic_energy &row
+        .strain_energy &row.potential_energy &row.total_energy &row
+        .momentum &row.mass &row.error_velocity_l2 &row
+        .error_displacement_l2 &row.dissipated_energy &row.reactions;
     }
   } // namespace serialization
 } // namespace boost
@@ -130,11 +130,10 @@ namespace fmpm
     // reduced), so rank 0's copy serves any number of ranks on resume.
     archive &time &time_step &timestep_number &next_output_time &n_output
       &mass_floor_value &max_signal_speed &initial_total_energy
-        &initial_energy_scale &external_work &external_work_scale
-          &mesh_diameter &max_condition_error &reaction_forces
-            &total_lost_points &dissipated_energy &particle_pvd_records
-              &grid_pvd_records &particle_steps &mesh_adaptations &cell_steps
-                &max_cells;
+        &initial_energy_scale &external_work &external_work_scale &mesh_diameter
+          &max_condition_error &reaction_forces &total_lost_points
+            &dissipated_energy &particle_pvd_records &grid_pvd_records
+              &particle_steps &mesh_adaptations &cell_steps &max_cells;
     for (double &sum : error_sums)
       archive &sum;
     velocity_conditions.serialize_state(archive);
@@ -221,15 +220,15 @@ namespace fmpm
         std::ofstream  out(state_file, std::ios::binary);
         {
           boost::archive::binary_oarchive archive(out);
-          std::string                     magic   = state_magic;
-          unsigned int                    version = state_version;
+          std::string                     magic     = state_magic;
+          unsigned int                    version   = state_version;
           unsigned int                    dimension = dim;
-          unsigned int n_properties = particle_properties.n_properties();
+          unsigned int n_properties   = particle_properties.n_properties();
           unsigned int n_coarse_cells = triangulation.n_global_coarse_cells();
           unsigned int n_ranks =
             Utilities::MPI::n_mpi_processes(mpi_communicator);
-          double wall_seconds = MPI_Wtime() - wall_start;
-          std::vector<HistoryRow<dim>> rows = history.rows();
+          double                       wall_seconds = MPI_Wtime() - wall_start;
+          std::vector<HistoryRow<dim>> rows         = history.rows();
           archive &magic &version &dimension &n_properties &n_coarse_cells
             &n_ranks;
           serialize_scalar_state(archive);
@@ -342,7 +341,7 @@ namespace fmpm
     AssertThrow(error.empty(), ExcMessage(error));
     state      = Utilities::MPI::broadcast(mpi_communicator, state, 0);
     checkpoint = Utilities::MPI::broadcast(mpi_communicator, checkpoint, 0);
-    resumed_checkpoint = checkpoint;
+    resumed_checkpoint           = checkpoint;
     const std::string state_file = checkpoint + "/state.bin";
 
     // 1. The scalar state: check that it is fmpm's and fits this scene.
@@ -362,25 +361,20 @@ namespace fmpm
                                "> is not an fmpm checkpoint of this "
                                "version."));
         AssertThrow(dimension == dim,
-                    ExcMessage("The checkpoint <" + state_file +
-                               "> was written by a " +
-                               std::to_string(dimension) +
-                               "D run, but the scene is " +
-                               std::to_string(dim) + "D."));
-        AssertThrow(n_properties == particle_properties.n_properties() &&
-                      n_coarse_cells == triangulation.n_global_coarse_cells(),
-                    ExcMessage("The checkpoint <" + state_file +
-                               "> was written by another scene: it has " +
-                               std::to_string(n_coarse_cells) +
-                               " coarse cells and " +
-                               std::to_string(n_properties) +
-                               " values per point, this scene " +
-                               std::to_string(
-                                 triangulation.n_global_coarse_cells()) +
-                               " and " +
-                               std::to_string(
-                                 particle_properties.n_properties()) +
-                               "."));
+                    ExcMessage(
+                      "The checkpoint <" + state_file + "> was written by a " +
+                      std::to_string(dimension) + "D run, but the scene is " +
+                      std::to_string(dim) + "D."));
+        AssertThrow(
+          n_properties == particle_properties.n_properties() &&
+            n_coarse_cells == triangulation.n_global_coarse_cells(),
+          ExcMessage(
+            "The checkpoint <" + state_file +
+            "> was written by another scene: it has " +
+            std::to_string(n_coarse_cells) + " coarse cells and " +
+            std::to_string(n_properties) + " values per point, this scene " +
+            std::to_string(triangulation.n_global_coarse_cells()) + " and " +
+            std::to_string(particle_properties.n_properties()) + "."));
         serialize_scalar_state(archive);
         archive &wall_seconds &restored_history_rows &plugin_state;
       }
@@ -407,7 +401,7 @@ namespace fmpm
     setup_dofs();
     mass_matrix->initialize();
     {
-      std::vector<GridScalar> loaded(ParticleUpdate::n_grid_fields * dim,
+      std::vector<GridScalar>   loaded(ParticleUpdate::n_grid_fields * dim,
                                      lumped_mass);
       std::vector<GridScalar *> fields;
       for (auto &field : loaded)

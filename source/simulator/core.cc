@@ -261,40 +261,42 @@ namespace fmpm
         if (resume_from_checkpoint)
           history.restore(restored_history_rows);
         else
-        {
-          initial_total_energy = statistics.total_energy();
-          double g = 0;
-          for (unsigned int d = 0; d < dim; ++d)
-            g += parameters.gravity[d] * parameters.gravity[d];
-          // The diagonal of the mesh's bounding box (GridTools::diameter
-          // compares all pairs of boundary vertices: seconds on big meshes).
-          Point<dim> lower, upper;
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              lower[d] = std::numeric_limits<double>::max();
-              upper[d] = -std::numeric_limits<double>::max();
-            }
-          const auto &used = triangulation.get_used_vertices();
-          for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
-            if (used[v])
-              for (unsigned int d = 0; d < dim; ++d)
-                {
-                  lower[d] = std::min(lower[d], triangulation.get_vertices()[v][d]);
-                  upper[d] = std::max(upper[d], triangulation.get_vertices()[v][d]);
-                }
-          double diameter = 0;
-          for (unsigned int d = 0; d < dim; ++d)
-            diameter += Utilities::fixed_power<2>(
-              Utilities::MPI::max(upper[d], mpi_communicator) +
-              Utilities::MPI::max(-lower[d], mpi_communicator));
-          diameter      = std::sqrt(diameter);
-          mesh_diameter = diameter;
-          initial_energy_scale =
-            std::max({statistics.kinetic_energy + statistics.strain_energy,
-                      statistics.mass * std::sqrt(g) * diameter,
-                      1e-300});
-          output_results(statistics);
-        }
+          {
+            initial_total_energy = statistics.total_energy();
+            double g             = 0;
+            for (unsigned int d = 0; d < dim; ++d)
+              g += parameters.gravity[d] * parameters.gravity[d];
+            // The diagonal of the mesh's bounding box (GridTools::diameter
+            // compares all pairs of boundary vertices: seconds on big meshes).
+            Point<dim> lower, upper;
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                lower[d] = std::numeric_limits<double>::max();
+                upper[d] = -std::numeric_limits<double>::max();
+              }
+            const auto &used = triangulation.get_used_vertices();
+            for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+              if (used[v])
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    lower[d] =
+                      std::min(lower[d], triangulation.get_vertices()[v][d]);
+                    upper[d] =
+                      std::max(upper[d], triangulation.get_vertices()[v][d]);
+                  }
+            double diameter = 0;
+            for (unsigned int d = 0; d < dim; ++d)
+              diameter += Utilities::fixed_power<2>(
+                Utilities::MPI::max(upper[d], mpi_communicator) +
+                Utilities::MPI::max(-lower[d], mpi_communicator));
+            diameter      = std::sqrt(diameter);
+            mesh_diameter = diameter;
+            initial_energy_scale =
+              std::max({statistics.kinetic_energy + statistics.strain_energy,
+                        statistics.mass * std::sqrt(g) * diameter,
+                        1e-300});
+            output_results(statistics);
+          }
         print_progress(statistics, true);
 
         const double end = parameters.time.end_time;
@@ -800,34 +802,40 @@ namespace fmpm
         reference_displacement->set_time(time);
       }
 
-    for (const auto &particle : particle_handler)
-      {
-        const auto           p = particle.get_properties();
-        const double         M = p[Index::mass];
-        const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
-        const Point<dim>     x = particle.get_location();
-        s.mass += M;
-        s.momentum += M * V;
-        s.kinetic_energy += 0.5 * M * V * V;
-        s.strain_energy +=
-          p[Index::initial_volume] * p[Index::strain_energy_density];
-        s.potential_energy -= M * (gravity * x);
-        if (reference_velocity)
+    // Cell by cell in the mesh's order, as the particle-to-grid passes: the
+    // handler's own order follows the history of insertions, which a
+    // resumed run does not share, and the sums would differ in the last
+    // bits.
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto &particle : particle_handler.particles_in_cell(cell))
           {
-            const Point<dim> X(get_vector<dim>(p, Index::initial_position));
-            Tensor<1, dim>   v_ref, u_ref;
-            for (unsigned int d = 0; d < dim; ++d)
+            const auto           p = particle.get_properties();
+            const double         M = p[Index::mass];
+            const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
+            const Point<dim>     x = particle.get_location();
+            s.mass += M;
+            s.momentum += M * V;
+            s.kinetic_energy += 0.5 * M * V * V;
+            s.strain_energy +=
+              p[Index::initial_volume] * p[Index::strain_energy_density];
+            s.potential_energy -= M * (gravity * x);
+            if (reference_velocity)
               {
-                v_ref[d] = reference_velocity->value(X, d);
-                u_ref[d] = reference_displacement->value(X, d);
+                const Point<dim> X(get_vector<dim>(p, Index::initial_position));
+                Tensor<1, dim>   v_ref, u_ref;
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    v_ref[d] = reference_velocity->value(X, d);
+                    u_ref[d] = reference_displacement->value(X, d);
+                  }
+                const Tensor<1, dim> u = x - X;
+                s.velocity_error_squared += M * (V - v_ref).norm_square();
+                s.velocity_reference_squared += M * v_ref.norm_square();
+                s.displacement_error_squared += M * (u - u_ref).norm_square();
+                s.displacement_reference_squared += M * u_ref.norm_square();
               }
-            const Tensor<1, dim> u = x - X;
-            s.velocity_error_squared += M * (V - v_ref).norm_square();
-            s.velocity_reference_squared += M * v_ref.norm_square();
-            s.displacement_error_squared += M * (u - u_ref).norm_square();
-            s.displacement_reference_squared += M * u_ref.norm_square();
           }
-      }
 
     // One reduction for all sums.
     std::vector<double> values = {s.mass,
