@@ -19,7 +19,9 @@
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
+#include <deal.II/distributed/cell_data_transfer.h>
 #include <deal.II/distributed/solution_transfer.h>
+#include <deal.II/lac/vector.h>
 
 #include <algorithm>
 #include <csignal>
@@ -240,8 +242,31 @@ namespace fmpm
                                state_file.string() + ">: is the disk full?"));
       }
 
-    // 2. Points and warm-start grid fields ride on the mesh (deal.II
-    //    step-83): the order of attaching is the order of reading back.
+    // 2. The partition, the points and the warm-start grid fields ride on
+    //    the mesh (deal.II step-83): the order of attaching is the order of
+    //    reading back.
+    //    deal.II's load() partitions the cells evenly, but a run balanced by
+    //    its points (Mesh refinement/Point weight) has another partition,
+    //    and the order of the sums follows it. Each rank's cells get weights
+    //    summing to the same total (1 each, the first cell the rest), so
+    //    that p4est's weighted partition cuts a loaded mesh where this one
+    //    is cut (load_checkpoint()).
+    const unsigned int n_owned_cells =
+      triangulation.n_locally_owned_active_cells();
+    const unsigned int most_owned_cells =
+      Utilities::MPI::max(n_owned_cells, mpi_communicator);
+    Vector<double> partition_weights(triangulation.n_active_cells());
+    bool           first_cell = true;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          partition_weights[cell->active_cell_index()] =
+            first_cell ? most_owned_cells - n_owned_cells + 1 : 1;
+          first_cell = false;
+        }
+    parallel::distributed::CellDataTransfer<dim, dim, Vector<double>>
+      partition_transfer(triangulation);
+    partition_transfer.prepare_for_serialization(partition_weights);
     particle_handler.prepare_for_serialization();
     std::vector<GridScalar> ghosted;
     for (const auto &field : grid_fields)
@@ -346,16 +371,17 @@ namespace fmpm
 
     // 1. The scalar state: check that it is fmpm's and fits this scene.
     std::map<std::string, std::map<std::string, std::string>> plugin_state;
-    double                                                    wall_seconds = 0;
+    double                                                    wall_seconds  = 0;
+    unsigned int                                              saved_n_ranks = 0;
     try
       {
         std::istringstream              in(state);
         boost::archive::binary_iarchive archive(in);
         std::string                     magic;
         unsigned int version = 0, dimension = 0, n_properties = 0,
-                     n_coarse_cells = 0, n_ranks = 0;
+                     n_coarse_cells = 0;
         archive &magic &version &dimension &n_properties &n_coarse_cells
-          &n_ranks;
+          &saved_n_ranks;
         AssertThrow(magic == state_magic && version == state_version,
                     ExcMessage("The file <" + state_file +
                                "> is not an fmpm checkpoint of this "
@@ -393,29 +419,71 @@ namespace fmpm
       constitutive_models[m]->load(
         plugin_state[numbered_subsection("Material", m)]);
 
-    // 2. The mesh, then the points, then the DoFs and the grid fields (in
-    //    the order they were attached).
+    // 2. The mesh, then (in the order they were attached) the partition
+    //    weights, the points, the DoFs and the grid fields.
     triangulation.load(checkpoint + "/mesh");
+    Vector<double> partition_weights(triangulation.n_active_cells());
+    {
+      parallel::distributed::CellDataTransfer<dim, dim, Vector<double>>
+        partition_transfer(triangulation);
+      partition_transfer.deserialize(partition_weights);
+    }
     initialize_particle_handler();
     particle_handler.deserialize();
     setup_dofs();
     mass_matrix->initialize();
+    std::vector<GridScalar> loaded(ParticleUpdate::n_grid_fields * dim,
+                                   lumped_mass);
     {
-      std::vector<GridScalar>   loaded(ParticleUpdate::n_grid_fields * dim,
-                                     lumped_mass);
       std::vector<GridScalar *> fields;
       for (auto &field : loaded)
         fields.push_back(&field);
       parallel::distributed::SolutionTransfer<dim, GridScalar> field_transfer(
         dof_handler);
       field_transfer.deserialize(fields);
-      for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            grid_fields[f].block(d) = loaded[f * dim + d];
-            grid_fields[f].block(d).update_ghost_values();
-          }
     }
+    // On the same number of ranks, restore the saved partition (see
+    // write_checkpoint()): the points and the grid fields move along.
+    if (saved_n_ranks == Utilities::MPI::n_mpi_processes(mpi_communicator) &&
+        saved_n_ranks > 1)
+      {
+        auto restore = triangulation.signals.weight.connect(
+          [&partition_weights](const typename parallel::distributed::
+                                 Triangulation<dim>::cell_iterator &cell,
+                               const typename Triangulation<dim>::CellStatus) {
+            return static_cast<unsigned int>(
+              partition_weights[cell->active_cell_index()]);
+          });
+        std::vector<GridScalar>         ghosted(loaded);
+        std::vector<const GridScalar *> fields;
+        for (auto &field : ghosted)
+          {
+            field.update_ghost_values();
+            fields.push_back(&field);
+          }
+        parallel::distributed::SolutionTransfer<dim, GridScalar> field_transfer(
+          dof_handler);
+        particle_handler.prepare_for_coarsening_and_refinement();
+        field_transfer.prepare_for_coarsening_and_refinement(fields);
+        triangulation.repartition();
+        restore.disconnect();
+        particle_handler.unpack_after_coarsening_and_refinement();
+        setup_dofs();
+        mass_matrix->initialize();
+        std::vector<GridScalar *> new_fields;
+        for (auto &field : loaded)
+          {
+            field.reinit(lumped_mass);
+            new_fields.push_back(&field);
+          }
+        field_transfer.interpolate(new_fields);
+      }
+    for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          grid_fields[f].block(d) = loaded[f * dim + d];
+          grid_fields[f].block(d).update_ghost_values();
+        }
     // The node conditions at the restored wall positions and time.
     setup_boundary_conditions();
     if (parameters.refinement.strategy != "none")

@@ -802,40 +802,48 @@ namespace fmpm
         reference_displacement->set_time(time);
       }
 
-    // Cell by cell in the mesh's order, as the particle-to-grid passes: the
-    // handler's own order follows the history of insertions, which a
-    // resumed run does not share, and the sums would differ in the last
-    // bits.
+    // Cell by cell in the order of the cells' ids (CellId): neither the
+    // handler's order (the history of insertions) nor the mesh's storage
+    // order (the history of adaptations and repartitions; a mesh loaded from
+    // a checkpoint is stored afresh) is shared by a resumed run, and the
+    // sums would differ in the last bits.
+    std::vector<typename Triangulation<dim>::active_cell_iterator> cells;
     for (const auto &cell : triangulation.active_cell_iterators())
-      if (cell->is_locally_owned())
-        for (const auto &particle : particle_handler.particles_in_cell(cell))
-          {
-            const auto           p = particle.get_properties();
-            const double         M = p[Index::mass];
-            const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
-            const Point<dim>     x = particle.get_location();
-            s.mass += M;
-            s.momentum += M * V;
-            s.kinetic_energy += 0.5 * M * V * V;
-            s.strain_energy +=
-              p[Index::initial_volume] * p[Index::strain_energy_density];
-            s.potential_energy -= M * (gravity * x);
-            if (reference_velocity)
-              {
-                const Point<dim> X(get_vector<dim>(p, Index::initial_position));
-                Tensor<1, dim>   v_ref, u_ref;
-                for (unsigned int d = 0; d < dim; ++d)
-                  {
-                    v_ref[d] = reference_velocity->value(X, d);
-                    u_ref[d] = reference_displacement->value(X, d);
-                  }
-                const Tensor<1, dim> u = x - X;
-                s.velocity_error_squared += M * (V - v_ref).norm_square();
-                s.velocity_reference_squared += M * v_ref.norm_square();
-                s.displacement_error_squared += M * (u - u_ref).norm_square();
-                s.displacement_reference_squared += M * u_ref.norm_square();
-              }
-          }
+      if (cell->is_locally_owned() &&
+          particle_handler.n_particles_in_cell(cell) > 0)
+        cells.push_back(cell);
+    std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) {
+      return a->id() < b->id();
+    });
+    for (const auto &cell : cells)
+      for (const auto &particle : particle_handler.particles_in_cell(cell))
+        {
+          const auto           p = particle.get_properties();
+          const double         M = p[Index::mass];
+          const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
+          const Point<dim>     x = particle.get_location();
+          s.mass += M;
+          s.momentum += M * V;
+          s.kinetic_energy += 0.5 * M * V * V;
+          s.strain_energy +=
+            p[Index::initial_volume] * p[Index::strain_energy_density];
+          s.potential_energy -= M * (gravity * x);
+          if (reference_velocity)
+            {
+              const Point<dim> X(get_vector<dim>(p, Index::initial_position));
+              Tensor<1, dim>   v_ref, u_ref;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  v_ref[d] = reference_velocity->value(X, d);
+                  u_ref[d] = reference_displacement->value(X, d);
+                }
+              const Tensor<1, dim> u = x - X;
+              s.velocity_error_squared += M * (V - v_ref).norm_square();
+              s.velocity_reference_squared += M * v_ref.norm_square();
+              s.displacement_error_squared += M * (u - u_ref).norm_square();
+              s.displacement_reference_squared += M * u_ref.norm_square();
+            }
+        }
 
     // One reduction for all sums.
     std::vector<double> values = {s.mass,
