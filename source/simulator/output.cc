@@ -405,6 +405,8 @@ namespace fmpm
         out << "  \"collection_fallbacks\": "
             << velocity_conditions.n_collection_fallbacks << ",\n";
       }
+    if (!traction_functions.empty() || !velocity_conditions.labels().empty())
+      out << "  \"external_work\": " << number(external_work) << ",\n";
     out << "  \"mass_matrix_order\": " << mass_matrix->order() << ",\n";
     for (const auto &entry : mass_matrix_statistics)
       out << "  " << quoted(entry.first) << ": " << number(entry.second)
