@@ -27,7 +27,7 @@ namespace fmpm
     {
       std::ostringstream out;
       for (unsigned int i = 0; i < n; ++i)
-        out << (i ? ", " : "") << values[i];
+        out << (i ? ", " : "") << format_number(values[i]);
       return out.str();
     }
 
@@ -124,7 +124,7 @@ namespace fmpm
               ConstitutiveModel::Registry<dim>::instance().documentation() +
               "Units: none.");
           prm.declare_entry("Density",
-                            std::to_string(material.density),
+                            format_number(material.density),
                             Patterns::Double(),
                             "Mass density in the reference configuration. "
                             "Must be positive. Units: kg/m^3.");
@@ -197,6 +197,15 @@ namespace fmpm
     const auto e = text.find('e');
     if (e == std::string::npos)
       return text;
+    // Below 1e6 without exponent: "10", "1500", not "1e1", "1.5e3".
+    const int exponent_value = std::atoi(text.c_str() + e + 1);
+    if (exponent_value >= 0 && exponent_value < 6)
+      {
+        std::ostringstream out;
+        // %g switches to an exponent only at precision <= exponent.
+        out << std::setprecision(exponent_value + 1) << value;
+        return out.str();
+      }
     std::string exponent = text.substr(e + 1);
     const bool  negative = !exponent.empty() && exponent[0] == '-';
     if (!exponent.empty() && (exponent[0] == '-' || exponent[0] == '+'))
@@ -361,12 +370,12 @@ namespace fmpm
                         "material moving between two adaptations stays in "
                         "fine cells. Units: none.");
       prm.declare_entry("Refine fraction",
-                        std::to_string(refinement.refine_fraction),
+                        format_number(refinement.refine_fraction),
                         Patterns::Double(0, 1),
                         "'kelly': fraction of the cells refined. Units: "
                         "none.");
       prm.declare_entry("Coarsen fraction",
-                        std::to_string(refinement.coarsen_fraction),
+                        format_number(refinement.coarsen_fraction),
                         Patterns::Double(0, 1),
                         "'kelly': fraction of the cells coarsened. Units: "
                         "none.");
@@ -378,7 +387,7 @@ namespace fmpm
                         "adapted mesh, 'Points per cell' in the fine cells). "
                         "Units: none.");
       prm.declare_entry("Point weight",
-                        std::to_string(refinement.point_weight),
+                        format_number(refinement.point_weight),
                         Patterns::Integer(0, 100000),
                         "Load balancing across MPI ranks when the mesh is "
                         "adapted: a cell weighs 1 plus this number per "
@@ -505,17 +514,17 @@ namespace fmpm
     prm.enter_subsection("Time");
     {
       prm.declare_entry("End time",
-                        std::to_string(time.end_time),
+                        format_number(time.end_time),
                         Patterns::Double(0),
                         "Time at which the run stops. Units: s.");
       prm.declare_entry("Time step",
-                        std::to_string(time.time_step),
+                        format_number(time.time_step),
                         Patterns::Double(0),
                         "Fixed time step; 0 chooses it every step from the "
                         "Courant number. Must not exceed the stable limit "
                         "h_min / (wave speed + point speed). Units: s.");
       prm.declare_entry("Courant number",
-                        std::to_string(time.courant_number),
+                        format_number(time.courant_number),
                         Patterns::Double(0, 10),
                         "Time step as a fraction of the method's stable "
                         "limit, 'Stability factor' x h_min / (largest wave "
@@ -735,7 +744,7 @@ namespace fmpm
                         "Directory for all results (created if missing). "
                         "Units: none.");
       prm.declare_entry("Interval",
-                        std::to_string(output.interval),
+                        format_number(output.interval),
                         Patterns::Double(0),
                         "Simulated time between outputs (history row and "
                         "VTU files); 0 writes every 'Step interval' steps. "
@@ -760,10 +769,37 @@ namespace fmpm
                         "two extra grid-to-point interpolations. Units: "
                         "none.");
       prm.declare_entry("Progress interval",
-                        std::to_string(output.progress_seconds),
+                        format_number(output.progress_seconds),
                         Patterns::Double(0),
                         "Wall-clock seconds between progress lines on the "
                         "terminal. Units: s.");
+    }
+    prm.leave_subsection();
+
+    const CheckpointParameters checkpoint;
+    prm.enter_subsection("Checkpoint");
+    {
+      prm.declare_entry("Step interval",
+                        std::to_string(checkpoint.step_interval),
+                        Patterns::Integer(0),
+                        "Write a checkpoint every this many steps into "
+                        "<Output/Directory>/checkpoint/ (0: not by step "
+                        "count). 'fmpm --resume scene.prm' continues from "
+                        "the newest one. A checkpoint is also written when "
+                        "the run receives SIGTERM or SIGINT, after which it "
+                        "stops. Units: none.");
+      prm.declare_entry("Wall time interval",
+                        format_number(checkpoint.wall_time_interval),
+                        Patterns::Double(0),
+                        "Write a checkpoint whenever this much wall-clock "
+                        "time has passed since the start or the last "
+                        "checkpoint (0: not by wall time). Units: min.");
+      prm.declare_entry("Keep",
+                        std::to_string(checkpoint.keep),
+                        Patterns::Integer(1),
+                        "How many complete checkpoints to keep; older ones "
+                        "are deleted once a new one is complete. Units: "
+                        "none.");
     }
     prm.leave_subsection();
 
@@ -771,7 +807,7 @@ namespace fmpm
     prm.enter_subsection("Failure detection");
     {
       prm.declare_entry("Energy growth limit",
-                        std::to_string(failure.energy_growth_limit),
+                        format_number(failure.energy_growth_limit),
                         Patterns::Double(1),
                         "The run fails when the total energy exceeds this "
                         "factor times the largest of the initial total "
@@ -1104,6 +1140,12 @@ namespace fmpm
     output.write_vtu         = prm.get_bool("Write vtu");
     output.progress_seconds  = prm.get_double("Progress interval");
     output.track_dissipation = prm.get_bool("Track dissipated energy");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Checkpoint");
+    checkpoint.step_interval      = prm.get_integer("Step interval");
+    checkpoint.wall_time_interval = prm.get_double("Wall time interval");
+    checkpoint.keep               = prm.get_integer("Keep");
     prm.leave_subsection();
 
     prm.enter_subsection("Failure detection");

@@ -33,15 +33,23 @@ namespace
     "                             Body N, Material N, Moving wall N, ...)\n"
     "                             with the scene's values\n"
     "  --print-default-scene      print the built-in default scene\n"
+    "  --resume                   continue the scene from the newest complete\n"
+    "                             checkpoint in <Output/Directory>/checkpoint/\n"
+    "                             (see 'subsection Checkpoint')\n"
     "\n"
     "Results (VTU/PVD, history.csv, summary.json, parameters.prm) go to the\n"
-    "directory set by 'subsection Output / set Directory'.\n";
+    "directory set by 'subsection Output / set Directory'.\n"
+    "\n"
+    "Exit codes: 0 completed, 1 bad input, 2 numerical failure, 3 stopped by\n"
+    "SIGTERM/SIGINT after writing a checkpoint.\n";
 
   template <int dim>
   int
-  run(const fmpm::Parameters &parameters, dealii::ParameterHandler &prm)
+  run(const fmpm::Parameters   &parameters,
+      dealii::ParameterHandler &prm,
+      const bool                resume)
   {
-    fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD);
+    fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD, resume);
     try
       {
         simulator.run();
@@ -50,7 +58,7 @@ namespace
       {
         return 2;
       }
-    return 0;
+    return simulator.stopped_by_signal() ? 3 : 0;
   }
 
   /**
@@ -105,6 +113,7 @@ main(int argc, char **argv)
 
   std::vector<std::string>      files;
   bool                          validate_only    = false;
+  bool                          resume           = false;
   bool                          print_parameters = false;
   ParameterHandler::OutputStyle print_format     = ParameterHandler::PRM;
   for (int i = 1; i < argc; ++i)
@@ -118,6 +127,8 @@ main(int argc, char **argv)
         }
       else if (arg == "--validate")
         validate_only = true;
+      else if (arg == "--resume")
+        resume = true;
       else if (arg == "--print-parameters" ||
                arg == "--print-parameters=json" ||
                arg == "--print-parameters=prm")
@@ -199,9 +210,9 @@ main(int argc, char **argv)
           prm.print_parameters(json_out, ParameterHandler::JSON);
         }
       if (parameters.size.dimension == 2)
-        return run<2>(parameters, prm);
+        return run<2>(parameters, prm, resume);
       else
-        return run<3>(parameters, prm);
+        return run<3>(parameters, prm, resume);
     }
   catch (const std::exception &e)
     {

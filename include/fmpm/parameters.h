@@ -231,6 +231,17 @@ namespace fmpm
     bool         track_dissipation = false;
   };
 
+  /** @brief When a run writes checkpoints (Output directory/checkpoint/). */
+  struct CheckpointParameters
+  {
+    /** Steps between checkpoints; 0: none by step count. */
+    unsigned int step_interval = 0;
+    /** Wall-clock minutes between checkpoints; 0: none by wall time. */
+    double wall_time_interval = 0;
+    /** How many complete checkpoints to keep (the newest ones). */
+    unsigned int keep = 2;
+  };
+
   /** @brief How a run detects and treats failures. */
   struct FailureParameters
   {
@@ -269,6 +280,7 @@ namespace fmpm
     bool                        body_acceleration_at_initial_position = false;
     RotatingFrameParameters     rotating_frame;
     OutputParameters            output;
+    CheckpointParameters        checkpoint;
     FailureParameters           failure;
     ReferenceSolutionParameters reference;
     bool                        test_mode = false;

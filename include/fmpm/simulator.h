@@ -96,10 +96,15 @@ namespace fmpm
     /**
      * @brief Set up from parsed parameters. @p prm must be the handler the
      * parameters were parsed from (plugins read their subsections).
+     * @param[in] resume continue from the newest complete checkpoint in
+     * <Output/Directory>/checkpoint/ instead of creating the material points
+     * (throws, naming the directory or file, if there is none or it does
+     * not fit the scene)
      */
     Simulator(const Parameters &parameters,
               ParameterHandler &prm,
-              MPI_Comm          mpi_communicator);
+              MPI_Comm          mpi_communicator,
+              const bool        resume = false);
 
     ~Simulator();
 
@@ -109,6 +114,17 @@ namespace fmpm
      */
     void
     run();
+
+    /**
+     * @brief Whether run() stopped early because the process received
+     * SIGTERM or SIGINT (after writing a checkpoint; summary.json status
+     * "stopped: signal").
+     */
+    bool
+    stopped_by_signal() const
+    {
+      return stopped_on_signal;
+    }
 
     /** @brief Rows of history.csv written so far (for tests). */
     const std::vector<HistoryRow<dim>> &
@@ -202,6 +218,12 @@ namespace fmpm
     setup_plugins(ParameterHandler &prm);
     void
     check_scene();
+    /** Initialize the ParticleHandler on the mesh and count lost points. */
+    void
+    initialize_particle_handler();
+    /** Load balancing by points when the mesh is adapted (step-68). */
+    void
+    connect_cell_weights();
     /** Nodes with less than 1e-12 of the lightest point's mass are empty. */
     void
     compute_mass_floor();
@@ -288,6 +310,28 @@ namespace fmpm
     sort_particles_into_cells();
     void
     check_energy(const GlobalStatistics<dim> &statistics);
+
+    // --- checkpoint and restart (simulator/checkpoint_restart.cc) ---
+    /** Install the SIGTERM/SIGINT handler that requests a checkpoint. */
+    void
+    install_signal_handlers();
+    /** Whether a checkpoint is due after this step (step interval, wall
+     * time, or a signal on any rank: one reduction of a flag). Sets
+     * stop_requested when a signal arrived. */
+    bool
+    checkpoint_due();
+    /** Write <Output/Directory>/checkpoint/step-NNNNNN/ (through a
+     * temporary directory renamed when complete) and delete old ones. */
+    void
+    write_checkpoint();
+    /** Set-up of a resumed run: the coarse mesh exists; load the refined
+     * mesh, the points, the grid fields and the scalar state. */
+    void
+    load_checkpoint();
+    /** The Boost serialization of the scalar state (rank 0's copy). */
+    template <class Archive>
+    void
+    serialize_scalar_state(Archive &archive);
 
     // --- output (simulator/output.cc) ---
     void
@@ -424,6 +468,18 @@ namespace fmpm
     unsigned int       mesh_adaptations = 0;
     unsigned long long cell_steps       = 0;
     unsigned long long max_cells        = 0;
+
+    /** Resume from a checkpoint (set-up and run() skip the initial state). */
+    const bool resume_from_checkpoint;
+    /** The checkpoint directory a resumed run read, and its history rows
+     * (written again when run() opens history.csv). */
+    std::string                  resumed_checkpoint;
+    std::vector<HistoryRow<dim>> restored_history_rows;
+    /** MPI_Wtime() of the start or the last checkpoint. */
+    double last_checkpoint_wall = 0;
+    /** A signal asked to checkpoint and stop; the run stopped so. */
+    bool stop_requested    = false;
+    bool stopped_on_signal = false;
 
     friend class SimulatorAccess<dim>;
   };

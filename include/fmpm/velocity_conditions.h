@@ -207,6 +207,18 @@ namespace fmpm
     /** @brief Count of collection solves that fell back to 'partial'. */
     unsigned int n_collection_fallbacks = 0;
 
+    /**
+     * @brief Read or write the state that evolves during a run (the walls'
+     * displacements, the time of the node conditions, the fallback count)
+     * for checkpoints; @p archive is a Boost archive.
+     */
+    template <class Archive>
+    void
+    serialize_state(Archive &archive)
+    {
+      archive &wall_displacement &current_time &n_collection_fallbacks;
+    }
+
   private:
     void
     add_node_condition(std::vector<std::vector<NodeCondition>> &per_node,

@@ -17,12 +17,12 @@ namespace fmpm
     {
       const LinearElastic<dim> defaults;
       prm.declare_entry("Young's modulus",
-                        std::to_string(defaults.youngs_modulus),
+                        format_number(defaults.youngs_modulus),
                         Patterns::Double(),
                         "Young's modulus E of the material. Must be positive. "
                         "Units: Pa.");
       prm.declare_entry("Poisson's ratio",
-                        std::to_string(defaults.poissons_ratio),
+                        format_number(defaults.poissons_ratio),
                         Patterns::Double(),
                         "Poisson's ratio nu of the material, in [0, 0.5). "
                         "Units: none.");

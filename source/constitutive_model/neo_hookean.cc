@@ -16,12 +16,12 @@ namespace fmpm
     {
       const NeoHookean<dim> defaults;
       prm.declare_entry("Bulk modulus",
-                        std::to_string(defaults.bulk_modulus),
+                        format_number(defaults.bulk_modulus),
                         Patterns::Double(),
                         "Bulk modulus K of seed 004 Eq. (18). Must be "
                         "positive. Units: Pa.");
       prm.declare_entry("Shear modulus",
-                        std::to_string(defaults.shear_modulus),
+                        format_number(defaults.shear_modulus),
                         Patterns::Double(),
                         "Shear modulus G of seed 004 Eq. (18). Must be "
                         "positive. Units: Pa.");

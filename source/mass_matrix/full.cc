@@ -680,6 +680,47 @@ namespace fmpm
 
 
     template <int dim>
+    void
+    Full<dim>::save(std::map<std::string, std::string> &status) const
+    {
+      // The counters are the same on every rank (CG is global) except the
+      // weak nodes, which each rank counts on its own nodes: their sum is
+      // kept, so that a run resumed on another number of ranks reports the
+      // same figures.
+      const MPI_Comm comm                = this->get_mpi_communicator();
+      status["full.n_solves"]            = std::to_string(n_solves);
+      status["full.total_iterations"]    = std::to_string(total_iterations);
+      status["full.max_iterations_used"] = std::to_string(max_iterations_used);
+      status["full.n_lumped_fallbacks"] =
+        std::to_string(Utilities::MPI::max(n_lumped_fallbacks, comm));
+      status["full.n_weak_node_steps"] =
+        std::to_string(Utilities::MPI::sum(n_weak_node_steps, comm));
+      status["full.n_setups"] = std::to_string(n_setups);
+    }
+
+
+
+    template <int dim>
+    void
+    Full<dim>::load(const std::map<std::string, std::string> &status)
+    {
+      const auto value = [&status](const std::string &key) {
+        const auto entry = status.find(key);
+        return entry == status.end() ? 0ULL : std::stoull(entry->second);
+      };
+      const bool is_root =
+        Utilities::MPI::this_mpi_process(this->get_mpi_communicator()) == 0;
+      n_solves            = value("full.n_solves");
+      total_iterations    = value("full.total_iterations");
+      max_iterations_used = value("full.max_iterations_used");
+      n_lumped_fallbacks  = value("full.n_lumped_fallbacks");
+      n_weak_node_steps   = is_root ? value("full.n_weak_node_steps") : 0;
+      n_setups            = value("full.n_setups");
+    }
+
+
+
+    template <int dim>
     std::map<std::string, double>
     Full<dim>::statistics() const
     {

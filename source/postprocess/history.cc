@@ -69,6 +69,17 @@ namespace fmpm
     file->flush();
   }
 
+  template <int dim>
+  void
+  History<dim>::restore(const std::vector<HistoryRow<dim>> &saved_rows)
+  {
+    all_rows.clear();
+    for (const auto &row : saved_rows)
+      add(row);
+  }
+
+
+
   template class History<2>;
   template class History<3>;
 } // namespace fmpm

@@ -19,7 +19,8 @@ namespace fmpm
   template <int dim>
   Simulator<dim>::Simulator(const Parameters &parameters_in,
                             ParameterHandler &prm,
-                            MPI_Comm          mpi_communicator_in)
+                            MPI_Comm          mpi_communicator_in,
+                            const bool        resume)
     : mpi_communicator(mpi_communicator_in)
     , parameters(parameters_in)
     , pcout(std::cout,
@@ -40,6 +41,7 @@ namespace fmpm
     , tout(std::cout,
            Utilities::MPI::this_mpi_process(mpi_communicator) == 0 &&
              parameters.test_mode)
+    , resume_from_checkpoint(resume)
   {
     // An error found during set-up (bad input the parameter checks cannot
     // see) propagates out of this constructor; the TimerOutput would then
@@ -67,8 +69,46 @@ namespace fmpm
     shape_function = ShapeFunction::parse(parameters.method.shape_function);
     make_grid();
     setup_plugins(prm);
+    if (resume_from_checkpoint)
+      {
+        load_checkpoint();
+        return;
+      }
     setup_dofs();
     mass_matrix->initialize();
+    initialize_particle_handler();
+    create_material_points();
+    setup_boundary_conditions();
+    initialize_stress_from_gravity();
+    compute_mass_floor();
+    if (parameters.refinement.strategy != "none")
+      {
+        if (parameters.refinement.initial_refinement)
+          adapt_initial_mesh();
+        // Load balancing by material points (deal.II step-68) whenever the
+        // mesh is adapted; a scene without adaptation connects nothing.
+        connect_cell_weights();
+        // Balance the points of the adapted mesh from the first step on.
+        if (parameters.refinement.point_weight > 0 &&
+            Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+          {
+            particle_handler.prepare_for_coarsening_and_refinement();
+            triangulation.repartition();
+            particle_handler.unpack_after_coarsening_and_refinement();
+            setup_after_mesh_change();
+          }
+      }
+
+    max_signal_speed = compute_max_signal_speed();
+    check_scene();
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::initialize_particle_handler()
+  {
     particle_handler.initialize(triangulation,
                                 mapping,
                                 particle_properties.n_properties());
@@ -88,36 +128,21 @@ namespace fmpm
             lost_point_messages.push_back(message.str());
           }
       });
-    create_material_points();
-    setup_boundary_conditions();
-    initialize_stress_from_gravity();
-    compute_mass_floor();
-    if (parameters.refinement.strategy != "none")
-      {
-        if (parameters.refinement.initial_refinement)
-          adapt_initial_mesh();
-        // Load balancing by material points (deal.II step-68) whenever the
-        // mesh is adapted; a scene without adaptation connects nothing.
-        if (parameters.refinement.point_weight > 0)
-          triangulation.signals.weight.connect(
-            [this](const typename parallel::distributed::Triangulation<
-                     dim>::cell_iterator                        &cell,
-                   const typename Triangulation<dim>::CellStatus status) {
-              return cell_weight(cell, status);
-            });
-        // Balance the points of the adapted mesh from the first step on.
-        if (parameters.refinement.point_weight > 0 &&
-            Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
-          {
-            particle_handler.prepare_for_coarsening_and_refinement();
-            triangulation.repartition();
-            particle_handler.unpack_after_coarsening_and_refinement();
-            setup_after_mesh_change();
-          }
-      }
+  }
 
-    max_signal_speed = compute_max_signal_speed();
-    check_scene();
+
+
+  template <int dim>
+  void
+  Simulator<dim>::connect_cell_weights()
+  {
+    if (parameters.refinement.point_weight > 0)
+      triangulation.signals.weight.connect(
+        [this](const typename parallel::distributed::Triangulation<
+                 dim>::cell_iterator                        &cell,
+               const typename Triangulation<dim>::CellStatus status) {
+          return cell_weight(cell, status);
+        });
   }
 
 
@@ -219,43 +244,59 @@ namespace fmpm
     if (!stability.warning.empty() && is_root && !parameters.test_mode)
       std::cerr << "fmpm: warning: " << stability.warning << std::endl;
 
+    install_signal_handlers();
+    last_checkpoint_wall = MPI_Wtime();
+    if (resume_from_checkpoint)
+      {
+        // Also in test mode: tests check where a run resumed.
+        pcout << "      resumed from " << resumed_checkpoint << " at step "
+              << timestep_number << ", t = " << time << std::endl;
+        tout << "resumed from " << resumed_checkpoint << " at step "
+             << timestep_number << std::endl;
+      }
+
     try
       {
         GlobalStatistics<dim> statistics = compute_statistics();
-        initial_total_energy             = statistics.total_energy();
-        {
-          double g = 0;
-          for (unsigned int d = 0; d < dim; ++d)
-            g += parameters.gravity[d] * parameters.gravity[d];
-          // The diagonal of the mesh's bounding box (GridTools::diameter
-          // compares all pairs of boundary vertices: seconds on big meshes).
-          Point<dim> lower, upper;
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              lower[d] = std::numeric_limits<double>::max();
-              upper[d] = -std::numeric_limits<double>::max();
-            }
-          const auto &used = triangulation.get_used_vertices();
-          for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
-            if (used[v])
-              for (unsigned int d = 0; d < dim; ++d)
-                {
-                  lower[d] = std::min(lower[d], triangulation.get_vertices()[v][d]);
-                  upper[d] = std::max(upper[d], triangulation.get_vertices()[v][d]);
-                }
-          double diameter = 0;
-          for (unsigned int d = 0; d < dim; ++d)
-            diameter += Utilities::fixed_power<2>(
-              Utilities::MPI::max(upper[d], mpi_communicator) +
-              Utilities::MPI::max(-lower[d], mpi_communicator));
-          diameter      = std::sqrt(diameter);
-          mesh_diameter = diameter;
-          initial_energy_scale =
-            std::max({statistics.kinetic_energy + statistics.strain_energy,
-                      statistics.mass * std::sqrt(g) * diameter,
-                      1e-300});
-        }
-        output_results(statistics);
+        if (resume_from_checkpoint)
+          history.restore(restored_history_rows);
+        else
+          {
+            initial_total_energy = statistics.total_energy();
+            double g             = 0;
+            for (unsigned int d = 0; d < dim; ++d)
+              g += parameters.gravity[d] * parameters.gravity[d];
+            // The diagonal of the mesh's bounding box (GridTools::diameter
+            // compares all pairs of boundary vertices: seconds on big meshes).
+            Point<dim> lower, upper;
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                lower[d] = std::numeric_limits<double>::max();
+                upper[d] = -std::numeric_limits<double>::max();
+              }
+            const auto &used = triangulation.get_used_vertices();
+            for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+              if (used[v])
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    lower[d] =
+                      std::min(lower[d], triangulation.get_vertices()[v][d]);
+                    upper[d] =
+                      std::max(upper[d], triangulation.get_vertices()[v][d]);
+                  }
+            double diameter = 0;
+            for (unsigned int d = 0; d < dim; ++d)
+              diameter += Utilities::fixed_power<2>(
+                Utilities::MPI::max(upper[d], mpi_communicator) +
+                Utilities::MPI::max(-lower[d], mpi_communicator));
+            diameter      = std::sqrt(diameter);
+            mesh_diameter = diameter;
+            initial_energy_scale =
+              std::max({statistics.kinetic_energy + statistics.strain_energy,
+                        statistics.mass * std::sqrt(g) * diameter,
+                        1e-300});
+            output_results(statistics);
+          }
         print_progress(statistics, true);
 
         const double end = parameters.time.end_time;
@@ -279,11 +320,26 @@ namespace fmpm
                 if (progress_now)
                   print_progress(statistics, false);
               }
+            if (checkpoint_due())
+              {
+                write_checkpoint();
+                if (stop_requested)
+                  {
+                    stopped_on_signal = true;
+                    break;
+                  }
+              }
           }
         statistics = compute_statistics();
         print_progress(statistics, true);
+        if (stopped_on_signal)
+          pcout << "*** Stopped by a signal at step " << timestep_number
+                << " after writing a checkpoint; continue with fmpm --resume"
+                << std::endl;
         print_test_particles();
-        write_summary("completed", nullptr, statistics);
+        write_summary(stopped_on_signal ? "stopped: signal" : "completed",
+                      nullptr,
+                      statistics);
       }
     catch (const SimulationFailure &failure)
       {
@@ -745,34 +801,48 @@ namespace fmpm
         reference_displacement->set_time(time);
       }
 
-    for (const auto &particle : particle_handler)
-      {
-        const auto           p = particle.get_properties();
-        const double         M = p[Index::mass];
-        const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
-        const Point<dim>     x = particle.get_location();
-        s.mass += M;
-        s.momentum += M * V;
-        s.kinetic_energy += 0.5 * M * V * V;
-        s.strain_energy +=
-          p[Index::initial_volume] * p[Index::strain_energy_density];
-        s.potential_energy -= M * (gravity * x);
-        if (reference_velocity)
-          {
-            const Point<dim> X(get_vector<dim>(p, Index::initial_position));
-            Tensor<1, dim>   v_ref, u_ref;
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                v_ref[d] = reference_velocity->value(X, d);
-                u_ref[d] = reference_displacement->value(X, d);
-              }
-            const Tensor<1, dim> u = x - X;
-            s.velocity_error_squared += M * (V - v_ref).norm_square();
-            s.velocity_reference_squared += M * v_ref.norm_square();
-            s.displacement_error_squared += M * (u - u_ref).norm_square();
-            s.displacement_reference_squared += M * u_ref.norm_square();
-          }
-      }
+    // Cell by cell in the order of the cells' ids (CellId): neither the
+    // handler's order (the history of insertions) nor the mesh's storage
+    // order (the history of adaptations and repartitions; a mesh loaded from
+    // a checkpoint is stored afresh) is shared by a resumed run, and the
+    // sums would differ in the last bits.
+    std::vector<typename Triangulation<dim>::active_cell_iterator> cells;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned() &&
+          particle_handler.n_particles_in_cell(cell) > 0)
+        cells.push_back(cell);
+    std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) {
+      return a->id() < b->id();
+    });
+    for (const auto &cell : cells)
+      for (const auto &particle : particle_handler.particles_in_cell(cell))
+        {
+          const auto           p = particle.get_properties();
+          const double         M = p[Index::mass];
+          const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
+          const Point<dim>     x = particle.get_location();
+          s.mass += M;
+          s.momentum += M * V;
+          s.kinetic_energy += 0.5 * M * V * V;
+          s.strain_energy +=
+            p[Index::initial_volume] * p[Index::strain_energy_density];
+          s.potential_energy -= M * (gravity * x);
+          if (reference_velocity)
+            {
+              const Point<dim> X(get_vector<dim>(p, Index::initial_position));
+              Tensor<1, dim>   v_ref, u_ref;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  v_ref[d] = reference_velocity->value(X, d);
+                  u_ref[d] = reference_displacement->value(X, d);
+                }
+              const Tensor<1, dim> u = x - X;
+              s.velocity_error_squared += M * (V - v_ref).norm_square();
+              s.velocity_reference_squared += M * v_ref.norm_square();
+              s.displacement_error_squared += M * (u - u_ref).norm_square();
+              s.displacement_reference_squared += M * u_ref.norm_square();
+            }
+        }
 
     // One reduction for all sums.
     std::vector<double> values = {s.mass,

@@ -10,6 +10,7 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/particles/data_out.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -48,6 +49,106 @@ namespace fmpm
       out << std::setprecision(12) << value;
       return out.str();
     }
+
+    /**
+     * Locally owned active cells in the order of their ids (CellId): the
+     * same on a mesh stored afresh (loaded from a checkpoint) as on one
+     * that evolved through adaptations, unlike the storage order.
+     */
+    template <int dim>
+    std::vector<typename Triangulation<dim>::active_cell_iterator>
+    owned_cells_by_id(const Triangulation<dim> &triangulation)
+    {
+      std::vector<typename Triangulation<dim>::active_cell_iterator> cells;
+      for (const auto &cell : triangulation.active_cell_iterators())
+        if (cell->is_locally_owned())
+          cells.push_back(cell);
+      std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) {
+        return a->id() < b->id();
+      });
+      return cells;
+    }
+
+    /**
+     * The material points as VTU patches (one vertex each: id and all
+     * properties), cell by cell in the order of owned_cells_by_id(), so that
+     * a resumed run writes the same bytes as the uninterrupted one
+     * (Particles::DataOut follows the handler's order, which depends on
+     * the history of insertions).
+     */
+    template <int dim>
+    class PointOutput : public DataOutInterface<0, dim>
+    {
+    public:
+      void
+      build_patches(const Particles::ParticleHandler<dim> &particle_handler,
+                    const Triangulation<dim>              &triangulation,
+                    const std::vector<std::string>        &property_names,
+                    const std::vector<
+                      DataComponentInterpretation::DataComponentInterpretation>
+                      &interpretations)
+      {
+        names = {"id"};
+        names.insert(names.end(), property_names.begin(), property_names.end());
+        // Runs of 'dim' components of one name are vectors.
+        for (unsigned int c = 0; c < property_names.size(); ++c)
+          if (interpretations[c] ==
+              DataComponentInterpretation::component_is_part_of_vector)
+            {
+              vector_ranges.emplace_back(
+                c + 1,
+                c + dim,
+                property_names[c],
+                DataComponentInterpretation::component_is_part_of_vector);
+              c += dim - 1;
+            }
+        for (const auto &cell : owned_cells_by_id(triangulation))
+          for (const auto &particle : particle_handler.particles_in_cell(cell))
+            {
+              DataOutBase::Patch<0, dim> patch;
+              patch.vertices[0] = particle.get_location();
+              patch.patch_index = patches.size();
+              const auto values = particle.get_properties();
+              patch.data.reinit(names.size(), 1);
+              patch.data(0, 0) = particle.get_id();
+              for (unsigned int c = 0; c < values.size(); ++c)
+                patch.data(c + 1, 0) = values[c];
+              patches.push_back(std::move(patch));
+            }
+      }
+
+    private:
+      const std::vector<DataOutBase::Patch<0, dim>> &
+      get_patches() const override
+      {
+        return patches;
+      }
+
+      std::vector<std::string>
+      get_dataset_names() const override
+      {
+        return names;
+      }
+
+      std::vector<
+        std::tuple<unsigned int,
+                   unsigned int,
+                   std::string,
+                   DataComponentInterpretation::DataComponentInterpretation>>
+      get_nonscalar_data_ranges() const override
+      {
+        return vector_ranges;
+      }
+
+      std::vector<DataOutBase::Patch<0, dim>> patches;
+      std::vector<std::string>                names;
+      std::vector<
+        std::tuple<unsigned int,
+                   unsigned int,
+                   std::string,
+                   DataComponentInterpretation::DataComponentInterpretation>>
+        vector_ranges;
+    };
   } // namespace
 
 
@@ -110,9 +211,10 @@ namespace fmpm
 
     const std::string directory = output.directory + "/";
     {
-      Particles::DataOut<dim> particle_output;
+      PointOutput<dim> particle_output;
       particle_output.build_patches(
         particle_handler,
+        triangulation,
         particle_properties.component_names(),
         particle_properties.component_interpretations());
       const std::string name = particle_output.write_vtu_with_pvtu_record(
@@ -303,6 +405,8 @@ namespace fmpm
         out << "  \"collection_fallbacks\": "
             << velocity_conditions.n_collection_fallbacks << ",\n";
       }
+    if (!traction_functions.empty() || !velocity_conditions.labels().empty())
+      out << "  \"external_work\": " << number(external_work) << ",\n";
     out << "  \"mass_matrix_order\": " << mass_matrix->order() << ",\n";
     for (const auto &entry : mass_matrix_statistics)
       out << "  " << quoted(entry.first) << ": " << number(entry.second)

@@ -90,7 +90,10 @@ namespace fmpm
                                 /*seed=*/20260);
     if (via_serial)
       triangulation.copy_triangulation(serial);
-    triangulation.refine_global(mesh.global_refinement);
+    // A resumed run loads the refinement from its checkpoint onto the
+    // coarse mesh.
+    if (!resume_from_checkpoint)
+      triangulation.refine_global(mesh.global_refinement);
   }
 
 

@@ -366,6 +366,12 @@ namespace
     EXPECT_EQ(fmpm::format_number(2.1e11), "2.1e11");
     EXPECT_EQ(fmpm::format_number(1234.5), "1234.5");
     EXPECT_EQ(fmpm::format_number(-2.5e-300), "-2.5e-300");
+    // Integers and short numbers below 1e6 without an exponent.
+    EXPECT_EQ(fmpm::format_number(10), "10");
+    EXPECT_EQ(fmpm::format_number(1000), "1000");
+    EXPECT_EQ(fmpm::format_number(-1500), "-1500");
+    EXPECT_EQ(fmpm::format_number(100000), "100000");
+    EXPECT_EQ(fmpm::format_number(1e6), "1e6");
     // Values that need all 17 digits keep them, unless rounded on request.
     EXPECT_EQ(std::stod(fmpm::format_number(1. / 3)), 1. / 3);
     EXPECT_EQ(fmpm::format_number(1. / 3, 6), "0.333333");

@@ -179,6 +179,14 @@ namespace fmpm
       void
       setup() override;
 
+      /** The solve counters of summary.json, summed over ranks. */
+      void
+      save(std::map<std::string, std::string> &status) const override;
+
+      /** Counters of save() (rank 0 takes the sums, the others zero). */
+      void
+      load(const std::map<std::string, std::string> &status) override;
+
     protected:
       /** Whether the columns of matrix() sum to the lumped masses m. */
       virtual bool

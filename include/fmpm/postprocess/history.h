@@ -58,6 +58,15 @@ namespace fmpm
     void
     add(const HistoryRow<dim> &row);
 
+    /**
+     * @brief After open(): take @p saved_rows (from a checkpoint) as the
+     * rows so far and write them again, so that history.csv of a resumed
+     * run holds exactly the rows up to the checkpoint followed by the new
+     * ones.
+     */
+    void
+    restore(const std::vector<HistoryRow<dim>> &saved_rows);
+
     const std::vector<HistoryRow<dim>> &
     rows() const
     {

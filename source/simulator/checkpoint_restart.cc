@@ -1,0 +1,506 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// Checkpoints and resuming from them (the order of deal.II step-83 and
+// ASPECT's checkpoint_restart.cc):
+//  1. rank 0 Boost-serializes the scalar state (time, step, time-step
+//     state, history rows, PVD records, energies, counters, plugin state);
+//  2. the points (ParticleHandler::prepare_for_serialization) and the
+//     grid fields the iterative solves start from (SolutionTransfer) are
+//     attached to the mesh, which p4est saves;
+//  3. everything goes into step-NNNNNN.tmp/, renamed to step-NNNNNN/ only
+//     when complete: a run killed while writing leaves the previous
+//     checkpoint as the newest complete one.
+// A resumed run builds the coarse mesh, loads the refined one, then the
+// points, sets up the DoFs and reads the grid fields back.
+
+#include <fmpm/simulator.h>
+
+#include <deal.II/base/data_out_base.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
+#include <deal.II/distributed/cell_data_transfer.h>
+#include <deal.II/distributed/solution_transfer.h>
+#include <deal.II/lac/vector.h>
+
+#include <algorithm>
+#include <csignal>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_oarchive.hpp>
+#include <boost/serialization/map.hpp>
+#include <boost/serialization/string.hpp>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
+
+namespace boost
+{
+  namespace serialization
+  {
+    template <class Archive, int dim>
+    void
+    serialize(Archive &archive, fmpm::HistoryRow<dim> &row, const unsigned int)
+    {
+      archive &row.step &row.time &row.dt &row.kinetic_energy &row
+        .strain_energy &row.potential_energy &row.total_energy &row
+        .momentum &row.mass &row.error_velocity_l2 &row
+        .error_displacement_l2 &row.dissipated_energy &row.reactions;
+    }
+  } // namespace serialization
+} // namespace boost
+
+namespace fmpm
+{
+  namespace
+  {
+    /** Set by SIGTERM/SIGINT; read once per step. */
+    volatile std::sig_atomic_t checkpoint_signal_received = 0;
+
+    extern "C" void
+    request_checkpoint_and_stop(int)
+    {
+      checkpoint_signal_received = 1;
+    }
+
+    /** First line of every state file, and its format version. */
+    const std::string  state_magic   = "fmpm checkpoint";
+    const unsigned int state_version = 1;
+
+    namespace fs = std::filesystem;
+
+    /** "step-000120" */
+    std::string
+    checkpoint_name(const unsigned int step)
+    {
+      std::ostringstream name;
+      name << "step-" << std::setw(6) << std::setfill('0') << step;
+      return name.str();
+    }
+
+    /** The step of a complete checkpoint directory name, or -1. */
+    long long
+    checkpoint_step(const std::string &name)
+    {
+      if (name.size() < 6 || name.compare(0, 5, "step-") != 0 ||
+          name.find_first_not_of("0123456789", 5) != std::string::npos)
+        return -1;
+      return std::stoll(name.substr(5));
+    }
+
+    /** Complete checkpoints in @p directory, oldest first. */
+    std::vector<std::pair<long long, fs::path>>
+    complete_checkpoints(const fs::path &directory)
+    {
+      std::vector<std::pair<long long, fs::path>> found;
+      std::error_code                             error;
+      if (!fs::is_directory(directory, error))
+        return found;
+      for (const auto &entry : fs::directory_iterator(directory, error))
+        {
+          const long long step =
+            checkpoint_step(entry.path().filename().string());
+          if (step >= 0 && entry.is_directory())
+            found.emplace_back(step, entry.path());
+        }
+      std::sort(found.begin(), found.end());
+      return found;
+    }
+
+    /** The files deal.II's Triangulation::save() writes for @p mesh. */
+    std::vector<std::string>
+    mesh_files(const std::string &mesh)
+    {
+      return {mesh, mesh + ".info", mesh + "_fixed.data"};
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  template <class Archive>
+  void
+  Simulator<dim>::serialize_scalar_state(Archive &archive)
+  {
+    // Everything run() changes besides the mesh, the points and the grid
+    // fields. The values are the same on every rank (sums and maxima were
+    // reduced), so rank 0's copy serves any number of ranks on resume.
+    archive &time &time_step &timestep_number &next_output_time &n_output
+      &mass_floor_value &max_signal_speed &initial_total_energy
+        &initial_energy_scale &external_work &external_work_scale &mesh_diameter
+          &max_condition_error &reaction_forces &total_lost_points
+            &dissipated_energy &particle_pvd_records &grid_pvd_records
+              &particle_steps &mesh_adaptations &cell_steps &max_cells;
+    for (double &sum : error_sums)
+      archive &sum;
+    velocity_conditions.serialize_state(archive);
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::install_signal_handlers()
+  {
+    checkpoint_signal_received = 0;
+    std::signal(SIGTERM, request_checkpoint_and_stop);
+    std::signal(SIGINT, request_checkpoint_and_stop);
+  }
+
+
+
+  template <int dim>
+  bool
+  Simulator<dim>::checkpoint_due()
+  {
+    // Tests raise the signal on the last rank only at a given step (a
+    // signal may reach only some ranks).
+    static const char *test_signal_step =
+      std::getenv("FMPM_TEST_SIGNAL_AT_STEP");
+    if (test_signal_step != nullptr &&
+        timestep_number == std::strtoul(test_signal_step, nullptr, 10) &&
+        Utilities::MPI::this_mpi_process(mpi_communicator) ==
+          Utilities::MPI::n_mpi_processes(mpi_communicator) - 1)
+      std::raise(SIGTERM);
+
+    const CheckpointParameters &checkpoint = parameters.checkpoint;
+    int request = checkpoint_signal_received != 0 ? 2 : 0;
+    if (checkpoint.wall_time_interval > 0 &&
+        MPI_Wtime() - last_checkpoint_wall >=
+          60 * checkpoint.wall_time_interval)
+      request = std::max(request, 1);
+    // One reduction of a flag: every rank checkpoints (and stops) together.
+    if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+      request = Utilities::MPI::max(request, mpi_communicator);
+    if (request == 2)
+      stop_requested = true;
+    return request > 0 || (checkpoint.step_interval > 0 &&
+                           timestep_number % checkpoint.step_interval == 0);
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::write_checkpoint()
+  {
+    TimerOutput::Scope timer(computing_timer, "checkpoint");
+    const double       wall_begin = MPI_Wtime();
+    const bool         is_root =
+      Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
+    const fs::path directory =
+      fs::path(parameters.output.directory) / "checkpoint";
+    const std::string name      = checkpoint_name(timestep_number);
+    const fs::path    temporary = directory / (name + ".tmp");
+    const fs::path    complete  = directory / name;
+
+    if (is_root)
+      {
+        fs::remove_all(temporary);
+        fs::create_directories(temporary);
+      }
+    // The other ranks write into the directory only after rank 0 made it.
+    MPI_Barrier(mpi_communicator);
+
+    // 1. The scalar state, with per-rank figures reduced first (collective).
+    max_condition_error =
+      Utilities::MPI::max(max_condition_error, mpi_communicator);
+    std::map<std::string, std::map<std::string, std::string>> plugin_state;
+    mass_matrix->save(plugin_state["mass matrix"]);
+    particle_update->save(plugin_state["particle update"]);
+    for (unsigned int m = 0; m < constitutive_models.size(); ++m)
+      constitutive_models[m]->save(
+        plugin_state[numbered_subsection("Material", m)]);
+    if (is_root)
+      {
+        const fs::path state_file = temporary / "state.bin";
+        std::ofstream  out(state_file, std::ios::binary);
+        {
+          boost::archive::binary_oarchive archive(out);
+          std::string                     magic     = state_magic;
+          unsigned int                    version   = state_version;
+          unsigned int                    dimension = dim;
+          unsigned int n_properties   = particle_properties.n_properties();
+          unsigned int n_coarse_cells = triangulation.n_global_coarse_cells();
+          unsigned int n_ranks =
+            Utilities::MPI::n_mpi_processes(mpi_communicator);
+          double                       wall_seconds = MPI_Wtime() - wall_start;
+          std::vector<HistoryRow<dim>> rows         = history.rows();
+          archive &magic &version &dimension &n_properties &n_coarse_cells
+            &n_ranks;
+          serialize_scalar_state(archive);
+          archive &wall_seconds &rows &plugin_state;
+        }
+        out.close();
+        AssertThrow(out,
+                    ExcMessage("Cannot write the checkpoint file <" +
+                               state_file.string() + ">: is the disk full?"));
+      }
+
+    // 2. The partition, the points and the warm-start grid fields ride on
+    //    the mesh (deal.II step-83): the order of attaching is the order of
+    //    reading back.
+    //    deal.II's load() partitions the cells evenly, but a run balanced by
+    //    its points (Mesh refinement/Point weight) has another partition,
+    //    and the order of the sums follows it. Each rank's cells get weights
+    //    summing to the same total (1 each, the first cell the rest), so
+    //    that p4est's weighted partition cuts a loaded mesh where this one
+    //    is cut (load_checkpoint()).
+    const unsigned int n_owned_cells =
+      triangulation.n_locally_owned_active_cells();
+    const unsigned int most_owned_cells =
+      Utilities::MPI::max(n_owned_cells, mpi_communicator);
+    Vector<double> partition_weights(triangulation.n_active_cells());
+    bool           first_cell = true;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          partition_weights[cell->active_cell_index()] =
+            first_cell ? most_owned_cells - n_owned_cells + 1 : 1;
+          first_cell = false;
+        }
+    parallel::distributed::CellDataTransfer<dim, dim, Vector<double>>
+      partition_transfer(triangulation);
+    partition_transfer.prepare_for_serialization(partition_weights);
+    particle_handler.prepare_for_serialization();
+    std::vector<GridScalar> ghosted;
+    for (const auto &field : grid_fields)
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          ghosted.push_back(field.block(d));
+          ghosted.back().update_ghost_values();
+        }
+    std::vector<const GridScalar *> fields;
+    for (const auto &field : ghosted)
+      fields.push_back(&field);
+    parallel::distributed::SolutionTransfer<dim, GridScalar> field_transfer(
+      dof_handler);
+    field_transfer.prepare_for_serialization(fields);
+    triangulation.save((temporary / "mesh").string());
+
+    // Tests stop here in the checkpoint of a given step, after the
+    // temporary files, as a run killed while writing would.
+    static const char *test_stop_step =
+      std::getenv("FMPM_TEST_STOP_DURING_CHECKPOINT");
+    if (test_stop_step != nullptr &&
+        timestep_number == std::strtoul(test_stop_step, nullptr, 10))
+      {
+        MPI_Barrier(mpi_communicator);
+        std::_Exit(3);
+      }
+
+    // 3. Complete: rename, then keep the newest 'Keep' checkpoints.
+    MPI_Barrier(mpi_communicator);
+    std::uintmax_t bytes = 0;
+    if (is_root)
+      {
+        fs::remove_all(complete);
+        fs::rename(temporary, complete);
+        for (const auto &entry : fs::directory_iterator(complete))
+          bytes += entry.file_size();
+        const auto checkpoints = complete_checkpoints(directory);
+        for (unsigned int i = 0;
+             i + parameters.checkpoint.keep < checkpoints.size();
+             ++i)
+          fs::remove_all(checkpoints[i].second);
+      }
+    last_checkpoint_wall = MPI_Wtime();
+    pcout << "*** Checkpoint " << complete.string() << " ("
+          << std::setprecision(3) << bytes / 1e6 << " MB, "
+          << last_checkpoint_wall - wall_begin << " s)" << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::load_checkpoint()
+  {
+    const bool is_root =
+      Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
+    const fs::path directory =
+      fs::path(parameters.output.directory) / "checkpoint";
+
+    // Rank 0 finds the newest complete checkpoint and reads its state; the
+    // others get the bytes (or the error) from it.
+    std::string error, state, checkpoint;
+    if (is_root)
+      {
+        const auto checkpoints = complete_checkpoints(directory);
+        if (checkpoints.empty())
+          error = "Cannot resume: there is no complete checkpoint in <" +
+                  directory.string() +
+                  "> (a directory step-NNNNNN written by a run of this "
+                  "scene with 'subsection Checkpoint / set Step interval' "
+                  "or 'Wall time interval', or stopped by SIGTERM/SIGINT).";
+        else
+          {
+            checkpoint = checkpoints.back().second.string();
+            std::vector<std::string> missing;
+            for (const auto &file : mesh_files(checkpoint + "/mesh"))
+              if (!fs::exists(file))
+                missing.push_back(file);
+            const std::string state_file = checkpoint + "/state.bin";
+            std::ifstream     in(state_file, std::ios::binary);
+            if (!in)
+              missing.insert(missing.begin(), state_file);
+            if (!missing.empty())
+              {
+                error = "Cannot resume from the checkpoint <" + checkpoint +
+                        ">: it is incomplete, missing";
+                for (const auto &file : missing)
+                  error += " <" + file + ">";
+                error += ". Delete it to resume from an older one.";
+              }
+            else
+              state.assign(std::istreambuf_iterator<char>(in),
+                           std::istreambuf_iterator<char>());
+          }
+      }
+    error = Utilities::MPI::broadcast(mpi_communicator, error, 0);
+    AssertThrow(error.empty(), ExcMessage(error));
+    state      = Utilities::MPI::broadcast(mpi_communicator, state, 0);
+    checkpoint = Utilities::MPI::broadcast(mpi_communicator, checkpoint, 0);
+    resumed_checkpoint           = checkpoint;
+    const std::string state_file = checkpoint + "/state.bin";
+
+    // 1. The scalar state: check that it is fmpm's and fits this scene.
+    std::map<std::string, std::map<std::string, std::string>> plugin_state;
+    double                                                    wall_seconds  = 0;
+    unsigned int                                              saved_n_ranks = 0;
+    try
+      {
+        std::istringstream              in(state);
+        boost::archive::binary_iarchive archive(in);
+        std::string                     magic;
+        unsigned int version = 0, dimension = 0, n_properties = 0,
+                     n_coarse_cells = 0;
+        archive &magic &version &dimension &n_properties &n_coarse_cells
+          &saved_n_ranks;
+        AssertThrow(magic == state_magic && version == state_version,
+                    ExcMessage("The file <" + state_file +
+                               "> is not an fmpm checkpoint of this "
+                               "version."));
+        AssertThrow(dimension == dim,
+                    ExcMessage(
+                      "The checkpoint <" + state_file + "> was written by a " +
+                      std::to_string(dimension) + "D run, but the scene is " +
+                      std::to_string(dim) + "D."));
+        AssertThrow(
+          n_properties == particle_properties.n_properties() &&
+            n_coarse_cells == triangulation.n_global_coarse_cells(),
+          ExcMessage(
+            "The checkpoint <" + state_file +
+            "> was written by another scene: it has " +
+            std::to_string(n_coarse_cells) + " coarse cells and " +
+            std::to_string(n_properties) + " values per point, this scene " +
+            std::to_string(triangulation.n_global_coarse_cells()) + " and " +
+            std::to_string(particle_properties.n_properties()) + "."));
+        serialize_scalar_state(archive);
+        archive &wall_seconds &restored_history_rows &plugin_state;
+      }
+    catch (const boost::archive::archive_exception &e)
+      {
+        AssertThrow(false,
+                    ExcMessage("The checkpoint file <" + state_file +
+                               "> is corrupt or truncated (" + e.what() +
+                               "). Delete its directory to resume from an "
+                               "older checkpoint."));
+      }
+    wall_start = MPI_Wtime() - wall_seconds;
+    mass_matrix->load(plugin_state["mass matrix"]);
+    particle_update->load(plugin_state["particle update"]);
+    for (unsigned int m = 0; m < constitutive_models.size(); ++m)
+      constitutive_models[m]->load(
+        plugin_state[numbered_subsection("Material", m)]);
+
+    // 2. The mesh, then (in the order they were attached) the partition
+    //    weights, the points, the DoFs and the grid fields.
+    triangulation.load(checkpoint + "/mesh");
+    Vector<double> partition_weights(triangulation.n_active_cells());
+    {
+      parallel::distributed::CellDataTransfer<dim, dim, Vector<double>>
+        partition_transfer(triangulation);
+      partition_transfer.deserialize(partition_weights);
+    }
+    initialize_particle_handler();
+    particle_handler.deserialize();
+    setup_dofs();
+    mass_matrix->initialize();
+    std::vector<GridScalar> loaded(ParticleUpdate::n_grid_fields * dim,
+                                   lumped_mass);
+    {
+      std::vector<GridScalar *> fields;
+      for (auto &field : loaded)
+        fields.push_back(&field);
+      parallel::distributed::SolutionTransfer<dim, GridScalar> field_transfer(
+        dof_handler);
+      field_transfer.deserialize(fields);
+    }
+    // On the same number of ranks, restore the saved partition (see
+    // write_checkpoint()): the points and the grid fields move along.
+    if (saved_n_ranks == Utilities::MPI::n_mpi_processes(mpi_communicator) &&
+        saved_n_ranks > 1)
+      {
+        auto restore = triangulation.signals.weight.connect(
+          [&partition_weights](const typename parallel::distributed::
+                                 Triangulation<dim>::cell_iterator &cell,
+                               const typename Triangulation<dim>::CellStatus) {
+            return static_cast<unsigned int>(
+              partition_weights[cell->active_cell_index()]);
+          });
+        std::vector<GridScalar>         ghosted(loaded);
+        std::vector<const GridScalar *> fields;
+        for (auto &field : ghosted)
+          {
+            field.update_ghost_values();
+            fields.push_back(&field);
+          }
+        parallel::distributed::SolutionTransfer<dim, GridScalar> field_transfer(
+          dof_handler);
+        particle_handler.prepare_for_coarsening_and_refinement();
+        field_transfer.prepare_for_coarsening_and_refinement(fields);
+        triangulation.repartition();
+        restore.disconnect();
+        particle_handler.unpack_after_coarsening_and_refinement();
+        setup_dofs();
+        mass_matrix->initialize();
+        std::vector<GridScalar *> new_fields;
+        for (auto &field : loaded)
+          {
+            field.reinit(lumped_mass);
+            new_fields.push_back(&field);
+          }
+        field_transfer.interpolate(new_fields);
+      }
+    for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          grid_fields[f].block(d) = loaded[f * dim + d];
+          grid_fields[f].block(d).update_ghost_values();
+        }
+    // The node conditions at the restored wall positions and time.
+    setup_boundary_conditions();
+    if (parameters.refinement.strategy != "none")
+      connect_cell_weights();
+
+    // The PVD records end at the checkpoint (outputs written after it by
+    // the run that stopped are written again).
+    if (is_root && parameters.output.write_vtu)
+      {
+        std::ofstream particles_pvd(parameters.output.directory +
+                                    "/particles.pvd");
+        DataOutBase::write_pvd_record(particles_pvd, particle_pvd_records);
+        std::ofstream grid_pvd(parameters.output.directory + "/grid.pvd");
+        DataOutBase::write_pvd_record(grid_pvd, grid_pvd_records);
+      }
+  }
+
+  template class Simulator<2>;
+  template class Simulator<3>;
+} // namespace fmpm
