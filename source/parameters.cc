@@ -776,6 +776,8 @@ namespace fmpm
     }
     prm.leave_subsection();
 
+    Contact::Parameters::declare_parameters(prm);
+
     const CheckpointParameters checkpoint;
     prm.enter_subsection("Checkpoint");
     {
@@ -1141,6 +1143,8 @@ namespace fmpm
     output.progress_seconds  = prm.get_double("Progress interval");
     output.track_dissipation = prm.get_bool("Track dissipated energy");
     prm.leave_subsection();
+
+    contact.parse_parameters(prm, size.n_materials);
 
     prm.enter_subsection("Checkpoint");
     checkpoint.step_interval      = prm.get_integer("Step interval");

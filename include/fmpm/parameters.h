@@ -4,6 +4,8 @@
 #ifndef fmpm_parameters_h
 #define fmpm_parameters_h
 
+#include <fmpm/contact.h>
+
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
@@ -281,6 +283,7 @@ namespace fmpm
     RotatingFrameParameters     rotating_frame;
     OutputParameters            output;
     CheckpointParameters        checkpoint;
+    Contact::Parameters         contact;
     FailureParameters           failure;
     ReferenceSolutionParameters reference;
     bool                        test_mode = false;

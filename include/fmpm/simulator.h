@@ -72,6 +72,16 @@ namespace fmpm
     double velocity_reference_squared     = 0;
     double displacement_error_squared     = 0;
     double displacement_reference_squared = 0;
+    /** With 2+ materials, per material: mass, momentum (dim), volume, σV
+     * (xx, yy, xy in 2D; xx, yy, zz, xy, xz, yz in 3D), kinetic and strain
+     * energy (material_stride() values each). */
+    std::vector<double> per_material;
+    static constexpr unsigned int n_stress = dim == 2 ? 3 : 6;
+    static constexpr unsigned int
+    material_stride()
+    {
+      return 1 + dim + 1 + n_stress + 2;
+    }
 
     double
     total_energy() const
@@ -303,7 +313,40 @@ namespace fmpm
     void
     compute_field(const ParticleUpdate::GridField field);
     void
-    update_stresses(const GridVectorField &grid_velocity, const double dt);
+    update_stresses(const ParticleUpdate::GridField grid_velocity,
+                    const double                    dt);
+
+    // --- multimaterial contact (simulator/contact.cc, seed 004) ---
+    /** The stages at which contact corrects the material momenta. */
+    enum class ContactStage
+    {
+      /** after the extrapolation: p^α = p^α0 + Δp^α (Eq. 26), Δv^α kept */
+      extrapolated,
+      /** after the momentum update: p^α+ = p^α0+ + Δp^α+ (Eq. 31) */
+      updated,
+      /** after the re-extrapolation of USL+/USAVG+ */
+      re_extrapolated
+    };
+    /** Allocate the per-material fields (Contact/Model name =
+     * multimaterial and 2+ materials; nothing otherwise). */
+    void
+    setup_contact();
+    bool
+    contact_active() const
+    {
+      return !material_fields.empty();
+    }
+    /** Velocity conditions on material α's momenta @p q at time @p t. */
+    void
+    impose_material_conditions(const unsigned int alpha,
+                               GridVectorField   &q,
+                               const double       t);
+    /** The contact corrections at every owned node with 2+ materials. */
+    void
+    apply_contact(const ContactStage stage);
+    /** Material fields v^α, v^α+, a^α (lumped: seed 004 Eqs. 26, 31-34). */
+    void
+    compute_material_field(const ParticleUpdate::GridField field);
     void
     update_particles();
     void
@@ -342,6 +385,10 @@ namespace fmpm
                   const GlobalStatistics<dim> &statistics);
     void
     print_progress(const GlobalStatistics<dim> &statistics, const bool force);
+    /** history.csv columns of scenes with 2+ materials (per material, then
+     * friction_work and contact_nodes). */
+    std::vector<std::string>
+    material_history_columns() const;
     void
     print_test_particles() const;
 
@@ -361,6 +408,36 @@ namespace fmpm
     bool                has_hanging_nodes = false;
     GridTransfer<dim>   transfer;
     ShapeFunction::Type shape_function = ShapeFunction::Type::classic;
+
+    /** One velocity field per material (seed 004 Eqs. 5-6); empty without
+     * contact. */
+    struct MaterialField
+    {
+      GridScalar      mass;             // m^α
+      GridVectorField momentum;         // p^α0, then p^α (Eq. 26)
+      GridVectorField force;            // f^α0 (Eq. 29)
+      GridVectorField updated_momentum; // p^α+ (Eq. 31)
+      GridVectorField volume_gradient;  // g^α = Σ G V (Eq. 11)
+      GridVectorField position_moment;  // Σ S M X: x^α = S^{+α}X (Eq. 11)
+      GridVectorField delta_velocity;   // Δv^α of the first correction
+      std::array<GridVectorField, ParticleUpdate::n_grid_fields> fields;
+      std::array<bool, ParticleUpdate::n_grid_fields>            computed{};
+    };
+    std::vector<MaterialField> material_fields;
+    /** The locally owned cells in the order of the passes: sorted by
+     * CellId on adapted meshes, else in storage order (set at set-up and
+     * after remeshing). */
+    std::vector<typename Triangulation<dim>::active_cell_iterator>
+      owned_cells_in_id_order;
+    /** Whether the normal method needs g^α and x^α. */
+    bool contact_needs_gradients = false, contact_needs_positions = false;
+    /** The local cell size at each node (separations in cells). */
+    GridScalar node_cell_size;
+    /** Friction work since the start; contact nodes of the last step. */
+    double             friction_work          = 0;
+    double             local_friction_work    = 0;
+    unsigned long long local_contact_nodes    = 0;
+    unsigned long long contact_nodes_last_step = 0;
     /** Every locally owned point and its support (S, G) for this step. */
     SupportCache<dim> supports;
 

@@ -49,6 +49,8 @@ namespace fmpm
     std::vector<Handle> handle;
     /** Active cell index of the point's cell. */
     std::vector<unsigned int> cell;
+    /** Material index of the point (filled with contact only). */
+    std::vector<unsigned char> material;
     /** The point's support is entries [support_begin[k], support_begin[k+1]). */
     std::vector<unsigned int> support_begin;
     /** @} */
@@ -94,6 +96,7 @@ namespace fmpm
     {
       handle.clear();
       cell.clear();
+      material.clear();
       support_begin.assign(1, 0);
       node.clear();
       S.clear();

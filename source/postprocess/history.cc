@@ -15,9 +15,11 @@ namespace fmpm
                      const bool                      is_root,
                      const bool                      errors,
                      const bool                      dissipation,
-                     const std::vector<std::string> &reaction_labels)
+                     const std::vector<std::string> &reaction_labels,
+                     const std::vector<std::string> &extra_columns)
   {
     n_reactions      = reaction_labels.size();
+    n_extra          = extra_columns.size();
     with_errors      = errors;
     with_dissipation = dissipation;
     all_rows.clear();
@@ -39,6 +41,8 @@ namespace fmpm
     for (const auto &label : reaction_labels)
       for (unsigned int d = 0; d < dim; ++d)
         *file << ",reaction_" << label << '_' << "xyz"[d];
+    for (const auto &column : extra_columns)
+      *file << ',' << column;
     *file << '\n';
     file->flush();
   }
@@ -65,6 +69,8 @@ namespace fmpm
     for (unsigned int r = 0; r < n_reactions; ++r)
       for (unsigned int d = 0; d < dim; ++d)
         *file << ',' << (r < row.reactions.size() ? row.reactions[r][d] : 0.);
+    for (unsigned int c = 0; c < n_extra; ++c)
+      *file << ',' << (c < row.extra.size() ? row.extra[c] : 0.);
     *file << '\n';
     file->flush();
   }

@@ -50,7 +50,7 @@ namespace boost
       archive &row.step &row.time &row.dt &row.kinetic_energy &row
         .strain_energy &row.potential_energy &row.total_energy &row
         .momentum &row.mass &row.error_velocity_l2 &row
-        .error_displacement_l2 &row.dissipated_energy &row.reactions;
+        .error_displacement_l2 &row.dissipated_energy &row.reactions &row.extra;
     }
   } // namespace serialization
 } // namespace boost
@@ -135,7 +135,7 @@ namespace fmpm
         &initial_energy_scale &external_work &external_work_scale &mesh_diameter
           &max_condition_error &reaction_forces &total_lost_points
             &dissipated_energy &particle_pvd_records &grid_pvd_records
-              &particle_steps &mesh_adaptations &cell_steps &max_cells;
+              &particle_steps &mesh_adaptations &cell_steps &max_cells &friction_work;
     for (double &sum : error_sums)
       archive &sum;
     velocity_conditions.serialize_state(archive);

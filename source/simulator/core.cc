@@ -224,7 +224,8 @@ namespace fmpm
                  is_root,
                  parameters.reference.enable,
                  parameters.output.track_dissipation,
-                 velocity_conditions.labels());
+                 velocity_conditions.labels(),
+                 material_history_columns());
 
     pcout << "fmpm: " << dim << "D, "
           << Utilities::MPI::n_mpi_processes(mpi_communicator)
@@ -439,6 +440,18 @@ namespace fmpm
     particles_to_grid(!update_first);
     momentum_time = time;
     impose_velocity_conditions(momentum, time, nullptr);
+    // Contact: conditions on every material field, then the first
+    // correction p^α = p^α0 + Δp^α (seed 004 Eq. 26, §3.2).
+    if (contact_active())
+      {
+        for (unsigned int a = 0; a < material_fields.size(); ++a)
+          impose_material_conditions(a, material_fields[a].momentum, time);
+        if (parameters.contact.corrections_per_step == 2)
+          apply_contact(ContactStage::extrapolated);
+        else
+          for (auto &field : material_fields)
+            field.momentum.update_ghost_values();
+      }
 
     // 2. USF / USAVG: update stresses with v = m̃ₖ⁻¹p (Δt/2 for USAVG),
     //    then extrapolate the forces.
@@ -446,7 +459,7 @@ namespace fmpm
       {
         const GridField v = lumped_strain_velocity ? lumped_velocity : velocity;
         compute_field(v);
-        update_stresses(grid_fields[v], average ? dt / 2 : dt);
+        update_stresses(v, average ? dt / 2 : dt);
         compute_forces();
       }
 
@@ -466,11 +479,26 @@ namespace fmpm
         velocity_conditions.get_method() ==
           VelocityConditions<dim>::Method::velocity &&
         !velocity_conditions.labels().empty();
-      timer.stop(); // compute_field() times itself
+      // Contact: p^α0+ = p^α + f^α0Δt (Eq. 30), the conditions, then the
+      // second correction p^α+ = p^α0+ + Δp^α+ (Eq. 31).
+      for (unsigned int a = 0; a < material_fields.size(); ++a)
+        {
+          MaterialField &field   = material_fields[a];
+          field.updated_momentum = field.momentum;
+          field.updated_momentum.add(dt, field.force);
+          impose_material_conditions(a, field.updated_momentum, time + dt);
+        }
+      timer.stop(); // compute_field() and apply_contact() time themselves
+      if (contact_active())
+        apply_contact(ContactStage::updated);
       for (unsigned int f = 0; f < n_grid_fields; ++f)
         if (field_needed[f] || (velocity_method_reactions &&
                                 (f == updated_velocity || f == velocity)))
           compute_field(static_cast<GridField>(f));
+      if (contact_active())
+        for (unsigned int f = 0; f < n_grid_fields; ++f)
+          if (field_needed[f])
+            compute_material_field(static_cast<GridField>(f));
       // How well v⁺ satisfies the conditions (summary.json).
       if (field_computed[updated_velocity])
         {
@@ -520,10 +548,19 @@ namespace fmpm
             momentum_time = time + dt;
             impose_velocity_conditions(momentum, time + dt, nullptr);
             field_computed[velocity] = field_computed[lumped_velocity] = false;
+            // Contact: a third correction of the re-extrapolated momenta.
+            if (contact_active())
+              {
+                for (unsigned int a = 0; a < material_fields.size(); ++a)
+                  impose_material_conditions(a,
+                                             material_fields[a].momentum,
+                                             time + dt);
+                apply_contact(ContactStage::re_extrapolated);
+              }
             const GridField v =
               lumped_strain_velocity ? lumped_velocity : velocity;
             compute_field(v);
-            update_stresses(grid_fields[v], dt_last);
+            update_stresses(v, dt_last);
           }
         else
           {
@@ -531,7 +568,7 @@ namespace fmpm
                                   lumped_updated_velocity :
                                   updated_velocity;
             compute_field(v);
-            update_stresses(grid_fields[v], dt_last);
+            update_stresses(v, dt_last);
           }
       }
 
@@ -814,13 +851,51 @@ namespace fmpm
     std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) {
       return a->id() < b->id();
     });
+    const unsigned int n_materials = parameters.size.n_materials;
+    const unsigned int stride      = GlobalStatistics<dim>::material_stride();
+    if (n_materials > 1)
+      s.per_material.assign(n_materials * stride, 0.);
+    constexpr unsigned int stress_slots[6] = {0, 1, 3, 2, 4, 5};
+    // Within a cell by id: the order of the points in a cell depends on
+    // which points moved in when.
+    std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
+      points;
     for (const auto &cell : cells)
-      for (const auto &particle : particle_handler.particles_in_cell(cell))
+      {
+        points.clear();
+        for (auto particle = particle_handler.particles_in_cell(cell).begin();
+             particle != particle_handler.particles_in_cell(cell).end();
+             ++particle)
+          points.push_back(particle);
+        std::sort(points.begin(), points.end(), [](const auto &a, const auto &b) {
+          return a->get_id() < b->get_id();
+        });
+      for (const auto &point : points)
         {
+          const auto &particle = *point;
           const auto           p = particle.get_properties();
           const double         M = p[Index::mass];
           const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
           const Point<dim>     x = particle.get_location();
+          if (n_materials > 1)
+            {
+              double *const sums =
+                &s.per_material[static_cast<unsigned int>(
+                                  p[Index::material_id]) *
+                                stride];
+              const double volume = p[Index::volume];
+              sums[0] += M;
+              for (unsigned int d = 0; d < dim; ++d)
+                sums[1 + d] += M * V[d];
+              sums[1 + dim] += volume;
+              // 2D: xx, yy, xy = stored slots 0, 1, 3.
+              for (unsigned int c = 0; c < GlobalStatistics<dim>::n_stress; ++c)
+                sums[2 + dim + c] +=
+                  volume * p[Index::stress + (dim == 2 ? stress_slots[c] : c)];
+              sums[stride - 2] += 0.5 * M * V * V;
+              sums[stride - 1] +=
+                p[Index::initial_volume] * p[Index::strain_energy_density];
+            }
           s.mass += M;
           s.momentum += M * V;
           s.kinetic_energy += 0.5 * M * V * V;
@@ -843,6 +918,7 @@ namespace fmpm
               s.displacement_reference_squared += M * u_ref.norm_square();
             }
         }
+      }
 
     // One reduction for all sums.
     std::vector<double> values = {s.mass,
@@ -855,7 +931,11 @@ namespace fmpm
                                   s.displacement_reference_squared};
     for (unsigned int d = 0; d < dim; ++d)
       values.push_back(s.momentum[d]);
+    values.insert(values.end(), s.per_material.begin(), s.per_material.end());
     Utilities::MPI::sum(values, mpi_communicator, values);
+    std::copy(values.end() - s.per_material.size(),
+              values.end(),
+              s.per_material.begin());
     s.mass                           = values[0];
     s.kinetic_energy                 = values[1];
     s.strain_energy                  = values[2];

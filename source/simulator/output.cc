@@ -178,6 +178,30 @@ namespace fmpm
     row.mass              = statistics.mass;
     row.dissipated_energy = dissipated_energy;
     row.reactions         = reaction_forces;
+    if (statistics.per_material.size() > 0)
+      {
+        // Per material: mass, centre-of-mass velocity, volume-averaged
+        // Cauchy stress, kinetic and strain energy; then the contact sums.
+        const unsigned int stride = GlobalStatistics<dim>::material_stride();
+        for (unsigned int a = 0; a < parameters.size.n_materials; ++a)
+          {
+            const double *sums = &statistics.per_material[a * stride];
+            const double  mass = sums[0], volume = sums[1 + dim];
+            row.extra.push_back(mass);
+            for (unsigned int d = 0; d < dim; ++d)
+              row.extra.push_back(mass > 0 ? sums[1 + d] / mass : 0.);
+            for (unsigned int c = 0; c < GlobalStatistics<dim>::n_stress; ++c)
+              row.extra.push_back(volume > 0 ? sums[2 + dim + c] / volume : 0.);
+            row.extra.push_back(sums[stride - 2]);
+            row.extra.push_back(sums[stride - 1]);
+          }
+        friction_work +=
+          Utilities::MPI::sum(local_friction_work, mpi_communicator);
+        local_friction_work = 0;
+        row.extra.push_back(friction_work);
+        row.extra.push_back(static_cast<double>(
+          Utilities::MPI::sum(local_contact_nodes, mpi_communicator)));
+      }
     row.error_velocity_l2 =
       statistics.velocity_reference_squared > 0 ?
         std::sqrt(statistics.velocity_error_squared /
@@ -439,6 +463,34 @@ namespace fmpm
       }
     out << "\n  }\n}\n";
   }
+
+  template <int dim>
+  std::vector<std::string>
+  Simulator<dim>::material_history_columns() const
+  {
+    std::vector<std::string> columns;
+    if (parameters.size.n_materials < 2)
+      return columns;
+    const std::vector<std::string> stress =
+      dim == 2 ? std::vector<std::string>{"xx", "yy", "xy"} :
+                 std::vector<std::string>{"xx", "yy", "zz", "xy", "xz", "yz"};
+    for (unsigned int a = 0; a < parameters.size.n_materials; ++a)
+      {
+        const std::string n = "_material_" + std::to_string(a);
+        columns.push_back("mass" + n);
+        for (unsigned int d = 0; d < dim; ++d)
+          columns.push_back(std::string("velocity_") + "xyz"[d] + n);
+        for (const auto &c : stress)
+          columns.push_back("stress_" + c + n);
+        columns.push_back("kinetic_energy" + n);
+        columns.push_back("strain_energy" + n);
+      }
+    columns.push_back("friction_work");
+    columns.push_back("contact_nodes");
+    return columns;
+  }
+
+
 
   template class Simulator<2>;
   template class Simulator<3>;

@@ -138,6 +138,19 @@ namespace fmpm
                     *partitioner,
                     shape_function != ShapeFunction::Type::classic);
     vertex_to_cells = GridTools::vertex_to_cell_map(triangulation);
+    owned_cells_in_id_order.clear();
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (cell->is_locally_owned())
+        owned_cells_in_id_order.push_back(cell);
+    // An adapted mesh's storage order depends on its history (a mesh loaded
+    // from a checkpoint is stored afresh): sort by CellId so that the sums
+    // onto nodes are the same after a resume. A mesh that is never adapted
+    // keeps its storage order (the order of the points in memory: faster).
+    if (parameters.refinement.strategy != "none")
+      std::sort(owned_cells_in_id_order.begin(),
+                owned_cells_in_id_order.end(),
+                [](const auto &a, const auto &b) { return a->id() < b->id(); });
+    setup_contact();
 
     if (mass_matrix && (mass_matrix->needs_full_mass_matrix() ||
                         velocity_conditions.needs_full_mass_matrix()))
@@ -651,6 +664,28 @@ namespace fmpm
                        format_number(mesh_box.lower_bound(d), 6) + ", " +
                        format_number(mesh_box.upper_bound(d), 6) +
                        "]. Change its Center or Half lengths."));
+      }
+
+    // Contact (issue 13): FLIP/PIC-type updates with the lumped mass
+    // matrix; XPIC(k)/FMPM(k) with contact come with issue 14.
+    if (parameters.contact.multimaterial && parameters.size.n_materials > 1)
+      {
+        const std::string &update = parameters.method.particle_update;
+        AssertThrow(
+          parameters.method.mass_matrix == "lumped" &&
+            update.compare(0, 4, "xpic") != 0 &&
+            update.compare(0, 4, "fmpm") != 0,
+          ExcMessage("Contact/Model name = multimaterial works with 'Mass "
+                     "matrix/Model name = lumped' and the particle updates "
+                     "flip, flip end velocity, flip midpoint, flip pic blend, "
+                     "pic and pic midpoint; this scene has mass matrix '" +
+                     parameters.method.mass_matrix + "' and particle update '" +
+                     update + "' (multimaterial XPIC(k)/FMPM(k) is not "
+                     "implemented yet)."));
+        AssertThrow(!velocity_conditions.needs_full_mass_matrix(),
+                    ExcMessage("Contact/Model name = multimaterial needs a "
+                               "'Boundary conditions/Method' without the full "
+                               "mass matrix (not collection)."));
       }
 
     // A fixed time step must be stable.

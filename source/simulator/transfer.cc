@@ -234,6 +234,9 @@ namespace fmpm
     const Point<dim> *const first_location = &pool.get_location(0);
     const auto             &partitioner    = *lumped_mass.get_partitioner();
     const bool classic = (shape_function == ShapeFunction::Type::classic);
+    const bool multiple_materials = constitutive_models.size() > 1;
+    if (multiple_materials)
+      supports.material.reserve(n_points);
 
     // A node of a support: itself, or for a hanging node its masters with
     // the constraint weights (S_jp += c_ij S_ip).
@@ -256,10 +259,11 @@ namespace fmpm
     std::array<double, n>                 S;
     std::array<Tensor<1, dim>, n>         G;
     std::vector<ShapeFunction::Node<dim>> support;
-    for (const auto &cell : triangulation.active_cell_iterators())
+    // Cells in the order of their ids: the sums over points onto nodes are
+    // then independent of the mesh's storage order, which a mesh loaded
+    // from a checkpoint does not share (bitwise resumes).
+    for (const auto &cell : owned_cells_in_id_order)
       {
-        if (!cell->is_locally_owned())
-          continue;
         const auto particles = particle_handler.particles_in_cell(cell);
         if (particles.begin() == particles.end())
           continue;
@@ -270,6 +274,9 @@ namespace fmpm
             supports.handle.push_back(&particle.get_location() -
                                       first_location);
             supports.cell.push_back(c);
+            if (multiple_materials)
+              supports.material.push_back(static_cast<unsigned char>(
+                particle.get_properties()[Index::material_id]));
             const unsigned int first = supports.node.size();
             if (classic)
               {
@@ -384,6 +391,38 @@ namespace fmpm
     if (use_cellwise_full_mass)
       cellwise_full_mass.clear();
 
+    // Per-material fields (contact): m^α, p^α0, f^α0, g^α, Σ S M X.
+    const bool         contact     = contact_active();
+    const unsigned int n_materials = material_fields.size();
+    std::vector<double *> m_alpha(n_materials), p_alpha(n_materials * dim),
+      f_alpha(n_materials * dim), g_alpha, x_alpha;
+    if (contact_needs_gradients)
+      g_alpha.resize(n_materials * dim);
+    if (contact_needs_positions)
+      x_alpha.resize(n_materials * dim);
+    for (unsigned int a = 0; a < n_materials; ++a)
+      {
+        MaterialField &field = material_fields[a];
+        field.mass           = 0;
+        field.momentum       = 0;
+        if (with_forces)
+          field.force = 0;
+        if (contact_needs_gradients)
+          field.volume_gradient = 0;
+        if (contact_needs_positions)
+          field.position_moment = 0;
+        m_alpha[a] = field.mass.begin();
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            p_alpha[a * dim + d] = field.momentum.block(d).begin();
+            f_alpha[a * dim + d] = field.force.block(d).begin();
+            if (contact_needs_gradients)
+              g_alpha[a * dim + d] = field.volume_gradient.block(d).begin();
+            if (contact_needs_positions)
+              x_alpha[a * dim + d] = field.position_moment.block(d).begin();
+          }
+      }
+
     auto        &pool = particle_handler.get_property_pool();
     const auto  &partitioner     = *lumped_mass.get_partitioner();
     const bool   uniform_body_force = !has_point_body_force();
@@ -462,10 +501,43 @@ namespace fmpm
                 double sigma[dim][dim];
                 stress_block<dim>(P + Index::stress, sigma);
                 const double V = P[Index::volume];
+                double *const *f_a =
+                  contact ? &f_alpha[supports.material[k] * dim] : nullptr;
                 for (unsigned int j = begin; j < end; ++j)
                   for (unsigned int a = 0; a < dim; ++a)
-                    f[a][node[j]] +=
-                      nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
+                    {
+                      const double f_ja =
+                        nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
+                      f[a][node[j]] += f_ja;
+                      if (contact) // f^α0 (Eq. 29)
+                        f_a[a][node[j]] += f_ja;
+                    }
+              }
+            if (contact)
+              {
+                // Eqs. 5, 11, 29 for the point's material α.
+                const unsigned int alpha = supports.material[k];
+                double *const      m_a   = m_alpha[alpha];
+                double *const     *p_a   = &p_alpha[alpha * dim];
+                const double       V     = P[Index::volume];
+                for (unsigned int j = begin; j < end; ++j)
+                  {
+                    const unsigned int i = node[j];
+                    m_a[i] += M * S[j];
+                    for (unsigned int d = 0; d < dim; ++d)
+                      p_a[d][i] += MV[d] * S[j];
+                  }
+                if (contact_needs_gradients)
+                  for (unsigned int j = begin; j < end; ++j)
+                    for (unsigned int d = 0; d < dim; ++d)
+                      g_alpha[alpha * dim + d][node[j]] += V * G[j][d];
+                if (contact_needs_positions)
+                  {
+                    const Point<dim> &X = pool.get_location(supports.handle[k]);
+                    for (unsigned int j = begin; j < end; ++j)
+                      for (unsigned int d = 0; d < dim; ++d)
+                        x_alpha[alpha * dim + d][node[j]] += M * S[j] * X[d];
+                  }
               }
             if (with_full_mass) // m̃ = SᵀMS (1.9)
               for (unsigned int i = begin; i < end; ++i)
@@ -501,6 +573,19 @@ namespace fmpm
     if (assemble_full)
       full_mass_matrix.compress(VectorOperation::add);
     lumped_mass.update_ghost_values();
+    for (auto &field : material_fields)
+      {
+        field.mass.compress(VectorOperation::add);
+        field.momentum.compress(VectorOperation::add);
+        if (with_forces)
+          field.force.compress(VectorOperation::add);
+        if (contact_needs_gradients)
+          field.volume_gradient.compress(VectorOperation::add);
+        if (contact_needs_positions)
+          field.position_moment.compress(VectorOperation::add);
+        field.mass.update_ghost_values();
+        field.computed.fill(false);
+      }
     mass_matrix->setup();
   }
 
@@ -525,6 +610,15 @@ namespace fmpm
     const double *const         S    = supports.S.data();
     const Tensor<1, dim> *const G    = supports.G.data();
 
+    const bool            contact = contact_active();
+    std::vector<double *> f_alpha(material_fields.size() * dim);
+    for (unsigned int a = 0; a < material_fields.size(); ++a)
+      {
+        material_fields[a].force = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          f_alpha[a * dim + d] = material_fields[a].force.block(d).begin();
+      }
+
     for (unsigned int k = 0; k < supports.n_points(); ++k)
       {
         const double *const P = pool.get_properties(supports.handle[k]).data();
@@ -539,13 +633,23 @@ namespace fmpm
               ArrayView<const double>(P, particle_properties.n_properties()),
               pool.get_location(supports.handle[k]),
               gravity);
+        double *const *f_a =
+          contact ? &f_alpha[supports.material[k] * dim] : nullptr;
         for (unsigned int j = supports.support_begin[k];
              j < supports.support_begin[k + 1];
              ++j)
           for (unsigned int a = 0; a < dim; ++a)
-            f[a][node[j]] += nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
+            {
+              const double f_ja =
+                nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
+              f[a][node[j]] += f_ja;
+              if (contact) // f^α0 (Eq. 29)
+                f_a[a][node[j]] += f_ja;
+            }
       }
     force.compress(VectorOperation::add);
+    for (auto &field : material_fields)
+      field.force.compress(VectorOperation::add);
   }
 
 
@@ -559,13 +663,22 @@ namespace fmpm
 
     unsigned int fields[ParticleUpdate::n_grid_fields];
     unsigned int n_fields = 0;
-    const double *field_values[ParticleUpdate::n_grid_fields][dim];
+    using FieldViews = std::array<std::array<const double *, dim>,
+                                  ParticleUpdate::n_grid_fields>;
+    // The fields of the centre of mass, or with contact of each material
+    // (the point reads its material's field, Eq. 32).
+    const bool              contact = contact_active();
+    std::vector<FieldViews> views(contact ? material_fields.size() : 1);
     for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
       if (field_needed[f])
         {
           fields[n_fields++] = f;
-          for (unsigned int d = 0; d < dim; ++d)
-            field_values[f][d] = grid_fields[f].block(d).begin();
+          for (unsigned int a = 0; a < views.size(); ++a)
+            for (unsigned int d = 0; d < dim; ++d)
+              views[a][f][d] =
+                (contact ? material_fields[a].fields[f] : grid_fields[f])
+                  .block(d)
+                  .begin();
         }
 
     auto                      &pool = particle_handler.get_property_pool();
@@ -602,6 +715,8 @@ namespace fmpm
             batch.position[q] = pool.get_location(supports.handle[k]);
             const unsigned int begin = supports.support_begin[k];
             const unsigned int end   = supports.support_begin[k + 1];
+            const FieldViews  &field_values =
+              views[contact ? supports.material[k] : 0];
             for (unsigned int field = 0; field < n_fields; ++field)
               {
                 const unsigned int f = fields[field];
@@ -706,8 +821,16 @@ namespace fmpm
 
   template <int dim>
   void
-  Simulator<dim>::update_stresses(const GridVectorField &v, const double dt)
+  Simulator<dim>::update_stresses(const ParticleUpdate::GridField field,
+                                  const double                    dt)
   {
+    // The velocities of the centre of mass, or with contact of the group's
+    // material (Eq. 28); their solves time themselves.
+    const bool contact = contact_active();
+    if (contact)
+      compute_material_field(field);
+    else
+      compute_field(field);
     TimerOutput::Scope timer(computing_timer, "stress update");
     using Index                        = PropertyIndex<dim>;
     const unsigned int     n_materials = constitutive_models.size();
@@ -724,8 +847,11 @@ namespace fmpm
     std::vector<Tensor<2, 3>> dF(stress_batch_size);
     double                    wave_speed = 0;
     const double *v_a[dim];
-    for (unsigned int a = 0; a < dim; ++a)
-      v_a[a] = v.block(a).begin();
+    auto          view_velocities = [&](const GridVectorField &v) {
+      for (unsigned int a = 0; a < dim; ++a)
+        v_a[a] = v.block(a).begin();
+    };
+    view_velocities(grid_fields[field]);
     const unsigned int *const   node = supports.node.data();
     const Tensor<1, dim> *const G    = supports.G.data();
 
@@ -745,12 +871,7 @@ namespace fmpm
         for (unsigned int m = 0; m < n_materials; ++m)
           by_material[m].clear();
         for (unsigned int k = batch_begin; k < batch_end; ++k)
-          by_material[n_materials == 1 ?
-                        0 :
-                        static_cast<unsigned int>(
-                          pool.get_properties(
-                            supports.handle[k])[Index::material_id])]
-            .push_back(k);
+          by_material[n_materials == 1 ? 0 : supports.material[k]].push_back(k);
 
         for (unsigned int m = 0; m < n_materials; ++m)
           {
@@ -760,6 +881,8 @@ namespace fmpm
             std::copy(by_material[m].begin(),
                       by_material[m].end(),
                       group_points);
+            if (contact)
+              view_velocities(material_fields[m].fields[field]);
             inputs.resize(n_group);
             outputs.resize(n_group);
             // L = ∇v = Σ_i v_i ⊗ G_pi (Eqs. 2.7, 2.18), plane strain in 2D.

@@ -36,6 +36,8 @@ namespace fmpm
     /** Force each reaction label's boundary exerts on the material in the
      * last step (reaction_<label>_x, ...). Units: N (N/m in 2D). */
     std::vector<Tensor<1, dim>> reactions;
+    /** The values of open()'s extra columns (per-material sums, contact). */
+    std::vector<double> extra;
   };
 
   /**
@@ -53,7 +55,8 @@ namespace fmpm
          const bool                      is_root,
          const bool                      with_errors,
          const bool                      with_dissipation,
-         const std::vector<std::string> &reaction_labels = {});
+         const std::vector<std::string> &reaction_labels = {},
+         const std::vector<std::string> &extra_columns   = {});
 
     void
     add(const HistoryRow<dim> &row);
@@ -79,6 +82,7 @@ namespace fmpm
     bool                           with_errors      = false;
     bool                           with_dissipation = false;
     unsigned int                   n_reactions      = 0;
+    unsigned int                   n_extra          = 0;
   };
 } // namespace fmpm
 
