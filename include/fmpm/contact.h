@@ -104,6 +104,8 @@ namespace fmpm
       Tensor<1, dim> momentum_alpha, momentum_beta;
       Tensor<1, dim> normal;
       bool           touching = true;
+      /** (x^β − x^α)·n̂ in cells where the normal method measures it. */
+      double separation = 0;
     };
 
     /** @brief What a law did at a node. */

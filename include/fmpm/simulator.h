@@ -431,6 +431,9 @@ namespace fmpm
       owned_cells_in_id_order;
     /** Whether the normal method needs g^α and x^α. */
     bool contact_needs_gradients = false, contact_needs_positions = false;
+    /** n̂ and the separation (cells) at contact nodes (grid output). */
+    GridVectorField contact_normal;
+    GridScalar      contact_separation;
     /** The local cell size at each node (separations in cells). */
     GridScalar node_cell_size;
     /** Friction work since the start; contact nodes of the last step. */

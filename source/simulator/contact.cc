@@ -33,6 +33,8 @@ namespace fmpm
         field.block(d).reinit(partitioner);
       field.collect_sizes();
     };
+    reinit(contact_normal);
+    contact_separation.reinit(partitioner);
     material_fields.resize(parameters.size.n_materials);
     for (auto &material : material_fields)
       {
@@ -203,8 +205,9 @@ namespace fmpm
           const Tensor<1, dim> x_alpha =
             sum_over(xm, alpha, i) / node.mass_alpha;
           const Tensor<1, dim> x_beta = sum_over(xm, beta, i) / node.mass_beta;
-          node.touching = (x_beta - x_alpha) * node.normal <
-                          critical_separation * node_cell_size.local_element(i);
+          node.separation = (x_beta - x_alpha) * node.normal /
+                            node_cell_size.local_element(i);
+          node.touching = node.separation < critical_separation;
         }
       return node;
     };
@@ -217,6 +220,19 @@ namespace fmpm
           if (stage == ContactStage::extrapolated)
             dv[a * dim + d][i] += dp[d] / m[a][i];
         }
+    };
+
+    // The grid output's contact normal and separation: of the first pair
+    // in contact at a node after the momentum update, else zero.
+    if (stage == ContactStage::updated)
+      {
+        contact_normal     = 0;
+        contact_separation = 0;
+      }
+    auto record = [&](const unsigned int i, const Contact::NodePair<dim> &node) {
+      for (unsigned int d = 0; d < dim; ++d)
+        contact_normal.block(d).local_element(i) = node.normal[d];
+      contact_separation.local_element(i) = node.separation;
     };
 
     std::vector<unsigned int>   present, alpha(1), beta;
@@ -246,6 +262,9 @@ namespace fmpm
                     Contact::correct(contact.law(present[x], present[y]), node);
                   add_momentum(present[x], i, c.delta_momentum);
                   add_momentum(present[y], i, -c.delta_momentum);
+                  if (stage == ContactStage::updated && c.in_contact &&
+                      !in_contact)
+                    record(i, node);
                   in_contact = in_contact || c.in_contact;
                   work += c.friction_work;
                 }
@@ -272,6 +291,9 @@ namespace fmpm
                 const auto c =
                   Contact::correct(contact.law(present[x], heaviest), node);
                 changes[x] = c.delta_momentum;
+                if (stage == ContactStage::updated && c.in_contact &&
+                    !in_contact)
+                  record(i, node);
                 in_contact = in_contact || c.in_contact;
                 work += 0.5 * c.friction_work;
               }
@@ -286,6 +308,11 @@ namespace fmpm
       {
         local_friction_work += work;
         local_contact_nodes = contact_nodes;
+      }
+    if (stage == ContactStage::updated)
+      {
+        contact_normal.update_ghost_values();
+        contact_separation.update_ghost_values();
       }
     for (auto &field : material_fields)
       {

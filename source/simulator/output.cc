@@ -253,6 +253,16 @@ namespace fmpm
       const char *names[3] = {"velocity_x", "velocity_y", "velocity_z"};
       for (unsigned int d = 0; d < dim; ++d)
         grid_output.add_data_vector(v.block(d), names[d]);
+      if (contact_active())
+        {
+          const char *normal_names[3] = {"contact_normal_x",
+                                         "contact_normal_y",
+                                         "contact_normal_z"};
+          for (unsigned int d = 0; d < dim; ++d)
+            grid_output.add_data_vector(contact_normal.block(d),
+                                        normal_names[d]);
+          grid_output.add_data_vector(contact_separation, "contact_separation");
+        }
       Vector<float> subdomain(triangulation.n_active_cells());
       for (unsigned int i = 0; i < subdomain.size(); ++i)
         subdomain(i) = triangulation.locally_owned_subdomain();
