@@ -479,14 +479,19 @@ namespace fmpm
             double              MV[dim];
             for (unsigned int d = 0; d < dim; ++d)
               MV[d] = M * P[Index::velocity + d];
-            // m = SᵀM (Eq. 1.6), p = SᵀMV
-            for (unsigned int j = begin; j < end; ++j)
-              {
-                const unsigned int i = node[j];
-                m[i] += M * S[j];
-                for (unsigned int d = 0; d < dim; ++d)
-                  p[d][i] += MV[d] * S[j];
-              }
+            // m = SᵀM (Eq. 1.6), p = SᵀMV; with contact also m^α, p^α0 of
+            // the point's material (Eq. 5).
+            auto scatter_mass_momentum = [&](double *const       m_target,
+                                             double *const *const p_target) {
+              for (unsigned int j = begin; j < end; ++j)
+                {
+                  const unsigned int i = node[j];
+                  m_target[i] += M * S[j];
+                  for (unsigned int d = 0; d < dim; ++d)
+                    p_target[d][i] += MV[d] * S[j];
+                }
+            };
+            scatter_mass_momentum(m, p);
             if (with_forces)
               {
                 // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
@@ -515,18 +520,10 @@ namespace fmpm
               }
             if (contact)
               {
-                // Eqs. 5, 11, 29 for the point's material α.
+                // Eqs. 5 and 11 for the point's material α.
                 const unsigned int alpha = supports.material[k];
-                double *const      m_a   = m_alpha[alpha];
-                double *const     *p_a   = &p_alpha[alpha * dim];
                 const double       V     = P[Index::volume];
-                for (unsigned int j = begin; j < end; ++j)
-                  {
-                    const unsigned int i = node[j];
-                    m_a[i] += M * S[j];
-                    for (unsigned int d = 0; d < dim; ++d)
-                      p_a[d][i] += MV[d] * S[j];
-                  }
+                scatter_mass_momentum(m_alpha[alpha], &p_alpha[alpha * dim]);
                 if (contact_needs_gradients)
                   for (unsigned int j = begin; j < end; ++j)
                     for (unsigned int d = 0; d < dim; ++d)
