@@ -115,8 +115,12 @@ namespace fmpm
         "classic and GIMP, 0.96 for CPDI). 'contact position': the same "
         "with delta_c = 'Critical separation' (Eq. 16). 'specified': n = "
         "'Specified normal' from the lower-numbered material to the "
-        "higher, contact when approaching. 'd fit' and 'logistic "
-        "regression' are not implemented yet. Units: none.");
+        "higher, contact when approaching. 'd fit' (DF): n of Eq. 13, "
+        "approach and d(x^b) - d(x^a) < 0 (Eq. 15) with d(x) the edge "
+        "distance of the shape function in use, tabulated at start-up. "
+        "'logistic regression' (LR): n and the separation d_LR from the "
+        "point cloud around the node (Eqs. 19-25), contact when approaching "
+        "and d_LR < 0. Units: none.");
       prm.declare_entry("Specified normal",
                         "0, 1",
                         Patterns::List(Patterns::Double(), 2, 3),
@@ -225,13 +229,6 @@ namespace fmpm
       lumped_three_or_more = prm.get("Three or more materials") == "lumped";
       prm.leave_subsection();
 
-      if (multimaterial)
-        AssertThrow(normals != NormalMethod::d_fit &&
-                      normals != NormalMethod::logistic_regression,
-                    ExcMessage("Contact/Normals = " + normals_name +
-                               " is not implemented yet; choose average "
-                               "gradient, velocity only, contact position or "
-                               "specified."));
     }
 
 
@@ -290,6 +287,227 @@ namespace fmpm
       result.friction_work      = slide * 0.5 * (u_before + u_after);
       return result;
     }
+
+    EdgeDistance::EdgeDistance(const ShapeFunction::Type type,
+                               const double              half_length)
+    {
+      AssertThrow(half_length > 0 && half_length < 1,
+                  ExcMessage("d(x) fit: the points' half-length must be "
+                             "between 0 and 1 cell."));
+      // Linear grid function of the node at 0 and its integral.
+      auto N = [](const double s) { return std::max(0., 1. - std::abs(s)); };
+      auto integral = [](const double s) {
+        if (s <= -1)
+          return 0.;
+        if (s <= 0)
+          return 0.5 * (s + 1) * (s + 1);
+        if (s <= 1)
+          return 1. - 0.5 * (1 - s) * (1 - s);
+        return 1.;
+      };
+      auto shape = [&](const double center) {
+        switch (type)
+          {
+            case ShapeFunction::Type::classic:
+              return N(center);
+            case ShapeFunction::Type::cpdi: // mean of the corner values
+              return 0.5 * (N(center - half_length) + N(center + half_length));
+            default: // uGIMP, cpGIMP: N averaged over the point's domain
+              return (integral(center + half_length) -
+                      integral(center - half_length)) /
+                     (2 * half_length);
+          }
+      };
+      const double reach = 1 + half_length;
+      const double step  = 1e-3;
+      for (double edge = -reach; edge <= reach; edge += step)
+        {
+          double sum_S = 0, sum_Sx = 0;
+          for (double center = edge - half_length; center > -reach;
+               center -= 2 * half_length)
+            {
+              const double S = shape(center);
+              sum_S += S;
+              sum_Sx += S * center;
+            }
+          if (sum_S < 1e-12)
+            continue;
+          const double x = sum_Sx / sum_S;
+          if (!x_table.empty() && x <= x_table.back() + 1e-12)
+            {
+              if (x_table.size() > 1)
+                break; // the end of the rising branch
+              continue;
+            }
+          x_table.push_back(x);
+          d_table.push_back(edge);
+        }
+      AssertThrow(x_table.size() > 1, ExcInternalError());
+    }
+
+
+
+    double
+    EdgeDistance::alpha(const double x) const
+    {
+      if (x <= x_table.front())
+        return d_table.front() + (x - x_table.front());
+      if (x >= x_table.back())
+        return d_table.back() + (x - x_table.back());
+      const auto   upper = std::upper_bound(x_table.begin(), x_table.end(), x);
+      const auto   k     = upper - x_table.begin();
+      const double w = (x - x_table[k - 1]) / (x_table[k] - x_table[k - 1]);
+      return (1 - w) * d_table[k - 1] + w * d_table[k];
+    }
+
+
+
+    namespace
+    {
+      /** Solve the SPD system A y = b of size n <= 4 by Cholesky; false if
+       * A is not positive definite. */
+      bool
+      cholesky_solve(double *A, double *b, const unsigned int n)
+      {
+        for (unsigned int j = 0; j < n; ++j)
+          {
+            double diagonal = A[j * n + j];
+            for (unsigned int k = 0; k < j; ++k)
+              diagonal -= A[j * n + k] * A[j * n + k];
+            if (!(diagonal > 1e-300))
+              return false;
+            const double L_jj = std::sqrt(diagonal);
+            A[j * n + j]      = L_jj;
+            for (unsigned int i = j + 1; i < n; ++i)
+              {
+                double value = A[i * n + j];
+                for (unsigned int k = 0; k < j; ++k)
+                  value -= A[i * n + k] * A[j * n + k];
+                A[i * n + j] = value / L_jj;
+              }
+          }
+        for (unsigned int i = 0; i < n; ++i) // L z = b
+          {
+            for (unsigned int k = 0; k < i; ++k)
+              b[i] -= A[i * n + k] * b[k];
+            b[i] /= A[i * n + i];
+          }
+        for (unsigned int i = n; i-- > 0;) // Lᵀ y = z
+          {
+            for (unsigned int k = i + 1; k < n; ++k)
+              b[i] -= A[k * n + i] * b[k];
+            b[i] /= A[i * n + i];
+          }
+        return true;
+      }
+    } // namespace
+
+
+
+    template <int dim>
+    RegressionResult<dim>
+    logistic_regression_normal(const Tensor<1, dim> *x,
+                               const double         *c,
+                               const unsigned int    n_points,
+                               const double          cell_size,
+                               const double          tolerance,
+                               const unsigned int    max_iterations)
+    {
+      constexpr unsigned int n = dim + 1; // φ = (normal, offset)
+      RegressionResult<dim>  result;
+      if (n_points == 0)
+        return result;
+      Tensor<1, dim> origin;
+      for (unsigned int p = 0; p < n_points; ++p)
+        origin += x[p];
+      origin /= n_points;
+      // λ = 10⁻⁷ Δx² on the normal's components, none on the offset.
+      double lambda[n];
+      for (unsigned int j = 0; j < dim; ++j)
+        lambda[j] = 1e-7 * cell_size * cell_size;
+      lambda[dim] = 0;
+
+      double phi[n] = {};
+      for (unsigned int iteration = 0; iteration <= max_iterations;
+           ++iteration)
+        {
+          // Eq. 21 with Eqs. 54-56: (JᵀWJ + Λ) Δφ = JᵀW(c − f) − Λφ,
+          // J_pj = ψ(x_p) x_pj, ψ = 2e^{−s}/(1 + e^{−s})² = 1/(2cosh²(s/2)).
+          double A[n * n] = {}, b[n];
+          for (unsigned int j = 0; j < n; ++j)
+            b[j] = -lambda[j] * phi[j];
+          for (unsigned int p = 0; p < n_points; ++p)
+            {
+              double xp[n];
+              for (unsigned int d = 0; d < dim; ++d)
+                xp[d] = x[p][d] - origin[d];
+              xp[dim]  = 1;
+              double s = 0;
+              for (unsigned int j = 0; j < n; ++j)
+                s += xp[j] * phi[j];
+              const double cosh_half = std::cosh(0.5 * s);
+              const double psi       = 0.5 / (cosh_half * cosh_half);
+              const double f         = std::tanh(0.5 * s); // Eq. 20
+              const double psi2      = psi * psi;
+              const double residual  = psi * (c[p] - f);
+              for (unsigned int j = 0; j < n; ++j)
+                {
+                  b[j] += residual * xp[j];
+                  for (unsigned int k = 0; k <= j; ++k)
+                    A[j * n + k] += psi2 * xp[j] * xp[k];
+                }
+            }
+          for (unsigned int j = 0; j < n; ++j)
+            {
+              A[j * n + j] += lambda[j];
+              for (unsigned int k = 0; k < j; ++k)
+                A[k * n + j] = A[j * n + k];
+            }
+          if (!cholesky_solve(A, b, n))
+            break;
+          double candidate[n];
+          for (unsigned int j = 0; j < n; ++j)
+            candidate[j] = phi[j] + b[j];
+          Tensor<1, dim> normal;
+          for (unsigned int d = 0; d < dim; ++d)
+            normal[d] = candidate[d];
+          const double length = normal.norm();
+          if (!(length > 0) || !std::isfinite(length))
+            break;
+          normal /= length;
+          std::copy(candidate, candidate + n, phi);
+          if (!result.valid) // φ⁽¹⁾: the linear regression
+            {
+              result.valid  = true;
+              result.normal = normal;
+              continue;
+            }
+          ++result.iterations;
+          const double change = 1. - normal * result.normal; // Eq. 57
+          result.normal       = normal;
+          if (change < tolerance)
+            {
+              result.converged = true;
+              break;
+            }
+        }
+      return result;
+    }
+
+    template RegressionResult<2>
+    logistic_regression_normal(const Tensor<1, 2> *,
+                               const double *,
+                               const unsigned int,
+                               const double,
+                               const double,
+                               const unsigned int);
+    template RegressionResult<3>
+    logistic_regression_normal(const Tensor<1, 3> *,
+                               const double *,
+                               const unsigned int,
+                               const double,
+                               const double,
+                               const unsigned int);
 
     template Correction<2>
     correct(const Law &, const NodePair<2> &);

@@ -12,6 +12,11 @@
 // doc/benchmarks.md, interleaved over 'rounds' rounds (default 3; each
 // phase's fastest round counts, which filters out other load), and
 // prints the cost per step relative to FLIP with the lumped mass matrix.
+//
+// With --contact [rounds], it runs one scene (default
+// benchmark_contact_2d.prm) with one velocity field and with contact and
+// every normal method, and prints the cost of contact, the time in the
+// normals (LR: the fits) and point clouds, and the LR iterations.
 
 #include <fmpm/parameters.h>
 #include <fmpm/simulator.h>
@@ -61,13 +66,6 @@ namespace
 
 namespace
 {
-  /** One row of the --methods table. */
-  struct Method
-  {
-    std::string label, particle_update, mass_matrix;
-    unsigned int order;
-  };
-
   /** Wall seconds per step (phases but set-up and output) of a summary. */
   double
   seconds_per_step(const boost::property_tree::ptree &summary)
@@ -79,14 +77,69 @@ namespace
     return seconds / summary.get<double>("n_steps");
   }
 
+  /** A variant of a scene: a label and the parameters it overrides. */
+  struct Variant
+  {
+    std::string label, settings;
+  };
+
+  /**
+   * Runs @p scene (with @p overrides) once per variant, interleaved over
+   * @p rounds rounds; each phase's fastest round counts, which filters out
+   * other load. Returns the summaries on rank 0 (empty on the others).
+   */
+  std::vector<boost::property_tree::ptree>
+  run_variants(const std::string              &scene,
+               const std::vector<std::string> &overrides,
+               const std::vector<Variant>     &variants,
+               const unsigned int              rounds,
+               const std::string              &mode)
+  {
+    using namespace dealii;
+    const bool is_root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+    std::vector<boost::property_tree::ptree> summaries(variants.size());
+    for (unsigned int round = 0; round < rounds; ++round)
+      for (unsigned int k = 0; k < variants.size(); ++k)
+        {
+          std::vector<std::string> files = {scene};
+          files.insert(files.end(), overrides.begin(), overrides.end());
+          auto sources = fmpm::load_scene_sources(files);
+          sources.emplace_back(mode,
+                               variants[k].settings +
+                                 "subsection Output\n  set Directory = "
+                                 "output" +
+                                 mode.substr(1) + "-" + std::to_string(k) +
+                                 "\nend\n");
+          if (is_root)
+            std::cout << "\n=== round " << round + 1 << "/" << rounds << ", "
+                      << variants[k].label << std::endl;
+          const boost::property_tree::ptree summary = run_scene(sources);
+          if (!is_root)
+            continue;
+          if (round == 0)
+            summaries[k] = summary;
+          else
+            for (auto &phase : summaries[k].get_child("phase_wall_seconds"))
+              phase.second.put_value(std::min(
+                phase.second.get_value<double>(),
+                summary.get<double>("phase_wall_seconds." + phase.first)));
+        }
+    if (!is_root)
+      summaries.clear();
+    return summaries;
+  }
+
   /** The --methods mode: every update and mass matrix on one scene. */
   void
   compare_methods(const std::string              &scene,
                   const std::vector<std::string> &overrides,
                   const unsigned int              rounds)
   {
-    using namespace dealii;
-    const bool is_root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+    struct Method
+    {
+      std::string  label, particle_update, mass_matrix;
+      unsigned int order;
+    };
     const std::vector<Method> methods = {
       {"FLIP, lumped", "flip", "lumped", 1},
       {"PIC, lumped", "pic", "lumped", 1},
@@ -98,48 +151,23 @@ namespace
       {"XPIC(5)", "xpic", "fmpm", 5},
       {"FLIP, full", "flip", "full", 1},
       {"FMPM, full", "fmpm", "full", 1}};
-    std::vector<double> best(methods.size(),
-                             std::numeric_limits<double>::max());
-    std::vector<boost::property_tree::ptree> summaries(methods.size());
-    for (unsigned int round = 0; round < rounds; ++round)
-      for (unsigned int k = 0; k < methods.size(); ++k)
-        {
-          const Method &method = methods[k];
-          std::vector<std::string> files = {scene};
-          files.insert(files.end(), overrides.begin(), overrides.end());
-          auto sources = fmpm::load_scene_sources(files);
-          const std::string directory =
-            "output-methods-" + std::to_string(k);
-          sources.emplace_back(
-            "--methods",
-            "subsection Particle update\n  set Model name = " +
-              method.particle_update +
-              "\nend\nsubsection Mass matrix\n  set Model name = " +
-              method.mass_matrix +
-              "\n  subsection Fmpm\n    set Order = " +
-              std::to_string(method.order) +
-              "\n  end\nend\nsubsection Time\n  set Strain update mass "
-              "matrix = lumped\nend\nsubsection Output\n  set Directory = " +
-              directory + "\nend\n");
-          if (is_root)
-            std::cout << "\n=== round " << round + 1 << "/" << rounds << ", "
-                      << method.label << std::endl;
-          const boost::property_tree::ptree summary = run_scene(sources);
-          if (!is_root)
-            continue;
-          // Each phase's fastest round.
-          if (round == 0)
-            summaries[k] = summary;
-          else
-            for (auto &phase : summaries[k].get_child("phase_wall_seconds"))
-              phase.second.put_value(std::min(
-                phase.second.get_value<double>(),
-                summary.get<double>("phase_wall_seconds." + phase.first)));
-          best[k] = seconds_per_step(summaries[k]);
-        }
-    if (!is_root)
+    std::vector<Variant> variants;
+    for (const auto &method : methods)
+      variants.push_back(
+        {method.label,
+         "subsection Particle update\n  set Model name = " +
+           method.particle_update +
+           "\nend\nsubsection Mass matrix\n  set Model name = " +
+           method.mass_matrix + "\n  subsection Fmpm\n    set Order = " +
+           std::to_string(method.order) +
+           "\n  end\nend\nsubsection Time\n  set Strain update mass "
+           "matrix = lumped\nend\n"});
+    const auto summaries =
+      run_variants(scene, overrides, variants, rounds, "--methods");
+    if (summaries.empty())
       return;
     const double n_particles = summaries[0].get<double>("n_particles");
+    const double reference   = seconds_per_step(summaries[0]);
     std::cout << "\n=== methods on " << scene << " (" << n_particles
               << " points; each phase's fastest of " << rounds
               << " rounds; strain velocities lumped)\n"
@@ -149,17 +177,79 @@ namespace
     for (unsigned int k = 0; k < methods.size(); ++k)
       {
         const auto  &summary = summaries[k];
+        const double seconds = seconds_per_step(summary);
         const double grid_solve =
           summary.get<double>("phase_wall_seconds.grid solve", 0.) /
           summary.get<double>("n_steps");
         const double cg = summary.get<double>("cg_iterations_mean", 0.);
         std::cout << "| " << methods[k].label << " | " << std::scientific
-                  << std::setprecision(2) << n_particles / best[k] << " | "
-                  << std::fixed << std::setprecision(2) << best[k] / best[0]
+                  << std::setprecision(2) << n_particles / seconds << " | "
+                  << std::fixed << std::setprecision(2) << seconds / reference
                   << " | " << std::setprecision(1) << 1000 * grid_solve
                   << " | "
                   << (cg > 0 ? std::to_string(static_cast<int>(cg + 0.5)) :
                                std::string("-"))
+                  << " |\n";
+      }
+    std::cout << std::flush;
+  }
+
+  /** The --contact mode: one velocity field against contact with every
+   * normal method (issue 13's benchmark). */
+  void
+  compare_contact(const std::string              &scene,
+                  const std::vector<std::string> &overrides,
+                  const unsigned int              rounds)
+  {
+    std::vector<Variant> variants = {
+      {"one velocity field",
+       "subsection Contact\n  set Model name = none\nend\n"}};
+    for (const std::string normals : {"velocity only",
+                                      "average gradient",
+                                      "contact position",
+                                      "d fit",
+                                      "logistic regression"})
+      variants.push_back({normals,
+                          "subsection Contact\n  set Model name = "
+                          "multimaterial\n  set Normals = " +
+                            normals + "\nend\n"});
+    const auto summaries =
+      run_variants(scene, overrides, variants, rounds, "--contact");
+    if (summaries.empty())
+      return;
+    const double n_particles = summaries[0].get<double>("n_particles");
+    const double reference   = seconds_per_step(summaries[0]);
+    auto         ms_per_step = [](const boost::property_tree::ptree &summary,
+                          const std::string                 &phase) {
+      return 1000 *
+             summary.get<double>("phase_wall_seconds." + phase, 0.) /
+             summary.get<double>("n_steps");
+    };
+    std::cout << "\n=== contact on " << scene << " (" << n_particles
+              << " points; each phase's fastest of " << rounds
+              << " rounds)\n"
+              << "| normals | particle-steps/s | cost / one field | contact "
+                 "ms/step | normals ms/step | point clouds ms/step | LR "
+                 "fits/step | NLLS iterations (mean) |\n"
+              << "|---|---|---|---|---|---|---|---|\n";
+    for (unsigned int k = 0; k < variants.size(); ++k)
+      {
+        const auto  &summary = summaries[k];
+        const double seconds = seconds_per_step(summary);
+        const double fits =
+          summary.get<double>("logistic_regression_fits", 0.);
+        std::cout << "| " << variants[k].label << " | " << std::scientific
+                  << std::setprecision(2) << n_particles / seconds << " | "
+                  << std::fixed << std::setprecision(2) << seconds / reference
+                  << " | " << std::setprecision(2)
+                  << ms_per_step(summary, "contact") << " | "
+                  << ms_per_step(summary, "contact: normals") << " | "
+                  << ms_per_step(summary, "contact: point clouds") << " | "
+                  << std::setprecision(0)
+                  << fits / summary.get<double>("n_steps") << " | "
+                  << std::setprecision(2)
+                  << summary.get<double>("logistic_regression_iterations_mean",
+                                         0.)
                   << " |\n";
       }
     std::cout << std::flush;
@@ -176,14 +266,16 @@ main(int argc, char **argv)
   std::vector<std::string> scenes, overrides;
   bool                     after_separator = false;
   unsigned int             method_rounds   = 0;
+  bool                     contact_mode    = false;
   for (int i = 1; i < argc; ++i)
     {
       const std::string arg = argv[i];
       if (arg == "--")
         after_separator = true;
-      else if (arg == "--methods" && !after_separator)
+      else if ((arg == "--methods" || arg == "--contact") && !after_separator)
         {
           method_rounds = 3;
+          contact_mode  = arg == "--contact";
           if (i + 1 < argc &&
               std::string(argv[i + 1]).find_first_not_of("0123456789") ==
                 std::string::npos)
@@ -191,6 +283,15 @@ main(int argc, char **argv)
         }
       else
         (after_separator ? overrides : scenes).push_back(arg);
+    }
+  if (contact_mode)
+    {
+      compare_contact(scenes.empty() ?
+                        FMPM_SOURCE_DIR "/parameters/benchmark_contact_2d.prm" :
+                        scenes.front(),
+                      overrides,
+                      method_rounds);
+      return 0;
     }
   if (method_rounds > 0)
     {

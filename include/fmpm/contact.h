@@ -7,6 +7,9 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/tensor.h>
 
+#include <fmpm/shape_function.h>
+
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,9 +37,12 @@ namespace fmpm
       /** n̂ of Eq. 13; approaching and separation below 'Critical
        * separation' cells (Eq. 16, "CP = δc"). */
       contact_position,
-      /** d(x) fit (DF): not implemented yet. */
+      /** n̂ of Eq. 13; approaching and d(x^β) − d(x^α) < 0 (Eq. 15) with
+       * d(x) the edge distance of the shape function in use (DF, see
+       * EdgeDistance). */
       d_fit,
-      /** logistic regression (LR, Eqs. 19-25): not implemented yet. */
+      /** n̂ and d_LR from the point cloud of the node (LR, Eqs. 19-25 and
+       * the appendix); approaching and d_LR < 0 (Eq. 24). */
       logistic_regression,
       /** 'Specified normal' from the lower-numbered material to the
        * higher; contact when approaching. */
@@ -107,6 +113,105 @@ namespace fmpm
       /** (x^β − x^α)·n̂ in cells where the normal method measures it. */
       double separation = 0;
     };
+
+    /**
+     * @brief The geometry of a node shared by α and β: n̂ (from α to β),
+     * whether the materials touch there (the normal method's separation
+     * test) and the separation in cells. It depends on the points'
+     * positions only, so it is found once per extrapolation and used by
+     * every correction until the points move.
+     */
+    template <int dim>
+    struct NodeGeometry
+    {
+      Tensor<1, dim> normal;
+      bool           touching   = true;
+      double         separation = 0;
+    };
+
+    /**
+     * @brief d(x) of seed 004 Fig. 1 for the DF method: the signed distance
+     * from the edge of a semi-infinite material to a node, as a function of
+     * the extrapolated position x = (x^α − x_i)·n̂, both in cells.
+     *
+     * Tabulated at set-up for the shape function in use and the points'
+     * half-length (undeformed points on a line, linear grid functions),
+     * then inverted: for each edge position e the row of points at
+     * e − (k + 1/2) 2 l_p gives x^α(e) = Σ S_ip x_p / Σ S_ip; d(x) is the
+     * inverse on the branch where x^α rises with e, extended with slope 1.
+     */
+    class EdgeDistance
+    {
+    public:
+      EdgeDistance() = default;
+      EdgeDistance(const ShapeFunction::Type type,
+                   const double              half_length_in_cells);
+
+      /** d for a material on the −n̂ side of the node (material α). */
+      double
+      alpha(const double x) const;
+
+      /** d for a material on the +n̂ side: d_β(x) = −d_α(−x). */
+      double
+      beta(const double x) const
+      {
+        return -alpha(-x);
+      }
+
+    private:
+      std::vector<double> x_table, d_table;
+    };
+
+    /** @brief The result of a logistic regression fit at a node. */
+    template <int dim>
+    struct RegressionResult
+    {
+      /** n̂ = (φ_1, ..., φ_dim)/|...|, from class −1 (α) to class +1 (β). */
+      Tensor<1, dim> normal;
+      /** NLLS iterations after the first (linear regression) one. */
+      unsigned int iterations = 0;
+      bool         converged  = false;
+      /** False when the normal equations were singular from the start. */
+      bool valid = false;
+    };
+
+    /**
+     * @brief The most probable plane between two point classes (seed 004
+     * Eqs. 19-21, appendix Eqs. 53-57): minimise Σ (f(x_p·φ) − c_p)² +
+     * Σ λ_j φ_j² with f(s) = 2/(1 + e^{−s}) − 1 = tanh(s/2), by NLLS from
+     * φ⁽⁰⁾ = 0 (the first iterate is the linear regression). w_p = 1,
+     * λ = 10⁻⁷ Δx² (1, ..., 1, 0), converged when 1 − n̂⁽ᵏ⁺¹⁾·n̂⁽ᵏ⁾ <
+     * @p tolerance (Eq. 57), at most @p max_iterations NLLS steps. If an
+     * NLLS step is singular or not finite the last good normal is kept.
+     *
+     * @p x are the positions (any origin; the cloud's mean is the best
+     * conditioned), @p c the classes (−1 or 1), @p cell_size Δx.
+     */
+    template <int dim>
+    RegressionResult<dim>
+    logistic_regression_normal(const Tensor<1, dim> *x,
+                               const double         *c,
+                               const unsigned int    n,
+                               const double          cell_size,
+                               const double          tolerance      = 1e-5,
+                               const unsigned int    max_iterations = 15);
+
+    /**
+     * @brief R_p of Eq. 25: the distance along n̂ from a point's centre to
+     * its deformed ellipsoid, 1/R_p = |n₀/R₀| with n₀ = F⁻¹n̂.
+     */
+    template <int dim>
+    inline double
+    deformed_radius(const Tensor<2, dim> &F_inverse,
+                    const Tensor<1, dim> &initial_radii,
+                    const Tensor<1, dim> &normal)
+    {
+      const Tensor<1, dim> n0  = F_inverse * normal;
+      double               sum = 0;
+      for (unsigned int d = 0; d < dim; ++d)
+        sum += n0[d] * n0[d] / (initial_radii[d] * initial_radii[d]);
+      return 1. / std::sqrt(sum);
+    }
 
     /** @brief What a law did at a node. */
     template <int dim>

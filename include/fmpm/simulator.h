@@ -344,6 +344,15 @@ namespace fmpm
     /** The contact corrections at every owned node with 2+ materials. */
     void
     apply_contact(const ContactStage stage);
+    /** n̂, touching and separation of every pair apply_contact corrects,
+     * in its order: once per extrapolation (they depend on the points'
+     * positions only). */
+    void
+    compute_contact_geometry();
+    /** LR: the point cloud of every owned node with 2+ materials, the
+     * points of other ranks included (seed 004 §3.1). */
+    void
+    gather_point_clouds();
     /** Material fields v^α, v^α+, a^α (lumped: seed 004 Eqs. 26, 31-34). */
     void
     compute_material_field(const ParticleUpdate::GridField field);
@@ -429,8 +438,41 @@ namespace fmpm
      * after remeshing). */
     std::vector<typename Triangulation<dim>::active_cell_iterator>
       owned_cells_in_id_order;
-    /** Whether the normal method needs g^α and x^α. */
-    bool contact_needs_gradients = false, contact_needs_positions = false;
+    /** Whether the normal method needs g^α, x^α, the local cell size and
+     * the node positions. */
+    bool contact_needs_gradients = false, contact_needs_positions = false,
+         contact_needs_cell_size = false, contact_needs_node_positions = false;
+    /** The geometry of every pair apply_contact corrects, in its order;
+     * invalid after every extrapolation. */
+    std::vector<Contact::NodeGeometry<dim>> contact_geometry;
+    bool                                    contact_geometry_valid = false;
+    /** DF: d(x) per material (its points' half-length). */
+    std::vector<Contact::EdgeDistance> edge_distance;
+    /** DF: the position of each node. */
+    GridVectorField node_position;
+    /** LR: a point of the cloud of a node (plain data: sent between
+     * ranks). */
+    struct CloudPoint
+    {
+      types::global_dof_index node;
+      unsigned int            material;
+      double                  position[dim];
+      double                  F_inverse[dim * dim];
+      double                  initial_radii[dim];
+
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int)
+      {
+        archive &node &material &position &F_inverse &initial_radii;
+      }
+    };
+    /** LR: the cloud of owned node i is cloud[cloud_begin[i],
+     * cloud_begin[i + 1]). */
+    std::vector<unsigned int> cloud_begin;
+    std::vector<CloudPoint>   cloud;
+    /** LR: fits and NLLS iterations since the start (benchmark figures). */
+    unsigned long long logistic_fits = 0, logistic_iterations = 0;
     /** n̂ and the separation (cells) at contact nodes (grid output). */
     GridVectorField contact_normal;
     GridScalar      contact_separation;

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <map>
 
 namespace fmpm
 {
@@ -19,12 +20,20 @@ namespace fmpm
   {
     const Contact::Parameters &contact = parameters.contact;
     material_fields.clear();
+    contact_geometry_valid = false;
     if (!contact.multimaterial || parameters.size.n_materials < 2)
       return;
     using Method = Contact::NormalMethod;
-    contact_needs_gradients = contact.normals != Method::specified;
+    // Grid normals (Eq. 13) for all but 'specified' and LR; extrapolated
+    // positions (Eq. 11) for the separation tests of AG, CP and DF.
+    contact_needs_gradients = contact.normals != Method::specified &&
+                              contact.normals != Method::logistic_regression;
     contact_needs_positions = contact.normals == Method::average_gradient ||
-                              contact.normals == Method::contact_position;
+                              contact.normals == Method::contact_position ||
+                              contact.normals == Method::d_fit;
+    contact_needs_cell_size = contact.normals != Method::specified &&
+                              contact.normals != Method::velocity_only;
+    contact_needs_node_positions = contact.normals == Method::d_fit;
 
     const auto partitioner = lumped_mass.get_partitioner();
     auto       reinit      = [&](GridVectorField &field) {
@@ -51,30 +60,58 @@ namespace fmpm
           reinit(field);
       }
 
+    // DF: d(x) of each material from the half-length of its points (the
+    // first body made of it; 2 points per cell if none).
+    if (contact.normals == Method::d_fit)
+      {
+        edge_distance.clear();
+        for (unsigned int a = 0; a < parameters.size.n_materials; ++a)
+          {
+            unsigned int points_per_cell = 2;
+            for (const auto &body : parameters.bodies)
+              if (body.material == a)
+                {
+                  points_per_cell = body.points_per_cell;
+                  break;
+                }
+            edge_distance.emplace_back(shape_function,
+                                       0.5 / points_per_cell);
+          }
+      }
+
     // The local cell size at a node: the smallest vertex distance of the
     // cells around it (separations are measured in cells, also on adapted
-    // and unstructured meshes).
-    if (contact_needs_positions)
+    // and unstructured meshes); DF also needs the node positions.
+    if (contact_needs_cell_size)
       {
         node_cell_size.reinit(partitioner);
         const double large = std::numeric_limits<double>::max();
         for (auto &value : node_cell_size)
           value = large;
         node_cell_size.update_ghost_values();
+        if (contact_needs_node_positions)
+          reinit(node_position);
         std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
         for (const auto &cell : dof_handler.active_cell_iterators())
           if (cell->is_locally_owned())
             {
               const double h = cell->minimum_vertex_distance();
               cell->get_dof_indices(dofs);
-              for (const auto dof : dofs)
+              for (unsigned int v = 0; v < dofs.size(); ++v)
                 {
-                  double &value =
-                    node_cell_size.local_element(partitioner->global_to_local(dof));
-                  value = std::min(value, h);
+                  const unsigned int i = partitioner->global_to_local(dofs[v]);
+                  double &value        = node_cell_size.local_element(i);
+                  value                = std::min(value, h);
+                  if (contact_needs_node_positions) // FE_Q(1): dof v at vertex v
+                    for (unsigned int d = 0; d < dim; ++d)
+                      node_position.block(d).local_element(i) =
+                        cell->vertex(v)[d];
                 }
             }
         node_cell_size.compress(VectorOperation::min);
+        if (contact_needs_node_positions)
+          for (unsigned int d = 0; d < dim; ++d)
+            node_position.block(d).compress(VectorOperation::insert);
       }
   }
 
@@ -110,18 +147,109 @@ namespace fmpm
 
   template <int dim>
   void
-  Simulator<dim>::apply_contact(const ContactStage stage)
+  Simulator<dim>::gather_point_clouds()
   {
-    TimerOutput::Scope         timer(computing_timer, "contact");
+    TimerOutput::Scope timer(computing_timer, "contact: point clouds");
+    using Index                    = PropertyIndex<dim>;
+    const auto        &partitioner = *lumped_mass.get_partitioner();
+    const unsigned int n_owned     = partitioner.locally_owned_size();
+    const unsigned int n_local     = n_owned + partitioner.n_ghost_indices();
+    const unsigned int n_materials = material_fields.size();
+    const double       floor       = mass_floor_value;
+
+    // Nodes (owned and ghost) that see 2+ materials: the ghost masses are
+    // current after the extrapolation.
+    std::vector<char> shared(n_local, 0);
+    for (unsigned int i = 0; i < n_local; ++i)
+      {
+        unsigned int count = 0;
+        for (unsigned int a = 0; a < n_materials; ++a)
+          count += material_fields[a].mass.local_element(i) > floor;
+        shared[i] = count > 1;
+      }
+    // The owner of each ghost node (ghosts are numbered rank by rank).
+    std::vector<unsigned int> ghost_owner;
+    ghost_owner.reserve(partitioner.n_ghost_indices());
+    for (const auto &[rank, count] : partitioner.ghost_targets())
+      ghost_owner.insert(ghost_owner.end(), count, rank);
+
+    std::vector<CloudPoint>                          owned_points;
+    std::map<unsigned int, std::vector<CloudPoint>> sent;
+    auto &pool = particle_handler.get_property_pool();
+    for (unsigned int k = 0; k < supports.n_points(); ++k)
+      {
+        bool       filled = false;
+        CloudPoint point{};
+        for (unsigned int j = supports.support_begin[k];
+             j < supports.support_begin[k + 1];
+             ++j)
+          {
+            const unsigned int i = supports.node[j];
+            if (!shared[i] || !(supports.S[j] > 0))
+              continue;
+            if (!filled)
+              {
+                const double *const P =
+                  pool.get_properties(supports.handle[k]).data();
+                const Point<dim> &X = pool.get_location(supports.handle[k]);
+                Tensor<2, dim>    F;
+                for (unsigned int a = 0; a < dim; ++a)
+                  for (unsigned int b = 0; b < dim; ++b)
+                    F[a][b] = P[Index::deformation_gradient + 3 * a + b];
+                const Tensor<2, dim> F_inverse = invert(F);
+                point.material                 = supports.material[k];
+                for (unsigned int a = 0; a < dim; ++a)
+                  {
+                    point.position[a]      = X[a];
+                    point.initial_radii[a] = P[Index::initial_half_length + a];
+                    for (unsigned int b = 0; b < dim; ++b)
+                      point.F_inverse[a * dim + b] = F_inverse[a][b];
+                  }
+                filled = true;
+              }
+            point.node = partitioner.local_to_global(i);
+            if (i < n_owned)
+              owned_points.push_back(point);
+            else
+              sent[ghost_owner[i - n_owned]].push_back(point);
+          }
+      }
+    if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+      for (const auto &[rank, points] :
+           Utilities::MPI::some_to_some(mpi_communicator, sent))
+        owned_points.insert(owned_points.end(), points.begin(), points.end());
+
+    // Sort into the clouds of the owned nodes (counting sort).
+    cloud_begin.assign(n_owned + 1, 0);
+    for (const auto &point : owned_points)
+      ++cloud_begin[partitioner.global_to_local(point.node) + 1];
+    for (unsigned int i = 0; i < n_owned; ++i)
+      cloud_begin[i + 1] += cloud_begin[i];
+    cloud.resize(owned_points.size());
+    std::vector<unsigned int> next(cloud_begin.begin(), cloud_begin.end() - 1);
+    for (const auto &point : owned_points)
+      cloud[next[partitioner.global_to_local(point.node)]++] = point;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::compute_contact_geometry()
+  {
     const Contact::Parameters &contact     = parameters.contact;
     const unsigned int         n_materials = material_fields.size();
     const unsigned int         n_owned     = lumped_mass.locally_owned_size();
     const double               floor       = mass_floor_value;
     using Method                           = Contact::NormalMethod;
+    const Method method                    = contact.normals;
+    if (method == Method::logistic_regression)
+      gather_point_clouds();
+    TimerOutput::Scope timer(computing_timer, "contact: normals");
 
     // δc in cells: the user's (CP) or the linear d(x) fit's (Eq. 17).
     const double critical_separation =
-      contact.normals == Method::contact_position ? contact.critical_separation :
+      method == Method::contact_position ? contact.critical_separation :
       shape_function == ShapeFunction::Type::cpdi ? 0.96 :
                                                     0.92;
     Tensor<1, dim> specified_normal;
@@ -130,13 +258,205 @@ namespace fmpm
     if (specified_normal.norm() > 0)
       specified_normal /= specified_normal.norm();
 
-    // Raw views: m^α, the momenta this stage corrects, g^α, Σ S M X.
     std::vector<const double *> m(n_materials);
-    std::vector<double *>       p(n_materials * dim);
     std::vector<const double *> g(contact_needs_gradients ? n_materials * dim :
                                                             0);
     std::vector<const double *> xm(contact_needs_positions ? n_materials * dim :
                                                              0);
+    for (unsigned int a = 0; a < n_materials; ++a)
+      {
+        m[a] = material_fields[a].mass.begin();
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            if (contact_needs_gradients)
+              g[a * dim + d] = material_fields[a].volume_gradient.block(d).begin();
+            if (contact_needs_positions)
+              xm[a * dim + d] =
+                material_fields[a].position_moment.block(d).begin();
+          }
+      }
+    auto sum_over = [&](const std::vector<const double *> &v,
+                        const std::vector<unsigned int>    &materials,
+                        const unsigned int                  i) {
+      Tensor<1, dim> sum;
+      for (const unsigned int a : materials)
+        for (unsigned int d = 0; d < dim; ++d)
+          sum[d] += v[a * dim + d][i];
+      return sum;
+    };
+    auto mass_of = [&](const std::vector<unsigned int> &materials,
+                       const unsigned int               i) {
+      double sum = 0;
+      for (const unsigned int a : materials)
+        sum += m[a][i];
+      return sum;
+    };
+
+    // LR scratch: the cloud's positions and classes.
+    std::vector<Tensor<1, dim>> cloud_x;
+    std::vector<double>         cloud_c;
+    std::vector<unsigned int>   cloud_k;
+    unsigned long long          fits = 0, iterations = 0;
+
+    // The geometry of α against β (β may be the sum of several materials,
+    // Eq. 50) at node i.
+    auto geometry = [&](const std::vector<unsigned int> &alpha,
+                        const std::vector<unsigned int> &beta,
+                        const unsigned int               i) {
+      Contact::NodeGeometry<dim> node;
+      auto in = [](const std::vector<unsigned int> &set, const unsigned int a) {
+        return std::find(set.begin(), set.end(), a) != set.end();
+      };
+      if (method == Method::specified)
+        {
+          node.normal =
+            (alpha.front() < beta.front() ? 1. : -1.) * specified_normal;
+          return node;
+        }
+      const double h = node_cell_size.local_element(i);
+      if (method == Method::logistic_regression)
+        {
+          // Eqs. 19-21: the plane between the two classes of the cloud;
+          // Eqs. 22-25: d_LR from the points nearest to it, R_p of their
+          // deformed ellipsoids.
+          cloud_x.clear();
+          cloud_c.clear();
+          cloud_k.clear();
+          for (unsigned int k = cloud_begin[i]; k < cloud_begin[i + 1]; ++k)
+            {
+              const unsigned int a = cloud[k].material;
+              const bool         is_alpha = in(alpha, a);
+              if (!is_alpha && !in(beta, a))
+                continue;
+              Tensor<1, dim> x;
+              for (unsigned int d = 0; d < dim; ++d)
+                x[d] = cloud[k].position[d];
+              cloud_x.push_back(x);
+              cloud_c.push_back(is_alpha ? -1. : 1.);
+              cloud_k.push_back(k);
+            }
+          const auto fit = Contact::logistic_regression_normal<dim>(
+            cloud_x.data(), cloud_c.data(), cloud_x.size(), h);
+          ++fits;
+          iterations += fit.iterations;
+          if (!fit.valid)
+            {
+              node.touching = false;
+              return node;
+            }
+          node.normal    = fit.normal;
+          double alpha_edge = -std::numeric_limits<double>::max();
+          double beta_edge  = std::numeric_limits<double>::max();
+          for (unsigned int q = 0; q < cloud_k.size(); ++q)
+            {
+              const CloudPoint &point = cloud[cloud_k[q]];
+              Tensor<2, dim>    F_inverse;
+              Tensor<1, dim>    radii;
+              for (unsigned int a = 0; a < dim; ++a)
+                {
+                  radii[a] = point.initial_radii[a];
+                  for (unsigned int b = 0; b < dim; ++b)
+                    F_inverse[a][b] = point.F_inverse[a * dim + b];
+                }
+              const double R =
+                Contact::deformed_radius(F_inverse, radii, node.normal);
+              const double s = cloud_x[q] * node.normal;
+              if (cloud_c[q] < 0)
+                alpha_edge = std::max(alpha_edge, s + R); // Eq. 22
+              else
+                beta_edge = std::min(beta_edge, s - R); // Eq. 23
+            }
+          const double d_LR = beta_edge - alpha_edge; // Eq. 24
+          node.separation   = d_LR / h;
+          node.touching     = d_LR < 0;
+          return node;
+        }
+      // n̂ = (g^α − g^β)/|g^α − g^β| (Eq. 13)
+      const Tensor<1, dim> difference =
+        sum_over(g, alpha, i) - sum_over(g, beta, i);
+      const double norm = difference.norm();
+      if (!(norm > 0))
+        {
+          node.touching = false;
+          return node;
+        }
+      node.normal = difference / norm;
+      if (!contact_needs_positions)
+        return node;
+      const Tensor<1, dim> x_alpha =
+        sum_over(xm, alpha, i) / mass_of(alpha, i);
+      const Tensor<1, dim> x_beta = sum_over(xm, beta, i) / mass_of(beta, i);
+      if (method == Method::d_fit)
+        {
+          // Eq. 15: d((x^β − x_i)·n̂) − d((x^α − x_i)·n̂) < 0, in cells.
+          Tensor<1, dim> x_i;
+          for (unsigned int d = 0; d < dim; ++d)
+            x_i[d] = node_position.block(d).local_element(i);
+          const double gap =
+            edge_distance[beta.front()].beta((x_beta - x_i) * node.normal / h) -
+            edge_distance[alpha.front()].alpha((x_alpha - x_i) * node.normal /
+                                               h);
+          node.separation = gap;
+          node.touching   = gap < 0;
+          return node;
+        }
+      // (x^β − x^α)·n̂ < δc h (Eqs. 16-17)
+      node.separation = (x_beta - x_alpha) * node.normal / h;
+      node.touching   = node.separation < critical_separation;
+      return node;
+    };
+
+    contact_geometry.clear();
+    std::vector<unsigned int> present, alpha(1), beta;
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        present.clear();
+        for (unsigned int a = 0; a < n_materials; ++a)
+          if (m[a][i] > floor)
+            present.push_back(a);
+        if (present.size() < 2)
+          continue;
+        if (present.size() == 2 || !contact.lumped_three_or_more)
+          for (unsigned int x = 0; x < present.size(); ++x)
+            for (unsigned int y = x + 1; y < present.size(); ++y)
+              {
+                alpha.assign(1, present[x]);
+                beta.assign(1, present[y]);
+                contact_geometry.push_back(geometry(alpha, beta, i));
+              }
+        else
+          for (unsigned int x = 0; x < present.size(); ++x)
+            {
+              alpha.assign(1, present[x]);
+              beta.clear();
+              for (const unsigned int b : present)
+                if (b != present[x])
+                  beta.push_back(b);
+              contact_geometry.push_back(geometry(alpha, beta, i));
+            }
+      }
+    logistic_fits += fits;
+    logistic_iterations += iterations;
+    contact_geometry_valid = true;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::apply_contact(const ContactStage stage)
+  {
+    if (!contact_geometry_valid)
+      compute_contact_geometry();
+    TimerOutput::Scope         timer(computing_timer, "contact");
+    const Contact::Parameters &contact     = parameters.contact;
+    const unsigned int         n_materials = material_fields.size();
+    const unsigned int         n_owned     = lumped_mass.locally_owned_size();
+    const double               floor       = mass_floor_value;
+
+    // Raw views: m^α, the momenta this stage corrects, Δv^α.
+    std::vector<const double *> m(n_materials);
+    std::vector<double *>       p(n_materials * dim);
     std::vector<double *>       dv(n_materials * dim);
     for (unsigned int a = 0; a < n_materials; ++a)
       {
@@ -149,29 +469,17 @@ namespace fmpm
           {
             p[a * dim + d]  = momenta.block(d).begin();
             dv[a * dim + d] = field.delta_velocity.block(d).begin();
-            if (contact_needs_gradients)
-              g[a * dim + d] = field.volume_gradient.block(d).begin();
-            if (contact_needs_positions)
-              xm[a * dim + d] = field.position_moment.block(d).begin();
           }
         if (stage == ContactStage::extrapolated)
           field.delta_velocity = 0;
       }
 
-    // The state of a node seen by material α against β, where β may be the
-    // sum of several materials (Eq. 50).
-    auto sum_over = [&](const std::vector<const double *> &v,
-                        const std::vector<unsigned int>    &materials,
-                        const unsigned int                  i) {
-      Tensor<1, dim> sum;
-      for (const unsigned int a : materials)
-        for (unsigned int d = 0; d < dim; ++d)
-          sum[d] += v[a * dim + d][i];
-      return sum;
-    };
-    auto node_pair = [&](const std::vector<unsigned int> &alpha,
-                         const std::vector<unsigned int> &beta,
-                         const unsigned int               i) {
+    // The masses and momenta of α against β (β may be the sum of several
+    // materials, Eq. 50), with the geometry found for them.
+    auto node_pair = [&](const std::vector<unsigned int>  &alpha,
+                         const std::vector<unsigned int>  &beta,
+                         const unsigned int                i,
+                         const Contact::NodeGeometry<dim> &geometry) {
       Contact::NodePair<dim> node;
       for (const unsigned int a : alpha)
         {
@@ -185,30 +493,9 @@ namespace fmpm
           for (unsigned int d = 0; d < dim; ++d)
             node.momentum_beta[d] += p[b * dim + d][i];
         }
-      if (contact.normals == Method::specified)
-        node.normal = (alpha.front() < beta.front() ? 1. : -1.) *
-                      specified_normal;
-      else
-        {
-          // n̂ = (g^α − g^β)/|g^α − g^β| (Eq. 13)
-          const Tensor<1, dim> difference =
-            sum_over(g, alpha, i) - sum_over(g, beta, i);
-          const double norm = difference.norm();
-          if (norm > 0)
-            node.normal = difference / norm;
-          else
-            node.touching = false;
-        }
-      if (contact_needs_positions && node.touching)
-        {
-          // (x^β − x^α)·n̂ < δc h (Eqs. 16-17)
-          const Tensor<1, dim> x_alpha =
-            sum_over(xm, alpha, i) / node.mass_alpha;
-          const Tensor<1, dim> x_beta = sum_over(xm, beta, i) / node.mass_beta;
-          node.separation = (x_beta - x_alpha) * node.normal /
-                            node_cell_size.local_element(i);
-          node.touching = node.separation < critical_separation;
-        }
+      node.normal     = geometry.normal;
+      node.touching   = geometry.touching;
+      node.separation = geometry.separation;
       return node;
     };
     auto add_momentum = [&](const unsigned int    a,
@@ -237,6 +524,7 @@ namespace fmpm
 
     std::vector<unsigned int>   present, alpha(1), beta;
     std::vector<Tensor<1, dim>> changes;
+    unsigned int                next_geometry = 0;
     double                      work          = 0;
     unsigned long long          contact_nodes = 0;
     for (unsigned int i = 0; i < n_owned; ++i)
@@ -257,7 +545,8 @@ namespace fmpm
                 {
                   alpha.assign(1, present[x]);
                   beta.assign(1, present[y]);
-                  const auto node = node_pair(alpha, beta, i);
+                  const auto node =
+                    node_pair(alpha, beta, i, contact_geometry[next_geometry++]);
                   const auto c =
                     Contact::correct(contact.law(present[x], present[y]), node);
                   add_momentum(present[x], i, c.delta_momentum);
@@ -287,7 +576,8 @@ namespace fmpm
                       if (m[b][i] > m[heaviest][i])
                         heaviest = b;
                     }
-                const auto node = node_pair(alpha, beta, i);
+                const auto node =
+                  node_pair(alpha, beta, i, contact_geometry[next_geometry++]);
                 const auto c =
                   Contact::correct(contact.law(present[x], heaviest), node);
                 changes[x] = c.delta_momentum;
@@ -304,6 +594,7 @@ namespace fmpm
           ++contact_nodes;
       }
 
+    AssertDimension(next_geometry, contact_geometry.size());
     if (stage == ContactStage::updated)
       {
         local_friction_work += work;

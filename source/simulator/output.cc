@@ -367,6 +367,11 @@ namespace fmpm
     const double mean_rank_points =
       Utilities::MPI::sum(local_points, mpi_communicator) /
       Utilities::MPI::n_mpi_processes(mpi_communicator);
+    // LR (seed 004 §3.1): fits and NLLS iterations on all ranks.
+    const double fits = Utilities::MPI::sum(static_cast<double>(logistic_fits),
+                                            mpi_communicator);
+    const double fit_iterations = Utilities::MPI::sum(
+      static_cast<double>(logistic_iterations), mpi_communicator);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
 
@@ -430,6 +435,15 @@ namespace fmpm
              std::max(std::abs(initial_total_energy), initial_energy_scale))
         << ",\n";
     out << "  \"lost_points\": " << total_lost_points << ",\n";
+    if (contact_active())
+      {
+        out << "  \"contact_normals\": "
+            << quoted(parameters.contact.normals_name) << ",\n";
+        if (fits > 0)
+          out << "  \"logistic_regression_fits\": " << number(fits)
+              << ",\n  \"logistic_regression_iterations_mean\": "
+              << number(fit_iterations / fits) << ",\n";
+      }
     if (!velocity_conditions.labels().empty())
       {
         out << "  \"boundary_condition_method\": "

@@ -393,6 +393,7 @@ namespace fmpm
 
     // Per-material fields (contact): m^α, p^α0, f^α0, g^α, Σ S M X.
     const bool         contact     = contact_active();
+    contact_geometry_valid         = false;
     const unsigned int n_materials = material_fields.size();
     std::vector<double *> m_alpha(n_materials), p_alpha(n_materials * dim),
       f_alpha(n_materials * dim), g_alpha, x_alpha;
