@@ -13,6 +13,7 @@
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -430,6 +431,59 @@ namespace
     EXPECT_LT(error["logistic regression"], 0.01);
     EXPECT_LT(error["logistic regression"], error["d fit"]);
     EXPECT_LT(error["logistic regression"], error["contact position"]);
+  }
+
+
+
+  // Seed 004 Fig. 2 (parameters/two_blocks_gap.prm, the small version of
+  // parameters/studies/contact_gap.study): the top block closes a 1.5-cell
+  // gap at t_c = 7.796 ms. The bottom block carries no stress before t_c;
+  // with LR it is loaded (σ_yy below half the impact stress ρcv) within
+  // 1 % after t_c, with the contact plane on a grid line and in mid cell.
+  // The velocity criterion alone detects contact far too early.
+  double
+  gap_contact_time(const std::string &settings, const std::string &directory)
+  {
+    ParameterHandler prm;
+    auto             simulator = make_simulator<2>(
+      {parameter_dir + "two_blocks_gap.prm"},
+      output_overrides(directory) +
+        "subsection Time\n set End time = 0.00795\nend\n"
+        "subsection Output\n set Interval = 2e-5\nend\n" +
+        settings,
+      prm);
+    simulator->run();
+    const double threshold = 0.5 * 1000 * 1924 * 0.962;
+    double       t0 = 0, s0 = 0;
+    for (const auto &row : simulator->get_history())
+      {
+        const double s = row.extra[4]; // σ_yy of material 0
+        if (s < -threshold)
+          return t0 + (row.time - t0) * (-threshold - s0) / (s - s0);
+        t0 = row.time;
+        s0 = s;
+      }
+    return std::numeric_limits<double>::infinity();
+  }
+
+  TEST(ContactRun, TwoBlocksCloseTheGapOnTime)
+  {
+    const double t_c       = 0.0075 / 0.962;
+    const double grid_line = gap_contact_time("", "output-gap-grid-line");
+    EXPECT_NEAR(grid_line, t_c, 0.01 * t_c);
+    const double mid_cell = gap_contact_time(
+      "subsection Body 0\n set Center = 0.02, 0.02625\n"
+      " set Half lengths = 0.02, 0.02625\nend\n"
+      "subsection Body 1\n set Center = 0.02, 0.08375\nend\n"
+      "subsection Boundary conditions\n subsection Moving wall 0\n"
+      "  set Function constants = v=0.962, top=0.1075\n end\nend\n",
+      "output-gap-mid-cell");
+    EXPECT_NEAR(mid_cell, t_c, 0.01 * t_c);
+    const double velocity_only = gap_contact_time(
+      "subsection Contact\n set Normals = velocity only\nend\n"
+      "subsection Time\n set End time = 0.004\nend\n",
+      "output-gap-velocity-only");
+    EXPECT_LT(velocity_only, 0.8 * t_c);
   }
 
 
