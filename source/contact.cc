@@ -36,54 +36,51 @@ namespace fmpm
         return NormalMethod::logistic_regression;
       }
 
-      /** "coulomb 0.2", "perfect", "frictionless" → Law; @p where names the
+      /** "coulomb 0.2", "perfect", "frictionless" → Law: a registered
+       * name, then a number if the law takes one; @p where names the
        * parameter in errors. */
       Law
       parse_law(const std::string &text,
-                const double       default_friction,
+                const double       default_coefficient,
                 const std::string &where)
       {
-        const auto words = Utilities::split_string_list(text, ' ');
-        std::vector<std::string> parts;
-        for (const auto &w : words)
+        std::vector<std::string> words;
+        for (const auto &w : Utilities::split_string_list(text, ' '))
           if (!w.empty())
-            parts.push_back(w);
-        AssertThrow(!parts.empty(),
-                    ExcMessage(where + ": a law is missing (allowed: perfect, "
-                                       "frictionless, coulomb [mu])."));
+            words.push_back(w);
+        const std::string allowed =
+          " (allowed: " + law_names() +
+          ", with a number after a law that takes one, e.g. 'coulomb 0.2').";
+        AssertThrow(!words.empty(),
+                    ExcMessage(where + ": a law is missing" + allowed));
         Law law;
-        law.friction = default_friction;
-        if (parts[0] == "perfect")
-          law.type = LawType::perfect;
-        else if (parts[0] == "frictionless")
-          law.type = LawType::frictionless;
-        else if (parts[0] == "coulomb")
-          law.type = LawType::coulomb;
-        else
-          AssertThrow(false,
-                      ExcMessage(where + ": unknown law '" + parts[0] +
-                                 "' (allowed: perfect, frictionless, "
-                                 "coulomb [mu])."));
-        if (parts.size() > 1)
+        law.coefficient = default_coefficient;
+        // A last word that is a number is the law's coefficient.
+        bool has_number = false;
+        if (words.size() > 1)
           {
-            AssertThrow(law.type == LawType::coulomb && parts.size() == 2,
-                        ExcMessage(where + ": '" + text +
-                                   "': only 'coulomb' takes a number (the "
-                                   "friction coefficient)."));
-            try
+            char        *end   = nullptr;
+            const double value = std::strtod(words.back().c_str(), &end);
+            if (end != words.back().c_str() && *end == '\0')
               {
-                law.friction = std::stod(parts[1]);
-              }
-            catch (...)
-              {
-                AssertThrow(false,
-                            ExcMessage(where + ": '" + parts[1] +
-                                       "' is not a friction coefficient."));
+                AssertThrow(std::isfinite(value) && value >= 0,
+                            ExcMessage(where + ": '" + words.back() +
+                                       "' must be a number >= 0."));
+                law.coefficient = value;
+                has_number      = true;
+                words.pop_back();
               }
           }
-        AssertThrow(law.friction >= 0 && std::isfinite(law.friction),
-                    ExcMessage(where + ": the friction coefficient must be "
-                                       "a number >= 0."));
+        law.name = words[0];
+        for (unsigned int w = 1; w < words.size(); ++w)
+          law.name += " " + words[w];
+        const std::string names = "|" + law_names() + "|";
+        AssertThrow(names.find("|" + law.name + "|") != std::string::npos,
+                    ExcMessage(where + ": unknown law '" + law.name + "'" +
+                               allowed));
+        AssertThrow(!has_number || create_law<2>(law)->takes_coefficient(),
+                    ExcMessage(where + ": '" + text + "': the law '" +
+                               law.name + "' takes no number" + allowed));
         return law;
       }
     } // namespace
@@ -132,10 +129,11 @@ namespace fmpm
                         "(the local cell size at the node).");
       prm.declare_entry("Law",
                         "coulomb",
-                        Patterns::Selection("perfect|frictionless|coulomb"),
+                        Patterns::Selection(law_names()),
                         "The contact law of every pair of materials unless "
-                        "'Pair laws' overrides it: 'perfect' (no slip, no "
-                        "separation), 'frictionless', 'coulomb' (Eqs. 7-10). "
+                        "'Pair laws' overrides it (a plugin system): "
+                        "'perfect' (no slip, no separation), 'frictionless', "
+                        "'coulomb' (Eqs. 7-10, mu = 'Friction coefficient'). "
                         "Units: none.");
       prm.declare_entry("Friction coefficient",
                         "0.3",
@@ -181,12 +179,8 @@ namespace fmpm
         std::copy(values.begin(), values.end(), specified_normal.begin());
       }
       critical_separation = prm.get_double("Critical separation");
-      const std::string law_name = prm.get("Law");
-      default_law.friction       = prm.get_double("Friction coefficient");
-      default_law.type           = law_name == "perfect" ? LawType::perfect :
-                                   law_name == "frictionless" ?
-                                                       LawType::frictionless :
-                                                       LawType::coulomb;
+      default_law.name        = prm.get("Law");
+      default_law.coefficient = prm.get_double("Friction coefficient");
       pair_laws.clear();
       const std::string pairs = prm.get("Pair laws");
       for (const auto &entry : Utilities::split_string_list(pairs, ';'))
@@ -222,7 +216,7 @@ namespace fmpm
           pair_laws.push_back({std::min(ab[0], ab[1]),
                                std::max(ab[0], ab[1]),
                                parse_law(entry.substr(colon + 1),
-                                         default_law.friction,
+                                         default_law.coefficient,
                                          where)});
         }
       corrections_per_step = prm.get_integer("Corrections per step");
@@ -245,48 +239,145 @@ namespace fmpm
 
 
 
-    template <int dim>
-    Correction<dim>
-    correct(const Law &law, const NodePair<dim> &node)
+    std::string
+    law_names()
     {
-      Correction<dim> result;
-      const double    m_a = node.mass_alpha, m_b = node.mass_beta;
-      // Δp^α(0) = m^α (v^(cm) − v^α)
-      const Tensor<1, dim> v_cm =
-        (node.momentum_alpha + node.momentum_beta) / (m_a + m_b);
-      const Tensor<1, dim> dp0 = m_a * v_cm - node.momentum_alpha;
-      if (law.type == LawType::perfect)
+      return Plugins::Registry<LawInterface<2>>::instance().pattern();
+    }
+
+
+
+    template <int dim>
+    std::unique_ptr<LawInterface<dim>>
+    create_law(const Law &law)
+    {
+      ParameterHandler unused; // laws read no subsection of their own
+      auto             result =
+        Plugins::Registry<LawInterface<dim>>::instance().create(law.name,
+                                                                unused);
+      if (result->takes_coefficient())
+        result->set_coefficient(law.coefficient);
+      return result;
+    }
+
+    template std::unique_ptr<LawInterface<2>>
+    create_law<2>(const Law &);
+    template std::unique_ptr<LawInterface<3>>
+    create_law<3>(const Law &);
+
+
+
+    namespace
+    {
+      /** Δp^α(0) = m^α (v^(cm) − v^α): moves both with the centre of mass
+       * (Eq. 7). */
+      template <int dim>
+      Tensor<1, dim>
+      centre_of_mass_change(const NodePair<dim> &node)
+      {
+        const Tensor<1, dim> v_cm = (node.momentum_alpha + node.momentum_beta) /
+                                    (node.mass_alpha + node.mass_beta);
+        return node.mass_alpha * v_cm - node.momentum_alpha;
+      }
+
+      /** No slip, no separation: Δp^α = Δp^α(0) always. */
+      template <int dim>
+      class PerfectInterface : public LawInterface<dim>
+      {
+      public:
+        Correction<dim>
+        correct(const NodePair<dim> &node) const override
         {
-          result.delta_momentum = dp0;
+          Correction<dim> result;
+          result.delta_momentum = centre_of_mass_change(node);
           result.in_contact     = true;
           return result;
         }
-      const double dp0_n = dp0 * node.normal;
-      // Eq. 14: approaching (Δp^α(0)·n̂ = m_red (v^β − v^α)·n̂ < 0), and
-      // touching (the normal method's separation test).
-      if (!(dp0_n < 0) || !node.touching)
-        return result;
-      result.in_contact = true;
-      result.delta_momentum = dp0_n * node.normal;
-      if (law.type == LawType::frictionless)
-        return result;
-      // Coulomb: S_slide A_c Δt = min(μ N_c A_c Δt, Δp^α(0)·t̂) with
-      // N_c A_c Δt = −Δp^α(0)·n̂ and t̂ along the tangential part of Δp^α(0).
-      const Tensor<1, dim> dp0_t    = dp0 - result.delta_momentum;
-      const double         dp0_t_norm = dp0_t.norm();
-      if (dp0_t_norm == 0)
-        return result;
-      const double slide = std::min(-law.friction * dp0_n, dp0_t_norm);
-      const Tensor<1, dim> t_hat = dp0_t / dp0_t_norm;
-      result.delta_momentum += slide * t_hat;
-      // Energy the tangential impulse J = slide takes from the pair: J times
-      // the mean relative tangential speed before and after it.
-      const double m_red        = m_a * m_b / (m_a + m_b);
-      const double u_before     = dp0_t_norm / m_red;
-      const double u_after      = (dp0_t_norm - slide) / m_red;
-      result.friction_work      = slide * 0.5 * (u_before + u_after);
-      return result;
-    }
+      };
+
+      /**
+       * Contact when approaching, Δp^α(0)·n̂ < 0 (Eq. 14), and touching (the
+       * normal method's separation test); then the normal part
+       * (Δp^α(0)·n̂)n̂ and the tangential part up to μ|Δp^α(0)·n̂| (Eq. 10
+       * with S_slide = μN_c and N_cA_cΔt = −Δp^α(0)·n̂).
+       */
+      template <int dim>
+      class Coulomb : public LawInterface<dim>
+      {
+      public:
+        bool
+        takes_coefficient() const override
+        {
+          return true;
+        }
+
+        void
+        set_coefficient(const double mu) override
+        {
+          friction = mu;
+        }
+
+        Correction<dim>
+        correct(const NodePair<dim> &node) const override
+        {
+          Correction<dim>      result;
+          const Tensor<1, dim> dp0   = centre_of_mass_change(node);
+          const double         dp0_n = dp0 * node.normal;
+          if (!(dp0_n < 0) || !node.touching)
+            return result;
+          result.in_contact     = true;
+          result.delta_momentum = dp0_n * node.normal;
+          if (friction == 0)
+            return result;
+          const Tensor<1, dim> dp0_t      = dp0 - result.delta_momentum;
+          const double         dp0_t_norm = dp0_t.norm();
+          if (dp0_t_norm == 0)
+            return result;
+          const double slide = std::min(-friction * dp0_n, dp0_t_norm);
+          const Tensor<1, dim> t_hat = dp0_t / dp0_t_norm;
+          result.delta_momentum += slide * t_hat;
+          // Energy the tangential impulse J = slide takes from the pair: J
+          // times the mean relative tangential speed before and after it.
+          const double m_a = node.mass_alpha, m_b = node.mass_beta;
+          const double m_red    = m_a * m_b / (m_a + m_b);
+          const double u_before = dp0_t_norm / m_red;
+          const double u_after  = (dp0_t_norm - slide) / m_red;
+          result.friction_work  = slide * 0.5 * (u_before + u_after);
+          return result;
+        }
+
+      protected:
+        double friction = 0;
+      };
+
+      /** Coulomb with μ = 0: stops the normal approach only. */
+      template <int dim>
+      class Frictionless : public Coulomb<dim>
+      {
+      public:
+        bool
+        takes_coefficient() const override
+        {
+          return false;
+        }
+      };
+    } // namespace
+
+    FMPM_REGISTER_CONTACT_LAW(PerfectInterface,
+                              "perfect",
+                              "No slip and no separation: both materials move "
+                              "with the centre of mass (seed 004 Eq. 7).")
+    FMPM_REGISTER_CONTACT_LAW(Frictionless,
+                              "frictionless",
+                              "Stops the normal approach of touching "
+                              "materials, free slip (Eqs. 7-9).")
+    FMPM_REGISTER_CONTACT_LAW(Coulomb,
+                              "coulomb",
+                              "Stops the normal approach, tangential impulse "
+                              "up to mu times the normal one (Eqs. 7-10); the "
+                              "number is mu.")
+
+
 
     EdgeDistance::EdgeDistance(const ShapeFunction::Type type,
                                const double              half_length)
@@ -509,9 +600,5 @@ namespace fmpm
                                const double,
                                const unsigned int);
 
-    template Correction<2>
-    correct(const Law &, const NodePair<2> &);
-    template Correction<3>
-    correct(const Law &, const NodePair<3> &);
   } // namespace Contact
 } // namespace fmpm

@@ -7,6 +7,7 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/tensor.h>
 
+#include <fmpm/plugins.h>
 #include <fmpm/shape_function.h>
 
 #include <cmath>
@@ -49,19 +50,13 @@ namespace fmpm
       specified
     };
 
-    /** The contact law of a pair of materials (Eqs. 7-10). */
-    enum class LawType
-    {
-      perfect,
-      frictionless,
-      coulomb
-    };
-
-    /** A law and its friction coefficient. */
+    /** The contact law of a pair of materials: the name of a registered
+     * law and its number ('Friction coefficient' or the number after the
+     * name in 'Pair laws'; what it means is the law's). */
     struct Law
     {
-      LawType type     = LawType::coulomb;
-      double  friction = 0.3;
+      std::string name        = "coulomb";
+      double      coefficient = 0.3;
     };
 
     /** @brief The subsection Contact. */
@@ -226,19 +221,81 @@ namespace fmpm
     };
 
     /**
-     * @brief Δp^α of Eqs. 7-10 (with the corrected sign of Eq. 10) for a
-     * node shared by α and β.
+     * @brief A contact law (plugin system): Δp^α at a node shared by α and
+     * β (β gets −Δp^α, seed 004 Eq. 7), from the masses, momenta and
+     * geometry of the node.
      *
-     * Δp^α(0) = m^α(v^(cm) − v^α) moves both with the centre of mass.
-     * Perfect: Δp^α = Δp^α(0) always. Otherwise contact needs approach,
-     * Δp^α(0)·n̂ < 0 (Eq. 14), and touching; frictionless keeps the normal
-     * part (Δp^α(0)·n̂)n̂; Coulomb adds the tangential part capped at
-     * μN_cA_cΔt = −μΔp^α(0)·n̂ (Eq. 10 with S_slide = μN_c).
+     * Laws are called once per pair at each contact node (not per point).
+     * Registered: 'perfect', 'frictionless', 'coulomb' (Eqs. 7-10, the
+     * corrected sign of Eq. 10). A new law (e.g. an imperfect interface)
+     * derives from this class and registers with
+     * FMPM_REGISTER_CONTACT_LAW.
+     */
+    template <int dim>
+    class LawInterface : public Plugins::InterfaceBase
+    {
+    public:
+      /** Whether the law reads a number ('coulomb 0.2'). */
+      virtual bool
+      takes_coefficient() const
+      {
+        return false;
+      }
+
+      /** The law's number (called when takes_coefficient()). */
+      virtual void
+      set_coefficient(const double)
+      {}
+
+      virtual Correction<dim>
+      correct(const NodePair<dim> &node) const = 0;
+    };
+
+    /** @brief The registered law names, '|'-separated. */
+    std::string
+    law_names();
+
+    /** @brief Create the law @p law names, with its coefficient. */
+    template <int dim>
+    std::unique_ptr<LawInterface<dim>>
+    create_law(const Law &law);
+
+    /**
+     * @brief Δp^α of @p law at @p node (creates the law: for tests and
+     * one-off uses; the time step keeps one law object per pair).
      */
     template <int dim>
     Correction<dim>
-    correct(const Law &law, const NodePair<dim> &node);
+    correct(const Law &law, const NodePair<dim> &node)
+    {
+      return create_law<dim>(law)->correct(node);
+    }
+
+    /** Registers a law class template for dim = 2 and 3 at load time. */
+    template <template <int> class LawType>
+    struct RegisterLaw
+    {
+      RegisterLaw(const std::string &name, const std::string &description)
+      {
+        Plugins::Registry<LawInterface<2>>::instance().register_plugin(
+          name, description, nullptr, []() {
+            return std::make_unique<LawType<2>>();
+          });
+        Plugins::Registry<LawInterface<3>>::instance().register_plugin(
+          name, description, nullptr, []() {
+            return std::make_unique<LawType<3>>();
+          });
+      }
+    };
   } // namespace Contact
 } // namespace fmpm
+
+/** Registers the law class template CLASSNAME as NAME. */
+#define FMPM_REGISTER_CONTACT_LAW(CLASSNAME, NAME, DESCRIPTION) \
+  namespace                                                     \
+  {                                                             \
+    const ::fmpm::Contact::RegisterLaw<CLASSNAME>               \
+      fmpm_contact_law_registration_##CLASSNAME(NAME, DESCRIPTION); \
+  }
 
 #endif

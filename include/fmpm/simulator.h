@@ -445,6 +445,8 @@ namespace fmpm
     /** The geometry of every pair apply_contact corrects, in its order;
      * invalid after every extrapolation. */
     std::vector<Contact::NodeGeometry<dim>> contact_geometry;
+    /** The law of materials a < b at [a * n_materials + b]. */
+    std::vector<std::unique_ptr<Contact::LawInterface<dim>>> contact_laws;
     bool                                    contact_geometry_valid = false;
     /** DF: d(x) per material (its points' half-length). */
     std::vector<Contact::EdgeDistance> edge_distance;

@@ -35,6 +35,14 @@ namespace fmpm
                               contact.normals != Method::velocity_only;
     contact_needs_node_positions = contact.normals == Method::d_fit;
 
+    const unsigned int n_materials = parameters.size.n_materials;
+    contact_laws.clear();
+    contact_laws.resize(n_materials * n_materials);
+    for (unsigned int a = 0; a < n_materials; ++a)
+      for (unsigned int b = a + 1; b < n_materials; ++b)
+        contact_laws[a * n_materials + b] =
+          Contact::create_law<dim>(contact.law(a, b));
+
     const auto partitioner = lumped_mass.get_partitioner();
     auto       reinit      = [&](GridVectorField &field) {
       field.reinit(dim);
@@ -498,6 +506,10 @@ namespace fmpm
       node.separation = geometry.separation;
       return node;
     };
+    auto law = [&](const unsigned int a,
+                   const unsigned int b) -> const Contact::LawInterface<dim> & {
+      return *contact_laws[std::min(a, b) * n_materials + std::max(a, b)];
+    };
     auto add_momentum = [&](const unsigned int    a,
                             const unsigned int    i,
                             const Tensor<1, dim> &dp) {
@@ -548,7 +560,7 @@ namespace fmpm
                   const auto node =
                     node_pair(alpha, beta, i, contact_geometry[next_geometry++]);
                   const auto c =
-                    Contact::correct(contact.law(present[x], present[y]), node);
+                    law(present[x], present[y]).correct(node);
                   add_momentum(present[x], i, c.delta_momentum);
                   add_momentum(present[y], i, -c.delta_momentum);
                   if (stage == ContactStage::updated && c.in_contact &&
@@ -579,7 +591,7 @@ namespace fmpm
                 const auto node =
                   node_pair(alpha, beta, i, contact_geometry[next_geometry++]);
                 const auto c =
-                  Contact::correct(contact.law(present[x], heaviest), node);
+                  law(present[x], heaviest).correct(node);
                 changes[x] = c.delta_momentum;
                 if (stage == ContactStage::updated && c.in_contact &&
                     !in_contact)

@@ -26,7 +26,6 @@ namespace
   using namespace dealii;
   using fmpm::Contact::correct;
   using fmpm::Contact::Law;
-  using fmpm::Contact::LawType;
   using fmpm::Contact::NodePair;
   using fmpm_tests::make_simulator;
   using fmpm_tests::output_overrides;
@@ -58,7 +57,7 @@ namespace
   TEST(ContactLaw, PerfectMovesBothWithTheCentreOfMass)
   {
     const NodePair<2>  node = approaching_pair(1.0);
-    const auto         c    = correct(Law{LawType::perfect, 0}, node);
+    const auto         c    = correct(Law{"perfect", 0}, node);
     const Tensor<1, 2> v_a =
       (node.momentum_alpha + c.delta_momentum) / node.mass_alpha;
     const Tensor<1, 2> v_b =
@@ -69,7 +68,7 @@ namespace
     // Perfect interfaces hold also when separating.
     NodePair<2> separating = node;
     separating.normal *= -1;
-    EXPECT_NEAR((correct(Law{LawType::perfect, 0}, separating).delta_momentum -
+    EXPECT_NEAR((correct(Law{"perfect", 0}, separating).delta_momentum -
                  c.delta_momentum)
                   .norm(),
                 0,
@@ -79,7 +78,7 @@ namespace
   TEST(ContactLaw, FrictionlessRemovesTheNormalApproachOnly)
   {
     const NodePair<2> node = approaching_pair(1.0);
-    const auto        c    = correct(Law{LawType::frictionless, 0}, node);
+    const auto        c    = correct(Law{"frictionless", 0}, node);
     ASSERT_TRUE(c.in_contact);
     const Tensor<1, 2> v_a =
       (node.momentum_alpha + c.delta_momentum) / node.mass_alpha;
@@ -91,11 +90,11 @@ namespace
     // Separating, or not touching: no correction.
     NodePair<2> apart = node;
     apart.normal *= -1;
-    EXPECT_FALSE(correct(Law{LawType::frictionless, 0}, apart).in_contact);
+    EXPECT_FALSE(correct(Law{"frictionless", 0}, apart).in_contact);
     NodePair<2> not_touching = node;
     not_touching.touching    = false;
     EXPECT_EQ(
-      correct(Law{LawType::coulomb, 0.3}, not_touching).delta_momentum.norm(),
+      correct(Law{"coulomb", 0.3}, not_touching).delta_momentum.norm(),
       0.);
   }
 
@@ -106,14 +105,14 @@ namespace
     for (const double slip : {0.1, 2.0})
       {
         const NodePair<2> node = approaching_pair(slip);
-        const Law         law{LawType::coulomb, 0.4};
+        const Law         law{"coulomb", 0.4};
         const auto        c = correct(law, node);
         ASSERT_TRUE(c.in_contact);
         const double dp0_t = m_red * slip; // tangential Δp^α(0)
         // The normal part as frictionless; the tangential part is Δp^α(0)·t̂
         // (stick) or μ|Δp^α(0)·n̂| (slip), whichever is smaller.
         EXPECT_NEAR(c.delta_momentum[1], dp0_n, 1e-15);
-        const double expected_t = -std::min(dp0_t, -law.friction * dp0_n);
+        const double expected_t = -std::min(dp0_t, -law.coefficient * dp0_n);
         EXPECT_NEAR(c.delta_momentum[0], expected_t, 1e-15) << slip;
         // Kinetic energy removed = normal inelastic loss + friction work.
         const double removed = kinetic_energy(node, Tensor<1, 2>()) -
@@ -613,6 +612,8 @@ namespace
       {{" set Pair laws = 0 2: perfect\n", {"Contact/Pair laws", "material 2"}},
        {" set Pair laws = 0 1: sticky\n", {"Contact/Pair laws", "sticky"}},
        {" set Pair laws = 0 1 perfect\n", {"Contact/Pair laws", "a b: law"}},
+       {" set Pair laws = 0 1: frictionless 0.3\n",
+        {"Contact/Pair laws", "takes no number", "coulomb"}},
        {" set Normals = nearest node\n",
         {"Normals", "logistic regression"}}};
     for (const auto &[setting, words] : cases)
