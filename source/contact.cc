@@ -158,6 +158,15 @@ namespace fmpm
                         "treats each material against the sum of the others "
                         "(Eq. 50); 'pairwise' corrects every pair in turn "
                         "(conserves momentum). Units: none.");
+      prm.declare_entry(
+        "XPIC contact term",
+        "corrected",
+        Patterns::Selection("corrected|uncorrected"),
+        "Multimaterial XPIC(k) (particle update 'xpic', mass matrix 'fmpm' "
+        "of order k): 'corrected' projects each material with S^{+a} and "
+        "adds the contact term (I - S S^{+a})^{k-1} S dv^a of the first "
+        "correction (seed 004 Eq. 37); 'uncorrected' omits that term (the "
+        "simple extension, Eq. 48). Units: none.");
       prm.leave_subsection();
     }
 
@@ -221,6 +230,7 @@ namespace fmpm
         }
       corrections_per_step = prm.get_integer("Corrections per step");
       lumped_three_or_more = prm.get("Three or more materials") == "lumped";
+      xpic_uncorrected     = prm.get("XPIC contact term") == "uncorrected";
       prm.leave_subsection();
 
     }

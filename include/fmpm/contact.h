@@ -80,6 +80,9 @@ namespace fmpm
       unsigned int         corrections_per_step = 2;
       /** 'Three or more materials = lumped' (else pairwise). */
       bool lumped_three_or_more = true;
+      /** 'XPIC contact term = uncorrected': multimaterial XPIC(k) without
+       * the Δv^α term of seed 004 Eq. 37 (the comparison of Eq. 48). */
+      bool xpic_uncorrected = false;
 
       static void
       declare_parameters(ParameterHandler &prm);

@@ -353,9 +353,15 @@ namespace fmpm
      * points of other ranks included (seed 004 §3.1). */
     void
     gather_point_clouds();
-    /** Material fields v^α, v^α+, a^α (lumped: seed 004 Eqs. 26, 31-34). */
+    /** Material fields v^α, v^α+, a^α (lumped: seed 004 Eqs. 26, 31-34;
+     * with the FMPM(k) mass matrix, v^α of multimaterial XPIC(k), Eq. 37). */
     void
     compute_material_field(const ParticleUpdate::GridField field);
+    /** out^α = m̃^α in^α = Σ_{p∈α} S_ip M_p Σ_j S_jp in^α_j for every
+     * material in one sweep over the support cache (in: ghosted). */
+    void
+    apply_material_full_mass(const std::vector<GridVectorField *> &in,
+                             const std::vector<GridVectorField *> &out);
     void
     update_particles();
     void
@@ -429,6 +435,7 @@ namespace fmpm
       GridVectorField volume_gradient;  // g^α = Σ G V (Eq. 11)
       GridVectorField position_moment;  // Σ S M X: x^α = S^{+α}X (Eq. 11)
       GridVectorField delta_velocity;   // Δv^α of the first correction
+      GridVectorField series_product;   // m̃^α z (multimaterial XPIC(k))
       std::array<GridVectorField, ParticleUpdate::n_grid_fields> fields;
       std::array<bool, ParticleUpdate::n_grid_fields>            computed{};
     };

@@ -60,6 +60,8 @@ namespace fmpm
         reinit(material.force);
         reinit(material.updated_momentum);
         reinit(material.delta_velocity);
+        if (mass_matrix->order() > 1)
+          reinit(material.series_product);
         if (contact_needs_gradients)
           reinit(material.volume_gradient);
         if (contact_needs_positions)
@@ -478,7 +480,9 @@ namespace fmpm
             p[a * dim + d]  = momenta.block(d).begin();
             dv[a * dim + d] = field.delta_velocity.block(d).begin();
           }
-        if (stage == ContactStage::extrapolated)
+        // Δv^α of the correction of the extrapolated momenta (the first,
+        // or the third before USL+/USAVG+ stresses).
+        if (stage != ContactStage::updated)
           field.delta_velocity = 0;
       }
 
@@ -516,7 +520,7 @@ namespace fmpm
       for (unsigned int d = 0; d < dim; ++d)
         {
           p[a * dim + d][i] += dp[d];
-          if (stage == ContactStage::extrapolated)
+          if (stage != ContactStage::updated)
             dv[a * dim + d][i] += dp[d] / m[a][i];
         }
     };
@@ -649,6 +653,12 @@ namespace fmpm
                                                material.momentum,
                                                target,
                                                mass_floor_value);
+              if (field == velocity && parameters.contact.xpic_uncorrected)
+                {
+                  // v^α0 = v^α − Δv^α: the series of Eq. 37 without the
+                  // contact term (Eq. 48).
+                  target.add(-1., material.delta_velocity);
+                }
               velocity_conditions.correct_velocities(target, t_begin, nullptr);
               break;
             case updated_velocity:
@@ -689,6 +699,94 @@ namespace fmpm
         target.update_ghost_values();
         material.computed[field] = true;
       }
+
+    // Multimaterial XPIC(k) (seed 004 Eq. 37): with A^α = S^{+α}S =
+    // (m^α)⁻¹m̃^α, P V = S[Σ_{j<k} (I − A^α)^j v^α0 + (I − A^α)^{k−1} Δv^α],
+    // i.e. z₁ = v^α = v^α0 + Δv^α, z_{j+1} = z_j + (m^α)⁻¹(p^α0 − m̃^α z_j),
+    // the FMPM(k) series of each material started from the contact-
+    // corrected velocity (uncorrected: from v^α0). All materials share
+    // each sweep over the support cache.
+    const unsigned int k = mass_matrix->order();
+    if (field != velocity || k < 2)
+      return;
+    std::vector<GridVectorField *> z, product;
+    for (auto &material : material_fields)
+      {
+        z.push_back(&material.fields[velocity]);
+        product.push_back(&material.series_product);
+      }
+    const unsigned int n_owned = lumped_mass.locally_owned_size();
+    const double       floor   = mass_floor_value;
+    for (unsigned int j = 1; j < k; ++j)
+      {
+        apply_material_full_mass(z, product);
+        for (auto &material : material_fields)
+          {
+            GridVectorField &target = material.fields[velocity];
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                double *const       zd = target.block(d).begin();
+                const double *const pd = material.momentum.block(d).begin();
+                const double *const qd = material.series_product.block(d).begin();
+                const double *const dv = material.delta_velocity.block(d).begin();
+                const double *const m  = material.mass.begin();
+                // p^α0 = p^α − m^α Δv^α
+                for (unsigned int i = 0; i < n_owned; ++i)
+                  if (m[i] > floor)
+                    zd[i] += (pd[i] - m[i] * dv[i] - qd[i]) / m[i];
+              }
+            velocity_conditions.correct_velocities(target, t_begin, nullptr);
+            if (has_hanging_nodes)
+              for (unsigned int d = 0; d < dim; ++d)
+                constraints.distribute(target.block(d));
+            target.update_ghost_values();
+          }
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::apply_material_full_mass(
+    const std::vector<GridVectorField *> &in,
+    const std::vector<GridVectorField *> &out)
+  {
+    using Index = PropertyIndex<dim>;
+    const unsigned int n_materials = in.size();
+    std::vector<const double *> x(n_materials * dim);
+    std::vector<double *>       y(n_materials * dim);
+    for (unsigned int a = 0; a < n_materials; ++a)
+      {
+        *out[a] = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            x[a * dim + d] = in[a]->block(d).begin();
+            y[a * dim + d] = out[a]->block(d).begin();
+          }
+      }
+    auto               &pool = particle_handler.get_property_pool();
+    const unsigned int *node = supports.node.data();
+    const double       *S    = supports.S.data();
+    for (unsigned int k = 0; k < supports.n_points(); ++k)
+      {
+        const unsigned int  a     = supports.material[k];
+        const unsigned int  begin = supports.support_begin[k];
+        const unsigned int  end   = supports.support_begin[k + 1];
+        const double        M =
+          pool.get_properties(supports.handle[k])[Index::mass];
+        const double *const *xa = &x[a * dim];
+        double *const       *ya = &y[a * dim];
+        double               s[dim] = {};
+        for (unsigned int j = begin; j < end; ++j) // (S z)(x_p)
+          for (unsigned int d = 0; d < dim; ++d)
+            s[d] += S[j] * xa[d][node[j]];
+        for (unsigned int j = begin; j < end; ++j)
+          for (unsigned int d = 0; d < dim; ++d)
+            ya[d][node[j]] += M * S[j] * s[d];
+      }
+    for (auto *field : out)
+      field->compress(VectorOperation::add);
   }
 
   template class Simulator<2>;
