@@ -162,11 +162,11 @@ namespace fmpm
         "XPIC contact term",
         "corrected",
         Patterns::Selection("corrected|uncorrected"),
-        "Multimaterial XPIC(k) (particle update 'xpic', mass matrix 'fmpm' "
-        "of order k): 'corrected' projects each material with S^{+a} and "
-        "adds the contact term (I - S S^{+a})^{k-1} S dv^a of the first "
-        "correction (seed 004 Eq. 37); 'uncorrected' omits that term (the "
-        "simple extension, Eq. 48). Units: none.");
+        "Multimaterial XPIC(k)/FMPM(k) (mass matrix 'fmpm' of order k): "
+        "'corrected' projects each material with S^{+a} and adds the "
+        "contact term (I - S S^{+a})^{k-1} S dv^a of the first correction "
+        "(seed 004 Eq. 37, seed 000 Eqs. 3.18, 3.22); 'uncorrected' omits "
+        "that term (the simple extension, Eq. 48). Units: none.");
       prm.leave_subsection();
     }
 

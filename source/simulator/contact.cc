@@ -653,7 +653,8 @@ namespace fmpm
                                                material.momentum,
                                                target,
                                                mass_floor_value);
-              if (field == velocity && parameters.contact.xpic_uncorrected)
+              if (field == velocity && parameters.contact.xpic_uncorrected &&
+                  mass_matrix->order() > 1)
                 {
                   // v^α0 = v^α − Δv^α: the series of Eq. 37 without the
                   // contact term (Eq. 48).
@@ -667,6 +668,10 @@ namespace fmpm
                                                material.updated_momentum,
                                                target,
                                                mass_floor_value);
+              if (field == updated_velocity &&
+                  parameters.contact.xpic_uncorrected &&
+                  mass_matrix->order() > 1)
+                target.add(-1., material.delta_velocity);
               velocity_conditions.correct_velocities(target, t_end, nullptr);
               break;
             case acceleration:
@@ -700,19 +705,25 @@ namespace fmpm
         material.computed[field] = true;
       }
 
-    // Multimaterial XPIC(k) (seed 004 Eq. 37): with A^α = S^{+α}S =
-    // (m^α)⁻¹m̃^α, P V = S[Σ_{j<k} (I − A^α)^j v^α0 + (I − A^α)^{k−1} Δv^α],
-    // i.e. z₁ = v^α = v^α0 + Δv^α, z_{j+1} = z_j + (m^α)⁻¹(p^α0 − m̃^α z_j),
-    // the FMPM(k) series of each material started from the contact-
-    // corrected velocity (uncorrected: from v^α0). All materials share
-    // each sweep over the support cache.
+    // Multimaterial XPIC(k) and FMPM(k) (seed 004 Eq. 37, seed 000 Eqs.
+    // 3.13-3.22). With A^α = S^{+α}S = (m^α)⁻¹m̃^α and
+    // (m̃ₖ^α)⁻¹ − (m̃ₖ₋₁^α)⁻¹ = (I − A^α)^{k−1}(m^α)⁻¹ (Eq. 3.15):
+    //   v (XPIC):  (m̃ₖ^α)⁻¹p^α − (m̃ₖ₋₁^α)⁻¹Δp^α   (Eq. 3.18)
+    //   v⁺ (FMPM): (m̃ₖ^α)⁻¹p^α+ − (m̃ₖ₋₁^α)⁻¹Δp^α  (Eq. 3.22),
+    // both the series z₁ = (m^α)⁻¹q + Δv^α, z_{j+1} = z_j + (m^α)⁻¹(q −
+    // m̃^α z_j) with q = p^α − Δp^α (resp. p^α+ − Δp^α): the FMPM(k)
+    // series of each material, started from the contact-corrected velocity
+    // (uncorrected: from (m^α)⁻¹q, Eq. 48). All materials share each sweep
+    // over the support cache.
     const unsigned int k = mass_matrix->order();
-    if (field != velocity || k < 2)
+    if ((field != velocity && field != updated_velocity) || k < 2)
       return;
+    const bool   updated = field == updated_velocity;
+    const double t_field = updated ? t_end : t_begin;
     std::vector<GridVectorField *> z, product;
     for (auto &material : material_fields)
       {
-        z.push_back(&material.fields[velocity]);
+        z.push_back(&material.fields[field]);
         product.push_back(&material.series_product);
       }
     const unsigned int n_owned = lumped_mass.locally_owned_size();
@@ -722,20 +733,21 @@ namespace fmpm
         apply_material_full_mass(z, product);
         for (auto &material : material_fields)
           {
-            GridVectorField &target = material.fields[velocity];
+            GridVectorField       &target = material.fields[field];
+            const GridVectorField &p =
+              updated ? material.updated_momentum : material.momentum;
             for (unsigned int d = 0; d < dim; ++d)
               {
                 double *const       zd = target.block(d).begin();
-                const double *const pd = material.momentum.block(d).begin();
+                const double *const pd = p.block(d).begin();
                 const double *const qd = material.series_product.block(d).begin();
                 const double *const dv = material.delta_velocity.block(d).begin();
                 const double *const m  = material.mass.begin();
-                // p^α0 = p^α − m^α Δv^α
                 for (unsigned int i = 0; i < n_owned; ++i)
                   if (m[i] > floor)
                     zd[i] += (pd[i] - m[i] * dv[i] - qd[i]) / m[i];
               }
-            velocity_conditions.correct_velocities(target, t_begin, nullptr);
+            velocity_conditions.correct_velocities(target, t_field, nullptr);
             if (has_hanging_nodes)
               for (unsigned int d = 0; d < dim; ++d)
                 constraints.distribute(target.block(d));

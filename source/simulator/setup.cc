@@ -666,33 +666,18 @@ namespace fmpm
                        "]. Change its Center or Half lengths."));
       }
 
-    // Contact (issue 13): FLIP/PIC-type updates with the lumped mass
-    // matrix, and multimaterial XPIC(k) with the FMPM(k) mass matrix (seed
-    // 004 Eq. 37). FMPM(k) updates with contact come with issue 14.
+    // Contact: every particle update with the lumped mass matrix, and
+    // multimaterial XPIC(k)/FMPM(k) with the FMPM(k) mass matrix (seed 004
+    // Eq. 37, seed 000 Eqs. 3.18, 3.22).
     if (parameters.contact.multimaterial && parameters.size.n_materials > 1)
       {
-        const std::string &update      = parameters.method.particle_update;
-        const std::string &mass        = parameters.method.mass_matrix;
-        const std::string &strain      = parameters.method.strain_update;
-        const bool         is_xpic     = update.compare(0, 4, "xpic") == 0;
-        const bool         lumped_type = update.compare(0, 4, "fmpm") != 0;
-        const bool         reads_updated_velocity =
-          parameters.method.strain_update_mass_matrix == "same" &&
-          (strain == "usl-" || strain == "usavg-");
-        AssertThrow(
-          (mass == "lumped" && lumped_type) ||
-            (mass == "fmpm" && is_xpic && !reads_updated_velocity),
-          ExcMessage("Contact/Model name = multimaterial works with 'Mass "
-                     "matrix/Model name = lumped' and the particle updates "
-                     "flip, flip end velocity, flip midpoint, flip pic blend, "
-                     "pic, pic midpoint and xpic, or with 'fmpm' and 'xpic' "
-                     "(multimaterial XPIC(k), seed 004 Eq. 37; with USL-/"
-                     "USAVG- then 'Time/Strain update mass matrix = "
-                     "lumped'); this scene has mass matrix '" +
-                     mass + "', particle update '" + update +
-                     "' and strain update '" + strain +
-                     "' (multimaterial FMPM(k) updates are not implemented "
-                     "yet)."));
+        const std::string &mass = parameters.method.mass_matrix;
+        AssertThrow(mass == "lumped" || mass == "fmpm",
+                    ExcMessage("Contact/Model name = multimaterial works with "
+                               "'Mass matrix/Model name = lumped' or 'fmpm' "
+                               "(multimaterial XPIC(k)/FMPM(k)); this scene "
+                               "has '" +
+                               mass + "'."));
         AssertThrow(!velocity_conditions.needs_full_mass_matrix(),
                     ExcMessage("Contact/Model name = multimaterial needs a "
                                "'Boundary conditions/Method' without the full "
