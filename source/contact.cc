@@ -167,6 +167,16 @@ namespace fmpm
         "contact term (I - S S^{+a})^{k-1} S dv^a of the first correction "
         "(seed 004 Eq. 37, seed 000 Eqs. 3.18, 3.22); 'uncorrected' omits "
         "that term (the simple extension, Eq. 48). Units: none.");
+      prm.declare_entry(
+        "Contact in mass-matrix iterations",
+        "net incremental",
+        Patterns::Selection("net incremental|once per step"),
+        "With the FMPM(k) mass matrix: 'net incremental' applies the contact "
+        "laws also to each increment of the series of each material "
+        "(Nairn 2026, 'net incremental contact'; the velocity conditions "
+        "are re-imposed on every increment); 'once per step' corrects only "
+        "the extrapolated and updated momenta (seed 000 Ch. 3). Units: "
+        "none.");
       prm.leave_subsection();
     }
 
@@ -231,6 +241,8 @@ namespace fmpm
       corrections_per_step = prm.get_integer("Corrections per step");
       lumped_three_or_more = prm.get("Three or more materials") == "lumped";
       xpic_uncorrected     = prm.get("XPIC contact term") == "uncorrected";
+      net_incremental =
+        prm.get("Contact in mass-matrix iterations") == "net incremental";
       prm.leave_subsection();
 
     }

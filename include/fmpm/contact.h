@@ -83,6 +83,9 @@ namespace fmpm
       /** 'XPIC contact term = uncorrected': multimaterial XPIC(k) without
        * the Δv^α term of seed 004 Eq. 37 (the comparison of Eq. 48). */
       bool xpic_uncorrected = false;
+      /** 'Contact in mass-matrix iterations = net incremental': the laws
+       * also correct each increment of the FMPM(k)/XPIC(k) series. */
+      bool net_incremental = true;
 
       static void
       declare_parameters(ParameterHandler &prm);

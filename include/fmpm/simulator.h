@@ -325,7 +325,10 @@ namespace fmpm
       /** after the momentum update: p^α+ = p^α0+ + Δp^α+ (Eq. 31) */
       updated,
       /** after the re-extrapolation of USL+/USAVG+ */
-      re_extrapolated
+      re_extrapolated,
+      /** on the increments m^α δz^α of the FMPM(k)/XPIC(k) series (net
+       * incremental contact) */
+      increment
     };
     /** Allocate the per-material fields (Contact/Model name =
      * multimaterial and 2+ materials; nothing otherwise). */
@@ -436,6 +439,7 @@ namespace fmpm
       GridVectorField position_moment;  // Σ S M X: x^α = S^{+α}X (Eq. 11)
       GridVectorField delta_velocity;   // Δv^α of the first correction
       GridVectorField series_product;   // m̃^α z (multimaterial XPIC(k))
+      GridVectorField series_increment; // m^α δz^α (net incremental contact)
       std::array<GridVectorField, ParticleUpdate::n_grid_fields> fields;
       std::array<bool, ParticleUpdate::n_grid_fields>            computed{};
     };

@@ -61,7 +61,11 @@ namespace fmpm
         reinit(material.updated_momentum);
         reinit(material.delta_velocity);
         if (mass_matrix->order() > 1)
-          reinit(material.series_product);
+          {
+            reinit(material.series_product);
+            if (contact.net_incremental)
+              reinit(material.series_increment);
+          }
         if (contact_needs_gradients)
           reinit(material.volume_gradient);
         if (contact_needs_positions)
@@ -473,8 +477,9 @@ namespace fmpm
         MaterialField &field = material_fields[a];
         m[a]                 = field.mass.begin();
         GridVectorField &momenta =
-          stage == ContactStage::updated ? field.updated_momentum :
-                                           field.momentum;
+          stage == ContactStage::updated   ? field.updated_momentum :
+          stage == ContactStage::increment ? field.series_increment :
+                                             field.momentum;
         for (unsigned int d = 0; d < dim; ++d)
           {
             p[a * dim + d]  = momenta.block(d).begin();
@@ -482,7 +487,8 @@ namespace fmpm
           }
         // Δv^α of the correction of the extrapolated momenta (the first,
         // or the third before USL+/USAVG+ stresses).
-        if (stage != ContactStage::updated)
+        if (stage == ContactStage::extrapolated ||
+            stage == ContactStage::re_extrapolated)
           field.delta_velocity = 0;
       }
 
@@ -520,7 +526,8 @@ namespace fmpm
       for (unsigned int d = 0; d < dim; ++d)
         {
           p[a * dim + d][i] += dp[d];
-          if (stage != ContactStage::updated)
+          if (stage == ContactStage::extrapolated ||
+              stage == ContactStage::re_extrapolated)
             dv[a * dim + d][i] += dp[d] / m[a][i];
         }
     };
@@ -621,6 +628,8 @@ namespace fmpm
         contact_normal.update_ghost_values();
         contact_separation.update_ghost_values();
       }
+    if (stage == ContactStage::increment) // owned entries only, fields kept
+      return;
     for (auto &field : material_fields)
       {
         GridVectorField &momenta = stage == ContactStage::updated ?
@@ -728,6 +737,7 @@ namespace fmpm
       }
     const unsigned int n_owned = lumped_mass.locally_owned_size();
     const double       floor   = mass_floor_value;
+    const bool net_incremental = parameters.contact.net_incremental;
     for (unsigned int j = 1; j < k; ++j)
       {
         apply_material_full_mass(z, product);
@@ -736,6 +746,11 @@ namespace fmpm
             GridVectorField       &target = material.fields[field];
             const GridVectorField &p =
               updated ? material.updated_momentum : material.momentum;
+            // Net incremental contact: keep z_j, then the increment after
+            // the velocity conditions becomes the momenta m^α δz^α that
+            // the contact laws correct (below).
+            if (net_incremental)
+              material.series_increment = target;
             for (unsigned int d = 0; d < dim; ++d)
               {
                 double *const       zd = target.block(d).begin();
@@ -748,6 +763,50 @@ namespace fmpm
                     zd[i] += (pd[i] - m[i] * dv[i] - qd[i]) / m[i];
               }
             velocity_conditions.correct_velocities(target, t_field, nullptr);
+            if (net_incremental)
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  double *const       dp = material.series_increment.block(d).begin();
+                  const double *const zd = target.block(d).begin();
+                  const double *const m  = material.mass.begin();
+                  for (unsigned int i = 0; i < n_owned; ++i) // m^α (z_{j+1} − z_j)
+                    dp[i] = m[i] * (zd[i] - dp[i]);
+                }
+          }
+        if (net_incremental)
+          {
+            // The contact laws on the increments (Nairn 2026's net
+            // incremental contact): z_{j+1} = z_j + (m^α)⁻¹(m^α δz^α + Δ^α).
+            for (auto &material : material_fields)
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  const double *const dp = material.series_increment.block(d).begin();
+                  double *const       zd = material.fields[field].block(d).begin();
+                  const double *const m  = material.mass.begin();
+                  for (unsigned int i = 0; i < n_owned; ++i)
+                    if (m[i] > floor)
+                      zd[i] -= dp[i] / m[i]; // back to z_j
+                }
+            apply_contact(ContactStage::increment);
+            for (auto &material : material_fields)
+              {
+                GridVectorField &target = material.fields[field];
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    const double *const dp =
+                      material.series_increment.block(d).begin();
+                    double *const       zd = target.block(d).begin();
+                    const double *const m  = material.mass.begin();
+                    for (unsigned int i = 0; i < n_owned; ++i)
+                      if (m[i] > floor)
+                        zd[i] += dp[i] / m[i];
+                  }
+                velocity_conditions.correct_velocities(target, t_field, nullptr);
+              }
+          }
+        for (auto &material : material_fields)
+          {
+            GridVectorField &target = material.fields[field];
             if (has_hanging_nodes)
               for (unsigned int d = 0; d < dim; ++d)
                 constraints.distribute(target.block(d));
