@@ -17,6 +17,10 @@
 // benchmark_contact_2d.prm) with one velocity field and with contact and
 // every normal method, and prints the cost of contact, the time in the
 // normals (LR: the fits) and point clouds, and the LR iterations.
+//
+// With --contact-orders [rounds], the same scene with FMPM(k) and XPIC(k),
+// k = 1, 2, 5, with one velocity field and with LR contact (net incremental
+// and once per step), and prints the cost of contact per order.
 
 #include <fmpm/parameters.h>
 #include <fmpm/simulator.h>
@@ -254,6 +258,67 @@ namespace
       }
     std::cout << std::flush;
   }
+
+  /** The --contact-orders mode: the cost of contact inside FMPM(k) and
+   * XPIC(k) per order, against the single-field run of the same method
+   * (issue 14's benchmark). */
+  void
+  compare_contact_orders(const std::string              &scene,
+                         const std::vector<std::string> &overrides,
+                         const unsigned int              rounds)
+  {
+    std::vector<Variant> variants;
+    std::vector<std::string> methods;
+    for (const std::string update : {"fmpm", "xpic"})
+      for (const unsigned int k : {1u, 2u, 5u})
+        {
+          const std::string label =
+            (update == "fmpm" ? "FMPM(" : "XPIC(") + std::to_string(k) + ")";
+          const std::string method =
+            "subsection Particle update\n  set Model name = " + update +
+            "\nend\nsubsection Mass matrix\n  set Model name = " +
+            (k == 1 ? std::string("lumped") : std::string("fmpm")) +
+            "\n  subsection Fmpm\n    set Order = " + std::to_string(k) +
+            "\n  end\nend\n";
+          methods.push_back(label);
+          variants.push_back(
+            {label + ", one field",
+             method + "subsection Contact\n  set Model name = none\nend\n"});
+          variants.push_back(
+            {label + ", LR, net incremental",
+             method + "subsection Contact\n  set Model name = "
+                      "multimaterial\n  set Contact in mass-matrix iterations "
+                      "= net incremental\nend\n"});
+          variants.push_back(
+            {label + ", LR, once per step",
+             method + "subsection Contact\n  set Model name = "
+                      "multimaterial\n  set Contact in mass-matrix iterations "
+                      "= once per step\nend\n"});
+        }
+    const auto summaries =
+      run_variants(scene, overrides, variants, rounds, "--contact-orders");
+    if (summaries.empty())
+      return;
+    const double n_particles = summaries[0].get<double>("n_particles");
+    std::cout << "\n=== contact per order on " << scene << " (" << n_particles
+              << " points; each phase's fastest of " << rounds
+              << " rounds)\n"
+              << "| method | one field particle-steps/s | contact, net "
+                 "incremental / one field | contact, once per step / one "
+                 "field |\n"
+              << "|---|---|---|---|\n";
+    for (unsigned int m = 0; m < methods.size(); ++m)
+      {
+        const double one  = seconds_per_step(summaries[3 * m]);
+        const double net  = seconds_per_step(summaries[3 * m + 1]);
+        const double once = seconds_per_step(summaries[3 * m + 2]);
+        std::cout << "| " << methods[m] << " | " << std::scientific
+                  << std::setprecision(2) << n_particles / one << " | "
+                  << std::fixed << std::setprecision(2) << net / one << " | "
+                  << once / one << " |\n";
+      }
+    std::cout << std::flush;
+  }
 } // namespace
 
 int
@@ -267,15 +332,19 @@ main(int argc, char **argv)
   bool                     after_separator = false;
   unsigned int             method_rounds   = 0;
   bool                     contact_mode    = false;
+  bool                     orders_mode     = false;
   for (int i = 1; i < argc; ++i)
     {
       const std::string arg = argv[i];
       if (arg == "--")
         after_separator = true;
-      else if ((arg == "--methods" || arg == "--contact") && !after_separator)
+      else if ((arg == "--methods" || arg == "--contact" ||
+                arg == "--contact-orders") &&
+               !after_separator)
         {
           method_rounds = 3;
           contact_mode  = arg == "--contact";
+          orders_mode   = arg == "--contact-orders";
           if (i + 1 < argc &&
               std::string(argv[i + 1]).find_first_not_of("0123456789") ==
                 std::string::npos)
@@ -283,6 +352,15 @@ main(int argc, char **argv)
         }
       else
         (after_separator ? overrides : scenes).push_back(arg);
+    }
+  if (orders_mode)
+    {
+      compare_contact_orders(
+        scenes.empty() ? FMPM_SOURCE_DIR "/parameters/benchmark_contact_2d.prm" :
+                         scenes.front(),
+        overrides,
+        method_rounds);
+      return 0;
     }
   if (contact_mode)
     {
