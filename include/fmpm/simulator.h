@@ -459,6 +459,9 @@ namespace fmpm
     /** The law of materials a < b at [a * n_materials + b]. */
     std::vector<std::unique_ptr<Contact::LawInterface<dim>>> contact_laws;
     bool                                    contact_geometry_valid = false;
+    /** Whether each pair was in contact at the last correction (the pairs
+     * net incremental contact corrects). */
+    std::vector<char> contact_state;
     /** DF: d(x) per material (its points' half-length). */
     std::vector<Contact::EdgeDistance> edge_distance;
     /** DF: the position of each node. */

@@ -451,6 +451,7 @@ namespace fmpm
       }
     logistic_fits += fits;
     logistic_iterations += iterations;
+    contact_state.assign(contact_geometry.size(), 0);
     contact_geometry_valid = true;
   }
 
@@ -548,6 +549,9 @@ namespace fmpm
     std::vector<unsigned int>   present, alpha(1), beta;
     std::vector<Tensor<1, dim>> changes;
     unsigned int                next_geometry = 0;
+    // Net incremental contact: the pairs in contact at the last correction
+    // keep their contact on the increments (approach not tested again).
+    const bool increments = stage == ContactStage::increment;
     double                      work          = 0;
     unsigned long long          contact_nodes = 0;
     for (unsigned int i = 0; i < n_owned; ++i)
@@ -568,10 +572,14 @@ namespace fmpm
                 {
                   alpha.assign(1, present[x]);
                   beta.assign(1, present[y]);
-                  const auto node =
-                    node_pair(alpha, beta, i, contact_geometry[next_geometry++]);
-                  const auto c =
-                    law(present[x], present[y]).correct(node);
+                  const unsigned int slot = next_geometry++;
+                  if (increments && !contact_state[slot])
+                    continue;
+                  auto node = node_pair(alpha, beta, i, contact_geometry[slot]);
+                  node.enforce = increments;
+                  const auto c = law(present[x], present[y]).correct(node);
+                  if (!increments)
+                    contact_state[slot] = c.in_contact;
                   add_momentum(present[x], i, c.delta_momentum);
                   add_momentum(present[y], i, -c.delta_momentum);
                   if (stage == ContactStage::updated && c.in_contact &&
@@ -599,10 +607,14 @@ namespace fmpm
                       if (m[b][i] > m[heaviest][i])
                         heaviest = b;
                     }
-                const auto node =
-                  node_pair(alpha, beta, i, contact_geometry[next_geometry++]);
-                const auto c =
-                  law(present[x], heaviest).correct(node);
+                const unsigned int slot = next_geometry++;
+                if (increments && !contact_state[slot])
+                  continue;
+                auto node = node_pair(alpha, beta, i, contact_geometry[slot]);
+                node.enforce = increments;
+                const auto c = law(present[x], heaviest).correct(node);
+                if (!increments)
+                  contact_state[slot] = c.in_contact;
                 changes[x] = c.delta_momentum;
                 if (stage == ContactStage::updated && c.in_contact &&
                     !in_contact)
