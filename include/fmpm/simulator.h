@@ -458,6 +458,9 @@ namespace fmpm
     std::vector<Contact::NodeGeometry<dim>> contact_geometry;
     /** The law of materials a < b at [a * n_materials + b]. */
     std::vector<std::unique_ptr<Contact::LawInterface<dim>>> contact_laws;
+    /** Net incremental contact: the law of the increments at pairs in
+     * contact (perfect: the same increment in both materials). */
+    std::unique_ptr<Contact::LawInterface<dim>> increment_law;
     bool                                    contact_geometry_valid = false;
     /** Whether each pair was in contact at the last correction (the pairs
      * net incremental contact corrects). */

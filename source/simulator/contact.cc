@@ -36,6 +36,7 @@ namespace fmpm
     contact_needs_node_positions = contact.normals == Method::d_fit;
 
     const unsigned int n_materials = parameters.size.n_materials;
+    increment_law = Contact::create_law<dim>(Contact::Law{"perfect", 0});
     contact_laws.clear();
     contact_laws.resize(n_materials * n_materials);
     for (unsigned int a = 0; a < n_materials; ++a)
@@ -549,8 +550,10 @@ namespace fmpm
     std::vector<unsigned int>   present, alpha(1), beta;
     std::vector<Tensor<1, dim>> changes;
     unsigned int                next_geometry = 0;
-    // Net incremental contact: the pairs in contact at the last correction
-    // keep their contact on the increments (approach not tested again).
+    // Net incremental contact: at the pairs in contact at the last
+    // correction the increments of the series are made the same in both
+    // materials (their centre of mass); slip and separation come from the
+    // corrections of the momenta.
     const bool increments = stage == ContactStage::increment;
     double                      work          = 0;
     unsigned long long          contact_nodes = 0;
@@ -575,9 +578,11 @@ namespace fmpm
                   const unsigned int slot = next_geometry++;
                   if (increments && !contact_state[slot])
                     continue;
-                  auto node = node_pair(alpha, beta, i, contact_geometry[slot]);
-                  node.enforce = increments;
-                  const auto c = law(present[x], present[y]).correct(node);
+                  const auto node =
+                    node_pair(alpha, beta, i, contact_geometry[slot]);
+                  const auto c =
+                    (increments ? *increment_law : law(present[x], present[y]))
+                      .correct(node);
                   if (!increments)
                     contact_state[slot] = c.in_contact;
                   add_momentum(present[x], i, c.delta_momentum);
@@ -610,9 +615,11 @@ namespace fmpm
                 const unsigned int slot = next_geometry++;
                 if (increments && !contact_state[slot])
                   continue;
-                auto node = node_pair(alpha, beta, i, contact_geometry[slot]);
-                node.enforce = increments;
-                const auto c = law(present[x], heaviest).correct(node);
+                const auto node =
+                  node_pair(alpha, beta, i, contact_geometry[slot]);
+                const auto c =
+                  (increments ? *increment_law : law(present[x], heaviest))
+                    .correct(node);
                 if (!increments)
                   contact_state[slot] = c.in_contact;
                 changes[x] = c.delta_momentum;
