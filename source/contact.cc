@@ -345,7 +345,7 @@ namespace fmpm
           Correction<dim>      result;
           const Tensor<1, dim> dp0   = centre_of_mass_change(node);
           const double         dp0_n = dp0 * node.normal;
-          if (!node.enforce && (!(dp0_n < 0) || !node.touching))
+          if (!(dp0_n < 0) || !node.touching)
             return result;
           result.in_contact     = true;
           result.delta_momentum = dp0_n * node.normal;
@@ -355,8 +355,7 @@ namespace fmpm
           const double         dp0_t_norm = dp0_t.norm();
           if (dp0_t_norm == 0)
             return result;
-          const double slide =
-            std::min(friction * std::abs(dp0_n), dp0_t_norm);
+          const double slide = std::min(-friction * dp0_n, dp0_t_norm);
           const Tensor<1, dim> t_hat = dp0_t / dp0_t_norm;
           result.delta_momentum += slide * t_hat;
           // Energy the tangential impulse J = slide takes from the pair: J

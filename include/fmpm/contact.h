@@ -113,10 +113,6 @@ namespace fmpm
       bool           touching = true;
       /** (x^β − x^α)·n̂ in cells where the normal method measures it. */
       double separation = 0;
-      /** The pair is known to be in contact (net incremental contact on
-       * the increments of the mass-matrix series): the law skips its
-       * approach and touching tests. */
-      bool enforce = false;
     };
 
     /**
