@@ -352,6 +352,14 @@ namespace fmpm
      * positions only). */
     void
     compute_contact_geometry();
+    /** Calls visit(i, slot, lumped, x, α, β, partner) for every pair the
+     * corrections handle at owned node i, in the order of the geometry
+     * slots (pairs in turn; with 3+ materials lumped, material x of the
+     * node against the others, partner the heaviest of them), then
+     * node_done(i, materials present). */
+    template <class Visit, class NodeDone>
+    void
+    for_each_contact_pair(Visit &&visit, NodeDone &&node_done);
     /** LR: the point cloud of every owned node with 2+ materials, the
      * points of other ranks included (seed 004 §3.1). */
     void

@@ -249,13 +249,66 @@ namespace fmpm
 
 
   template <int dim>
+  template <class Visit, class NodeDone>
+  void
+  Simulator<dim>::for_each_contact_pair(Visit &&visit, NodeDone &&node_done)
+  {
+    const unsigned int n_materials = material_fields.size();
+    const unsigned int n_owned     = lumped_mass.locally_owned_size();
+    const double       floor       = mass_floor_value;
+    const bool         lumped_three_or_more =
+      parameters.contact.lumped_three_or_more;
+    std::vector<const double *> m(n_materials);
+    for (unsigned int a = 0; a < n_materials; ++a)
+      m[a] = material_fields[a].mass.begin();
+    std::vector<unsigned int> present, alpha(1), beta;
+    unsigned int              slot = 0;
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        present.clear();
+        for (unsigned int a = 0; a < n_materials; ++a)
+          if (m[a][i] > floor)
+            present.push_back(a);
+        if (present.size() < 2)
+          continue;
+        if (present.size() == 2 || !lumped_three_or_more)
+          // Each pair in turn (one pair at most 3+ nodes apart).
+          for (unsigned int x = 0; x < present.size(); ++x)
+            for (unsigned int y = x + 1; y < present.size(); ++y)
+              {
+                alpha.assign(1, present[x]);
+                beta.assign(1, present[y]);
+                visit(i, slot++, false, x, alpha, beta, present[y]);
+              }
+        else
+          // 3+ materials, lumped (Eq. 50): each against the sum of the
+          // others, with the law of the heaviest other material.
+          for (unsigned int x = 0; x < present.size(); ++x)
+            {
+              alpha.assign(1, present[x]);
+              beta.clear();
+              unsigned int heaviest = present[x == 0 ? 1 : 0];
+              for (const unsigned int b : present)
+                if (b != present[x])
+                  {
+                    beta.push_back(b);
+                    if (m[b][i] > m[heaviest][i])
+                      heaviest = b;
+                  }
+              visit(i, slot++, true, x, alpha, beta, heaviest);
+            }
+        node_done(i, present);
+      }
+  }
+
+
+
+  template <int dim>
   void
   Simulator<dim>::compute_contact_geometry()
   {
     const Contact::Parameters &contact     = parameters.contact;
     const unsigned int         n_materials = material_fields.size();
-    const unsigned int         n_owned     = lumped_mass.locally_owned_size();
-    const double               floor       = mass_floor_value;
     using Method                           = Contact::NormalMethod;
     const Method method                    = contact.normals;
     if (method == Method::logistic_regression)
@@ -422,34 +475,17 @@ namespace fmpm
     };
 
     contact_geometry.clear();
-    std::vector<unsigned int> present, alpha(1), beta;
-    for (unsigned int i = 0; i < n_owned; ++i)
-      {
-        present.clear();
-        for (unsigned int a = 0; a < n_materials; ++a)
-          if (m[a][i] > floor)
-            present.push_back(a);
-        if (present.size() < 2)
-          continue;
-        if (present.size() == 2 || !contact.lumped_three_or_more)
-          for (unsigned int x = 0; x < present.size(); ++x)
-            for (unsigned int y = x + 1; y < present.size(); ++y)
-              {
-                alpha.assign(1, present[x]);
-                beta.assign(1, present[y]);
-                contact_geometry.push_back(geometry(alpha, beta, i));
-              }
-        else
-          for (unsigned int x = 0; x < present.size(); ++x)
-            {
-              alpha.assign(1, present[x]);
-              beta.clear();
-              for (const unsigned int b : present)
-                if (b != present[x])
-                  beta.push_back(b);
-              contact_geometry.push_back(geometry(alpha, beta, i));
-            }
-      }
+    for_each_contact_pair(
+      [&](const unsigned int               i,
+          const unsigned int,
+          const bool,
+          const unsigned int,
+          const std::vector<unsigned int> &alpha,
+          const std::vector<unsigned int> &beta,
+          const unsigned int) {
+        contact_geometry.push_back(geometry(alpha, beta, i));
+      },
+      [](const unsigned int, const std::vector<unsigned int> &) {});
     logistic_fits += fits;
     logistic_iterations += iterations;
     contact_state.assign(contact_geometry.size(), 0);
@@ -467,8 +503,6 @@ namespace fmpm
     TimerOutput::Scope         timer(computing_timer, "contact");
     const Contact::Parameters &contact     = parameters.contact;
     const unsigned int         n_materials = material_fields.size();
-    const unsigned int         n_owned     = lumped_mass.locally_owned_size();
-    const double               floor       = mass_floor_value;
 
     // Raw views: m^α, the momenta this stage corrects, Δv^α.
     std::vector<const double *> m(n_materials);
@@ -547,96 +581,57 @@ namespace fmpm
       contact_separation.local_element(i) = node.separation;
     };
 
-    std::vector<unsigned int>   present, alpha(1), beta;
-    std::vector<Tensor<1, dim>> changes;
-    unsigned int                next_geometry = 0;
     // Net incremental contact: at the pairs in contact at the last
     // correction the increments of the series are made the same in both
     // materials (their centre of mass); slip and separation come from the
     // corrections of the momenta.
-    const bool increments = stage == ContactStage::increment;
+    const bool                  increments = stage == ContactStage::increment;
+    std::vector<Tensor<1, dim>> changes(n_materials);
+    unsigned int                n_slots       = 0;
+    bool                        in_contact    = false;
     double                      work          = 0;
     unsigned long long          contact_nodes = 0;
-    for (unsigned int i = 0; i < n_owned; ++i)
-      {
-        present.clear();
-        for (unsigned int a = 0; a < n_materials; ++a)
-          if (m[a][i] > floor)
-            present.push_back(a);
-        if (present.size() < 2)
-          continue;
-        bool in_contact = false;
-        if (present.size() == 2 || !contact.lumped_three_or_more)
+    for_each_contact_pair(
+      [&](const unsigned int               i,
+          const unsigned int               slot,
+          const bool                       lumped,
+          const unsigned int               x,
+          const std::vector<unsigned int> &alpha,
+          const std::vector<unsigned int> &beta,
+          const unsigned int               partner) {
+        ++n_slots;
+        if (lumped)
+          changes[x] = Tensor<1, dim>();
+        if (increments && !contact_state[slot])
+          return;
+        const unsigned int a    = alpha.front();
+        const auto         node = node_pair(alpha, beta, i, contact_geometry[slot]);
+        const auto         c =
+          (increments ? *increment_law : law(a, partner)).correct(node);
+        if (!increments)
+          contact_state[slot] = c.in_contact;
+        if (lumped) // the change goes to α only, after all of the node's
+          changes[x] = c.delta_momentum;
+        else // α gets Δp^α, β gets −Δp^α (Eq. 7)
           {
-            // Each pair in turn (one pair at most 3+ nodes apart): α gets
-            // Δp^α, β gets −Δp^α (Eq. 7).
-            for (unsigned int x = 0; x < present.size(); ++x)
-              for (unsigned int y = x + 1; y < present.size(); ++y)
-                {
-                  alpha.assign(1, present[x]);
-                  beta.assign(1, present[y]);
-                  const unsigned int slot = next_geometry++;
-                  if (increments && !contact_state[slot])
-                    continue;
-                  const auto node =
-                    node_pair(alpha, beta, i, contact_geometry[slot]);
-                  const auto c =
-                    (increments ? *increment_law : law(present[x], present[y]))
-                      .correct(node);
-                  if (!increments)
-                    contact_state[slot] = c.in_contact;
-                  add_momentum(present[x], i, c.delta_momentum);
-                  add_momentum(present[y], i, -c.delta_momentum);
-                  if (stage == ContactStage::updated && c.in_contact &&
-                      !in_contact)
-                    record(i, node);
-                  in_contact = in_contact || c.in_contact;
-                  work += c.friction_work;
-                }
+            add_momentum(a, i, c.delta_momentum);
+            add_momentum(partner, i, -c.delta_momentum);
           }
-        else
-          {
-            // 3+ materials, lumped (Eq. 50): each against the sum of the
-            // others, with the law of the heaviest other material; the
-            // change goes to that material only.
-            changes.assign(present.size(), Tensor<1, dim>());
-            for (unsigned int x = 0; x < present.size(); ++x)
-              {
-                alpha.assign(1, present[x]);
-                beta.clear();
-                unsigned int heaviest = present[x == 0 ? 1 : 0];
-                for (const unsigned int b : present)
-                  if (b != present[x])
-                    {
-                      beta.push_back(b);
-                      if (m[b][i] > m[heaviest][i])
-                        heaviest = b;
-                    }
-                const unsigned int slot = next_geometry++;
-                if (increments && !contact_state[slot])
-                  continue;
-                const auto node =
-                  node_pair(alpha, beta, i, contact_geometry[slot]);
-                const auto c =
-                  (increments ? *increment_law : law(present[x], heaviest))
-                    .correct(node);
-                if (!increments)
-                  contact_state[slot] = c.in_contact;
-                changes[x] = c.delta_momentum;
-                if (stage == ContactStage::updated && c.in_contact &&
-                    !in_contact)
-                  record(i, node);
-                in_contact = in_contact || c.in_contact;
-                work += 0.5 * c.friction_work;
-              }
-            for (unsigned int x = 0; x < present.size(); ++x)
-              add_momentum(present[x], i, changes[x]);
-          }
+        if (stage == ContactStage::updated && c.in_contact && !in_contact)
+          record(i, node);
+        in_contact = in_contact || c.in_contact;
+        work += (lumped ? 0.5 : 1.) * c.friction_work;
+      },
+      [&](const unsigned int i, const std::vector<unsigned int> &present) {
+        if (present.size() > 2 && contact.lumped_three_or_more)
+          for (unsigned int x = 0; x < present.size(); ++x)
+            add_momentum(present[x], i, changes[x]);
         if (in_contact)
           ++contact_nodes;
-      }
+        in_contact = false;
+      });
 
-    AssertDimension(next_geometry, contact_geometry.size());
+    AssertDimension(n_slots, contact_geometry.size());
     if (stage == ContactStage::updated)
       {
         local_friction_work += work;
