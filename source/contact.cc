@@ -117,7 +117,7 @@ namespace fmpm
         "distance of the shape function in use, tabulated at start-up. "
         "'logistic regression' (LR): n and the separation d_LR from the "
         "point cloud around the node (Eqs. 19-25), contact when approaching "
-        "and d_LR < 0. Units: none.");
+        "and d_LR < 0 (see 'Touching tolerance'). Units: none.");
       prm.declare_entry("Specified normal",
                         "0, 1",
                         Patterns::List(Patterns::Double(), 2, 3),
@@ -127,6 +127,16 @@ namespace fmpm
                         Patterns::Double(0),
                         "delta_c of 'contact position' (Eq. 16). Units: cells "
                         "(the local cell size at the node).");
+      prm.declare_entry(
+        "Touching tolerance",
+        "0.001",
+        Patterns::Double(0, 1),
+        "'logistic regression' and 'd fit': materials whose separation d is "
+        "below this count as touching (bodies in contact have d = 0 up to "
+        "round-off); a larger gap d that the approach closes within the "
+        "step, d + (v^b - v^a).n dt < 0, gets contact for the approach "
+        "beyond d/dt only, so that the gap closes at the end of the step. "
+        "Units: cells (the local cell size at the node).");
       prm.declare_entry("Law",
                         "coulomb",
                         Patterns::Selection(law_names()),
@@ -191,13 +201,13 @@ namespace fmpm
       normals_name  = prm.get("Normals");
       normals       = normal_method(normals_name);
       {
-        const auto values =
-          Utilities::string_to_double(Utilities::split_string_list(
-            prm.get("Specified normal")));
+        const auto values = Utilities::string_to_double(
+          Utilities::split_string_list(prm.get("Specified normal")));
         specified_normal.assign(3, 0.);
         std::copy(values.begin(), values.end(), specified_normal.begin());
       }
-      critical_separation = prm.get_double("Critical separation");
+      critical_separation     = prm.get_double("Critical separation");
+      touching_tolerance      = prm.get_double("Touching tolerance");
       default_law.name        = prm.get("Law");
       default_law.coefficient = prm.get_double("Friction coefficient");
       pair_laws.clear();
@@ -216,10 +226,9 @@ namespace fmpm
                Utilities::split_string_list(entry.substr(0, colon), ' '))
             if (!w.empty())
               {
-                AssertThrow(w.find_first_not_of("0123456789") ==
-                              std::string::npos,
-                            ExcMessage(where + ": '" + w +
-                                       "' is not a material index."));
+                AssertThrow(
+                  w.find_first_not_of("0123456789") == std::string::npos,
+                  ExcMessage(where + ": '" + w + "' is not a material index."));
                 ab.push_back(std::stoul(w));
               }
           AssertThrow(ab.size() == 2 && ab[0] != ab[1],
@@ -244,7 +253,6 @@ namespace fmpm
       net_incremental =
         prm.get("Contact in mass-matrix iterations") == "net incremental";
       prm.leave_subsection();
-
     }
 
 
@@ -343,8 +351,10 @@ namespace fmpm
         correct(const NodePair<dim> &node) const override
         {
           Correction<dim>      result;
-          const Tensor<1, dim> dp0   = centre_of_mass_change(node);
-          const double         dp0_n = dp0 * node.normal;
+          const Tensor<1, dim> dp0 = centre_of_mass_change(node);
+          // With a gap that closes within the step, the approach beyond
+          // d/Δt only (NodePair::allowed_approach).
+          const double dp0_n = dp0 * node.normal + node.allowed_approach;
           if (!(dp0_n < 0) || !node.touching)
             return result;
           result.in_contact     = true;
@@ -355,7 +365,7 @@ namespace fmpm
           const double         dp0_t_norm = dp0_t.norm();
           if (dp0_t_norm == 0)
             return result;
-          const double slide = std::min(-friction * dp0_n, dp0_t_norm);
+          const double         slide = std::min(-friction * dp0_n, dp0_t_norm);
           const Tensor<1, dim> t_hat = dp0_t / dp0_t_norm;
           result.delta_momentum += slide * t_hat;
           // Energy the tangential impulse J = slide takes from the pair: J
@@ -469,7 +479,7 @@ namespace fmpm
         return d_table.back() + (x - x_table.back());
       const auto   upper = std::upper_bound(x_table.begin(), x_table.end(), x);
       const auto   k     = upper - x_table.begin();
-      const double w = (x - x_table[k - 1]) / (x_table[k] - x_table[k - 1]);
+      const double w     = (x - x_table[k - 1]) / (x_table[k] - x_table[k - 1]);
       return (1 - w) * d_table[k - 1] + w * d_table[k];
     }
 
@@ -541,8 +551,7 @@ namespace fmpm
       lambda[dim] = 0;
 
       double phi[n] = {};
-      for (unsigned int iteration = 0; iteration <= max_iterations;
-           ++iteration)
+      for (unsigned int iteration = 0; iteration <= max_iterations; ++iteration)
         {
           // Eq. 21 with Eqs. 54-56: (JᵀWJ + Λ) Δφ = JᵀW(c − f) − Λφ,
           // J_pj = ψ(x_p) x_pj, ψ = 2e^{−s}/(1 + e^{−s})² = 1/(2cosh²(s/2)).

@@ -4,11 +4,11 @@
 #ifndef fmpm_contact_h
 #define fmpm_contact_h
 
-#include <deal.II/base/parameter_handler.h>
-#include <deal.II/base/tensor.h>
-
 #include <fmpm/plugins.h>
 #include <fmpm/shape_function.h>
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/tensor.h>
 
 #include <cmath>
 #include <memory>
@@ -63,12 +63,19 @@ namespace fmpm
     struct Parameters
     {
       /** 'Model name = multimaterial'. */
-      bool         multimaterial = false;
-      NormalMethod normals       = NormalMethod::logistic_regression;
-      std::string  normals_name  = "logistic regression";
+      bool                multimaterial = false;
+      NormalMethod        normals       = NormalMethod::logistic_regression;
+      std::string         normals_name  = "logistic regression";
       std::vector<double> specified_normal{0, 1, 0};
       /** δc in cells. */
       double critical_separation = 0.8;
+      /**
+       * LR and DF: materials closer than this (in cells) count as touching,
+       * so that bodies whose point domains tile exactly (d = 0) are not left
+       * to the sign of round-off; farther gaps that the approach closes
+       * within the step get contact for the approach beyond d/Δt only.
+       */
+      double touching_tolerance = 1e-3;
       Law    default_law;
       /** Overrides of 'Pair laws': (material a, material b, law). */
       struct PairLaw
@@ -113,6 +120,13 @@ namespace fmpm
       bool           touching = true;
       /** (x^β − x^α)·n̂ in cells where the normal method measures it. */
       double separation = 0;
+      /**
+       * Normal momentum of approach the laws leave when the materials are
+       * a gap d > 0 apart that the approach closes within the step:
+       * m_red d/Δt, so that the gap closes at the end of the step instead
+       * of contact acting across it (0 when touching).
+       */
+      double allowed_approach = 0;
     };
 
     /**
@@ -297,10 +311,10 @@ namespace fmpm
 } // namespace fmpm
 
 /** Registers the law class template CLASSNAME as NAME. */
-#define FMPM_REGISTER_CONTACT_LAW(CLASSNAME, NAME, DESCRIPTION) \
-  namespace                                                     \
-  {                                                             \
-    const ::fmpm::Contact::RegisterLaw<CLASSNAME>               \
+#define FMPM_REGISTER_CONTACT_LAW(CLASSNAME, NAME, DESCRIPTION)     \
+  namespace                                                         \
+  {                                                                 \
+    const ::fmpm::Contact::RegisterLaw<CLASSNAME>                   \
       fmpm_contact_law_registration_##CLASSNAME(NAME, DESCRIPTION); \
   }
 

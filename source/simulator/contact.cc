@@ -89,8 +89,7 @@ namespace fmpm
                   points_per_cell = body.points_per_cell;
                   break;
                 }
-            edge_distance.emplace_back(shape_function,
-                                       0.5 / points_per_cell);
+            edge_distance.emplace_back(shape_function, 0.5 / points_per_cell);
           }
       }
 
@@ -115,9 +114,10 @@ namespace fmpm
               for (unsigned int v = 0; v < dofs.size(); ++v)
                 {
                   const unsigned int i = partitioner->global_to_local(dofs[v]);
-                  double &value        = node_cell_size.local_element(i);
-                  value                = std::min(value, h);
-                  if (contact_needs_node_positions) // FE_Q(1): dof v at vertex v
+                  double            &value = node_cell_size.local_element(i);
+                  value                    = std::min(value, h);
+                  if (contact_needs_node_positions) // FE_Q(1): dof v at vertex
+                                                    // v
                     for (unsigned int d = 0; d < dim; ++d)
                       node_position.block(d).local_element(i) =
                         cell->vertex(v)[d];
@@ -140,12 +140,11 @@ namespace fmpm
   {
     // The conditions act on every material field with that material's
     // lumped masses (contact requires the lumped mass matrix).
-    const GridScalar &m = material_fields[alpha].mass;
+    const GridScalar                           &m = material_fields[alpha].mass;
     typename VelocityConditions<dim>::Operators operators;
     operators.lumped_mass = &m;
     operators.mass_floor  = mass_floor_value;
-    operators.solve       = [&m, this](const GridVectorField &p,
-                                 GridVectorField       &v) {
+    operators.solve = [&m, this](const GridVectorField &p, GridVectorField &v) {
       MassMatrix::apply_lumped_inverse(m, p, v, mass_floor_value);
     };
     operators.forward = [&m](const GridVectorField &v, GridVectorField &p) {
@@ -188,7 +187,7 @@ namespace fmpm
     for (const auto &[rank, count] : partitioner.ghost_targets())
       ghost_owner.insert(ghost_owner.end(), count, rank);
 
-    std::vector<CloudPoint>                          owned_points;
+    std::vector<CloudPoint>                         owned_points;
     std::map<unsigned int, std::vector<CloudPoint>> sent;
     auto &pool = particle_handler.get_property_pool();
     for (unsigned int k = 0; k < supports.n_points(); ++k)
@@ -253,11 +252,10 @@ namespace fmpm
   void
   Simulator<dim>::for_each_contact_pair(Visit &&visit, NodeDone &&node_done)
   {
-    const unsigned int n_materials = material_fields.size();
-    const unsigned int n_owned     = lumped_mass.locally_owned_size();
-    const double       floor       = mass_floor_value;
-    const bool         lumped_three_or_more =
-      parameters.contact.lumped_three_or_more;
+    const unsigned int n_materials  = material_fields.size();
+    const unsigned int n_owned      = lumped_mass.locally_owned_size();
+    const double       floor        = mass_floor_value;
+    const bool lumped_three_or_more = parameters.contact.lumped_three_or_more;
     std::vector<const double *> m(n_materials);
     for (unsigned int a = 0; a < n_materials; ++a)
       m[a] = material_fields[a].mass.begin();
@@ -337,15 +335,16 @@ namespace fmpm
         for (unsigned int d = 0; d < dim; ++d)
           {
             if (contact_needs_gradients)
-              g[a * dim + d] = material_fields[a].volume_gradient.block(d).begin();
+              g[a * dim + d] =
+                material_fields[a].volume_gradient.block(d).begin();
             if (contact_needs_positions)
               xm[a * dim + d] =
                 material_fields[a].position_moment.block(d).begin();
           }
       }
     auto sum_over = [&](const std::vector<const double *> &v,
-                        const std::vector<unsigned int>    &materials,
-                        const unsigned int                  i) {
+                        const std::vector<unsigned int>   &materials,
+                        const unsigned int                 i) {
       Tensor<1, dim> sum;
       for (const unsigned int a : materials)
         for (unsigned int d = 0; d < dim; ++d)
@@ -392,7 +391,7 @@ namespace fmpm
           cloud_k.clear();
           for (unsigned int k = cloud_begin[i]; k < cloud_begin[i + 1]; ++k)
             {
-              const unsigned int a = cloud[k].material;
+              const unsigned int a        = cloud[k].material;
               const bool         is_alpha = in(alpha, a);
               if (!is_alpha && !in(beta, a))
                 continue;
@@ -412,7 +411,7 @@ namespace fmpm
               node.touching = false;
               return node;
             }
-          node.normal    = fit.normal;
+          node.normal       = fit.normal;
           double alpha_edge = -std::numeric_limits<double>::max();
           double beta_edge  = std::numeric_limits<double>::max();
           for (unsigned int q = 0; q < cloud_k.size(); ++q)
@@ -451,9 +450,8 @@ namespace fmpm
       node.normal = difference / norm;
       if (!contact_needs_positions)
         return node;
-      const Tensor<1, dim> x_alpha =
-        sum_over(xm, alpha, i) / mass_of(alpha, i);
-      const Tensor<1, dim> x_beta = sum_over(xm, beta, i) / mass_of(beta, i);
+      const Tensor<1, dim> x_alpha = sum_over(xm, alpha, i) / mass_of(alpha, i);
+      const Tensor<1, dim> x_beta  = sum_over(xm, beta, i) / mass_of(beta, i);
       if (method == Method::d_fit)
         {
           // Eq. 15: d((x^β − x_i)·n̂) − d((x^α − x_i)·n̂) < 0, in cells.
@@ -476,7 +474,7 @@ namespace fmpm
 
     contact_geometry.clear();
     for_each_contact_pair(
-      [&](const unsigned int               i,
+      [&](const unsigned int i,
           const unsigned int,
           const bool,
           const unsigned int,
@@ -528,6 +526,9 @@ namespace fmpm
           field.delta_velocity = 0;
       }
 
+    const bool measures_gap =
+      contact.normals == Contact::NormalMethod::logistic_regression ||
+      contact.normals == Contact::NormalMethod::d_fit;
     // The masses and momenta of α against β (β may be the sum of several
     // materials, Eq. 50), with the geometry found for them.
     auto node_pair = [&](const std::vector<unsigned int>  &alpha,
@@ -550,6 +551,23 @@ namespace fmpm
       node.normal     = geometry.normal;
       node.touching   = geometry.touching;
       node.separation = geometry.separation;
+      if (measures_gap && !node.touching && node.mass_alpha > 0 &&
+          node.mass_beta > 0)
+        {
+          if (node.separation < contact.touching_tolerance)
+            node.touching = true;
+          else
+            {
+              // d + (v^β − v^α)·n̂ Δt < 0: the gap closes within the step;
+              // the laws leave the approach m_red d/Δt.
+              const double m_red = node.mass_alpha * node.mass_beta /
+                                   (node.mass_alpha + node.mass_beta);
+              node.touching         = true;
+              node.allowed_approach = m_red * node.separation *
+                                      node_cell_size.local_element(i) /
+                                      time_step;
+            }
+        }
       return node;
     };
     auto law = [&](const unsigned int a,
@@ -575,7 +593,8 @@ namespace fmpm
         contact_normal     = 0;
         contact_separation = 0;
       }
-    auto record = [&](const unsigned int i, const Contact::NodePair<dim> &node) {
+    auto record = [&](const unsigned int            i,
+                      const Contact::NodePair<dim> &node) {
       for (unsigned int d = 0; d < dim; ++d)
         contact_normal.block(d).local_element(i) = node.normal[d];
       contact_separation.local_element(i) = node.separation;
@@ -604,9 +623,9 @@ namespace fmpm
           changes[x] = Tensor<1, dim>();
         if (increments && !contact_state[slot])
           return;
-        const unsigned int a    = alpha.front();
-        const auto         node = node_pair(alpha, beta, i, contact_geometry[slot]);
-        const auto         c =
+        const unsigned int a = alpha.front();
+        const auto node = node_pair(alpha, beta, i, contact_geometry[slot]);
+        const auto c =
           (increments ? *increment_law : law(a, partner)).correct(node);
         if (!increments)
           contact_state[slot] = c.in_contact;
@@ -706,7 +725,7 @@ namespace fmpm
                 // (f^α is not read after the momentum update: its storage
                 // holds the difference.)
                 GridVectorField &difference = material.force;
-                difference = material.updated_momentum;
+                difference                  = material.updated_momentum;
                 difference.add(-1., material.momentum);
                 difference *= 1. / time_step;
                 MassMatrix::apply_lumped_inverse(material.mass,
@@ -741,17 +760,17 @@ namespace fmpm
     const unsigned int k = mass_matrix->order();
     if ((field != velocity && field != updated_velocity) || k < 2)
       return;
-    const bool   updated = field == updated_velocity;
-    const double t_field = updated ? t_end : t_begin;
+    const bool                     updated = field == updated_velocity;
+    const double                   t_field = updated ? t_end : t_begin;
     std::vector<GridVectorField *> z, product;
     for (auto &material : material_fields)
       {
         z.push_back(&material.fields[field]);
         product.push_back(&material.series_product);
       }
-    const unsigned int n_owned = lumped_mass.locally_owned_size();
-    const double       floor   = mass_floor_value;
-    const bool net_incremental = parameters.contact.net_incremental;
+    const unsigned int n_owned         = lumped_mass.locally_owned_size();
+    const double       floor           = mass_floor_value;
+    const bool         net_incremental = parameters.contact.net_incremental;
     for (unsigned int j = 1; j < k; ++j)
       {
         apply_material_full_mass(z, product);
@@ -769,9 +788,11 @@ namespace fmpm
               {
                 double *const       zd = target.block(d).begin();
                 const double *const pd = p.block(d).begin();
-                const double *const qd = material.series_product.block(d).begin();
-                const double *const dv = material.delta_velocity.block(d).begin();
-                const double *const m  = material.mass.begin();
+                const double *const qd =
+                  material.series_product.block(d).begin();
+                const double *const dv =
+                  material.delta_velocity.block(d).begin();
+                const double *const m = material.mass.begin();
                 for (unsigned int i = 0; i < n_owned; ++i)
                   if (m[i] > floor)
                     zd[i] += (pd[i] - m[i] * dv[i] - qd[i]) / m[i];
@@ -780,10 +801,11 @@ namespace fmpm
             if (net_incremental)
               for (unsigned int d = 0; d < dim; ++d)
                 {
-                  double *const       dp = material.series_increment.block(d).begin();
+                  double *const dp = material.series_increment.block(d).begin();
                   const double *const zd = target.block(d).begin();
                   const double *const m  = material.mass.begin();
-                  for (unsigned int i = 0; i < n_owned; ++i) // m^α (z_{j+1} − z_j)
+                  for (unsigned int i = 0; i < n_owned;
+                       ++i) // m^α (z_{j+1} − z_j)
                     dp[i] = m[i] * (zd[i] - dp[i]);
                 }
           }
@@ -794,9 +816,10 @@ namespace fmpm
             for (auto &material : material_fields)
               for (unsigned int d = 0; d < dim; ++d)
                 {
-                  const double *const dp = material.series_increment.block(d).begin();
-                  double *const       zd = material.fields[field].block(d).begin();
-                  const double *const m  = material.mass.begin();
+                  const double *const dp =
+                    material.series_increment.block(d).begin();
+                  double *const zd = material.fields[field].block(d).begin();
+                  const double *const m = material.mass.begin();
                   for (unsigned int i = 0; i < n_owned; ++i)
                     if (m[i] > floor)
                       zd[i] -= dp[i] / m[i]; // back to z_j
@@ -815,7 +838,9 @@ namespace fmpm
                       if (m[i] > floor)
                         zd[i] += dp[i] / m[i];
                   }
-                velocity_conditions.correct_velocities(target, t_field, nullptr);
+                velocity_conditions.correct_velocities(target,
+                                                       t_field,
+                                                       nullptr);
               }
           }
         for (auto &material : material_fields)
@@ -837,8 +862,8 @@ namespace fmpm
     const std::vector<GridVectorField *> &in,
     const std::vector<GridVectorField *> &out)
   {
-    using Index = PropertyIndex<dim>;
-    const unsigned int n_materials = in.size();
+    using Index                             = PropertyIndex<dim>;
+    const unsigned int          n_materials = in.size();
     std::vector<const double *> x(n_materials * dim);
     std::vector<double *>       y(n_materials * dim);
     for (unsigned int a = 0; a < n_materials; ++a)
@@ -855,13 +880,12 @@ namespace fmpm
     const double       *S    = supports.S.data();
     for (unsigned int k = 0; k < supports.n_points(); ++k)
       {
-        const unsigned int  a     = supports.material[k];
-        const unsigned int  begin = supports.support_begin[k];
-        const unsigned int  end   = supports.support_begin[k + 1];
-        const double        M =
-          pool.get_properties(supports.handle[k])[Index::mass];
-        const double *const *xa = &x[a * dim];
-        double *const       *ya = &y[a * dim];
+        const unsigned int a     = supports.material[k];
+        const unsigned int begin = supports.support_begin[k];
+        const unsigned int end   = supports.support_begin[k + 1];
+        const double M = pool.get_properties(supports.handle[k])[Index::mass];
+        const double *const *xa     = &x[a * dim];
+        double *const       *ya     = &y[a * dim];
         double               s[dim] = {};
         for (unsigned int j = begin; j < end; ++j) // (S z)(x_p)
           for (unsigned int d = 0; d < dim; ++d)
