@@ -12,10 +12,10 @@
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
 #include <fmpm/postprocess/history.h>
-#include <fmpm/time_step_stability.h>
 #include <fmpm/shape_function.h>
 #include <fmpm/simulator_access.h>
 #include <fmpm/support_cache.h>
+#include <fmpm/time_step_stability.h>
 #include <fmpm/velocity_conditions.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -75,7 +75,7 @@ namespace fmpm
     /** With 2+ materials, per material: mass, momentum (dim), volume, σV
      * (xx, yy, xy in 2D; xx, yy, zz, xy, xz, yz in 3D), kinetic and strain
      * energy (material_stride() values each). */
-    std::vector<double> per_material;
+    std::vector<double>           per_material;
     static constexpr unsigned int n_stress = dim == 2 ? 3 : 6;
     static constexpr unsigned int
     material_stride()
@@ -264,6 +264,14 @@ namespace fmpm
     compute_max_signal_speed() const;
     bool
     is_output_step();
+
+    /**
+     * @brief Whether the grid VTU is written after the step of length dt
+     * about to be taken (it needs the centre-of-mass velocities also when
+     * contact runs on the material fields).
+     */
+    bool
+    grid_output_follows_step(const double dt) const;
     void
     do_time_step();
     /** The support cache: S and G (S̄, Ḡ) of every point for this step. */
@@ -469,7 +477,7 @@ namespace fmpm
     /** Net incremental contact: the law of the increments at pairs in
      * contact (perfect: the same increment in both materials). */
     std::unique_ptr<Contact::LawInterface<dim>> increment_law;
-    bool                                    contact_geometry_valid = false;
+    bool                                        contact_geometry_valid = false;
     /** Whether each pair was in contact at the last correction (the pairs
      * net incremental contact corrects). */
     std::vector<char> contact_state;
@@ -506,9 +514,9 @@ namespace fmpm
     /** The local cell size at each node (separations in cells). */
     GridScalar node_cell_size;
     /** Friction work since the start; contact nodes of the last step. */
-    double             friction_work          = 0;
-    double             local_friction_work    = 0;
-    unsigned long long local_contact_nodes    = 0;
+    double             friction_work           = 0;
+    double             local_friction_work     = 0;
+    unsigned long long local_contact_nodes     = 0;
     unsigned long long contact_nodes_last_step = 0;
     /** Every locally owned point and its support (S, G) for this step. */
     SupportCache<dim> supports;
@@ -576,16 +584,16 @@ namespace fmpm
 
     History<dim> history;
 
-    double       time              = 0;
+    double time = 0;
     /** The method's stability factor of the automatic time step (set-up,
      * from Time/Stability factor or stability_limit()). */
     StabilityLimit stability;
-    double       time_step         = 0;
-    unsigned int timestep_number   = 0;
-    double       next_output_time  = 0;
-    unsigned int n_output          = 0;
-    double       mass_floor_value  = 0;
-    double       minimum_cell_size = 0;
+    double         time_step         = 0;
+    unsigned int   timestep_number   = 0;
+    double         next_output_time  = 0;
+    unsigned int   n_output          = 0;
+    double         mass_floor_value  = 0;
+    double         minimum_cell_size = 0;
     /** Largest wave speed + point speed over all points. Units: m/s. */
     double max_signal_speed = 0;
     /** First numerical failure this rank saw in the current step. */

@@ -356,11 +356,10 @@ namespace fmpm
                 << "mass matrix '" << parameters.method.mass_matrix
                 << "', which needs a smaller time step than the lumped one "
                 << "(this run's stability factor: "
-                << format_number(stability.factor, 3) << ", "
-                << stability.basis << "): lower Time/Courant number or "
+                << format_number(stability.factor, 3) << ", " << stability.basis
+                << "): lower Time/Courant number or "
                 << "Time step, or set Time/Strain update mass matrix = "
-                << "lumped."
-                << std::endl;
+                << "lumped." << std::endl;
         tout << "FAILED at step " << failure.step << ": " << failure.what()
              << std::endl;
         const GlobalStatistics<dim> statistics = compute_statistics();
@@ -386,6 +385,25 @@ namespace fmpm
       }
     const unsigned int every = std::max(1u, output.step_interval);
     return timestep_number % every == 0;
+  }
+
+
+
+  template <int dim>
+  bool
+  Simulator<dim>::grid_output_follows_step(const double dt) const
+  {
+    const OutputParameters &output = parameters.output;
+    if (!output.write_vtu)
+      return false;
+    const double t_next = time + dt;
+    if (t_next >= parameters.time.end_time * (1 - 1e-12) ||
+        timestep_number + 1 >= parameters.time.max_steps)
+      return true;
+    if (output.interval > 0)
+      return t_next >= next_output_time * (1 - 1e-12);
+    const unsigned int every = std::max(1u, output.step_interval);
+    return (timestep_number + 1) % every == 0;
   }
 
 
@@ -458,8 +476,7 @@ namespace fmpm
     if (update_first)
       {
         const GridField v = lumped_strain_velocity ? lumped_velocity : velocity;
-        compute_field(v);
-        update_stresses(v, average ? dt / 2 : dt);
+        update_stresses(v, average ? dt / 2 : dt); // solves v itself
         compute_forces();
       }
 
@@ -491,9 +508,18 @@ namespace fmpm
       timer.stop(); // compute_field() and apply_contact() time themselves
       if (contact_active())
         apply_contact(ContactStage::updated);
+      // With contact the points read their material's fields; the centre-
+      // of-mass series (m̃ₖ⁻¹ of the total momenta) is then needed only
+      // for the grid output that follows this step and the velocity
+      // method's reactions.
+      const bool centre_of_mass_series =
+        !contact_active() || grid_output_follows_step(dt);
       for (unsigned int f = 0; f < n_grid_fields; ++f)
-        if (field_needed[f] || (velocity_method_reactions &&
-                                (f == updated_velocity || f == velocity)))
+        if ((field_needed[f] &&
+             (centre_of_mass_series || f == lumped_velocity ||
+              f == lumped_updated_velocity || f == lumped_acceleration)) ||
+            (velocity_method_reactions &&
+             (f == updated_velocity || f == velocity)))
           compute_field(static_cast<GridField>(f));
       if (contact_active())
         for (unsigned int f = 0; f < n_grid_fields; ++f)
@@ -559,16 +585,14 @@ namespace fmpm
               }
             const GridField v =
               lumped_strain_velocity ? lumped_velocity : velocity;
-            compute_field(v);
-            update_stresses(v, dt_last);
+            update_stresses(v, dt_last); // solves v itself
           }
         else
           {
             const GridField v = lumped_strain_velocity ?
                                   lumped_updated_velocity :
                                   updated_velocity;
-            compute_field(v);
-            update_stresses(v, dt_last);
+            update_stresses(v, dt_last); // solves v itself
           }
       }
 
@@ -703,10 +727,8 @@ namespace fmpm
           mass_matrix->solve_from_guess(updated_momentum, target, 0);
           break;
         case acceleration: // m̃ₖ⁻¹ f, as accurate in a Δt as v in p
-          mass_matrix->solve_from_guess(force,
-                                        target,
-                                        momentum.l2_norm() / time_step +
-                                          force.l2_norm());
+          mass_matrix->solve_from_guess(
+            force, target, momentum.l2_norm() / time_step + force.l2_norm());
           break;
         case velocity: // v = m̃ₖ⁻¹ p
           mass_matrix->solve_from_guess(momentum, target, 0);
@@ -867,57 +889,60 @@ namespace fmpm
              particle != particle_handler.particles_in_cell(cell).end();
              ++particle)
           points.push_back(particle);
-        std::sort(points.begin(), points.end(), [](const auto &a, const auto &b) {
-          return a->get_id() < b->get_id();
-        });
-      for (const auto &point : points)
-        {
-          const auto &particle = *point;
-          const auto           p = particle.get_properties();
-          const double         M = p[Index::mass];
-          const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
-          const Point<dim>     x = particle.get_location();
-          if (n_materials > 1)
-            {
-              double *const sums =
-                &s.per_material[static_cast<unsigned int>(
-                                  p[Index::material_id]) *
-                                stride];
-              const double volume = p[Index::volume];
-              sums[0] += M;
-              for (unsigned int d = 0; d < dim; ++d)
-                sums[1 + d] += M * V[d];
-              sums[1 + dim] += volume;
-              // 2D: xx, yy, xy = stored slots 0, 1, 3.
-              for (unsigned int c = 0; c < GlobalStatistics<dim>::n_stress; ++c)
-                sums[2 + dim + c] +=
-                  volume * p[Index::stress + (dim == 2 ? stress_slots[c] : c)];
-              sums[stride - 2] += 0.5 * M * V * V;
-              sums[stride - 1] +=
-                p[Index::initial_volume] * p[Index::strain_energy_density];
-            }
-          s.mass += M;
-          s.momentum += M * V;
-          s.kinetic_energy += 0.5 * M * V * V;
-          s.strain_energy +=
-            p[Index::initial_volume] * p[Index::strain_energy_density];
-          s.potential_energy -= M * (gravity * x);
-          if (reference_velocity)
-            {
-              const Point<dim> X(get_vector<dim>(p, Index::initial_position));
-              Tensor<1, dim>   v_ref, u_ref;
-              for (unsigned int d = 0; d < dim; ++d)
-                {
-                  v_ref[d] = reference_velocity->value(X, d);
-                  u_ref[d] = reference_displacement->value(X, d);
-                }
-              const Tensor<1, dim> u = x - X;
-              s.velocity_error_squared += M * (V - v_ref).norm_square();
-              s.velocity_reference_squared += M * v_ref.norm_square();
-              s.displacement_error_squared += M * (u - u_ref).norm_square();
-              s.displacement_reference_squared += M * u_ref.norm_square();
-            }
-        }
+        std::sort(points.begin(),
+                  points.end(),
+                  [](const auto &a, const auto &b) {
+                    return a->get_id() < b->get_id();
+                  });
+        for (const auto &point : points)
+          {
+            const auto          &particle = *point;
+            const auto           p        = particle.get_properties();
+            const double         M        = p[Index::mass];
+            const Tensor<1, dim> V        = get_vector<dim>(p, Index::velocity);
+            const Point<dim>     x        = particle.get_location();
+            if (n_materials > 1)
+              {
+                double *const sums = &s.per_material[static_cast<unsigned int>(
+                                                       p[Index::material_id]) *
+                                                     stride];
+                const double  volume = p[Index::volume];
+                sums[0] += M;
+                for (unsigned int d = 0; d < dim; ++d)
+                  sums[1 + d] += M * V[d];
+                sums[1 + dim] += volume;
+                // 2D: xx, yy, xy = stored slots 0, 1, 3.
+                for (unsigned int c = 0; c < GlobalStatistics<dim>::n_stress;
+                     ++c)
+                  sums[2 + dim + c] +=
+                    volume *
+                    p[Index::stress + (dim == 2 ? stress_slots[c] : c)];
+                sums[stride - 2] += 0.5 * M * V * V;
+                sums[stride - 1] +=
+                  p[Index::initial_volume] * p[Index::strain_energy_density];
+              }
+            s.mass += M;
+            s.momentum += M * V;
+            s.kinetic_energy += 0.5 * M * V * V;
+            s.strain_energy +=
+              p[Index::initial_volume] * p[Index::strain_energy_density];
+            s.potential_energy -= M * (gravity * x);
+            if (reference_velocity)
+              {
+                const Point<dim> X(get_vector<dim>(p, Index::initial_position));
+                Tensor<1, dim>   v_ref, u_ref;
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    v_ref[d] = reference_velocity->value(X, d);
+                    u_ref[d] = reference_displacement->value(X, d);
+                  }
+                const Tensor<1, dim> u = x - X;
+                s.velocity_error_squared += M * (V - v_ref).norm_square();
+                s.velocity_reference_squared += M * v_ref.norm_square();
+                s.displacement_error_squared += M * (u - u_ref).norm_square();
+                s.displacement_reference_squared += M * u_ref.norm_square();
+              }
+          }
       }
 
     // One reduction for all sums.
