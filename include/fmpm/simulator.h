@@ -262,6 +262,10 @@ namespace fmpm
     compute_time_step() const;
     double
     compute_max_signal_speed() const;
+    /** Whether the output schedule writes at time t after step number
+     * step (Output/Interval, or every Output/Step interval steps). */
+    bool
+    output_due(const double t, const unsigned int step) const;
     bool
     is_output_step();
 

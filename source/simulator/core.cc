@@ -374,17 +374,22 @@ namespace fmpm
 
   template <int dim>
   bool
-  Simulator<dim>::is_output_step()
+  Simulator<dim>::output_due(const double t, const unsigned int step) const
   {
     const OutputParameters &output = parameters.output;
     if (output.interval > 0)
-      {
-        if (time >= next_output_time * (1 - 1e-12))
-          return true;
-        return false;
-      }
+      return t >= next_output_time * (1 - 1e-12);
     const unsigned int every = std::max(1u, output.step_interval);
-    return timestep_number % every == 0;
+    return step % every == 0;
+  }
+
+
+
+  template <int dim>
+  bool
+  Simulator<dim>::is_output_step()
+  {
+    return output_due(time, timestep_number);
   }
 
 
@@ -393,17 +398,12 @@ namespace fmpm
   bool
   Simulator<dim>::grid_output_follows_step(const double dt) const
   {
-    const OutputParameters &output = parameters.output;
-    if (!output.write_vtu)
-      return false;
-    const double t_next = time + dt;
-    if (t_next >= parameters.time.end_time * (1 - 1e-12) ||
-        timestep_number + 1 >= parameters.time.max_steps)
-      return true;
-    if (output.interval > 0)
-      return t_next >= next_output_time * (1 - 1e-12);
-    const unsigned int every = std::max(1u, output.step_interval);
-    return (timestep_number + 1) % every == 0;
+    // The run writes after the step when the schedule says so and after
+    // its last step.
+    return parameters.output.write_vtu &&
+           (output_due(time + dt, timestep_number + 1) ||
+            time + dt >= parameters.time.end_time * (1 - 1e-12) ||
+            timestep_number + 1 >= parameters.time.max_steps);
   }
 
 
