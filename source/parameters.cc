@@ -759,6 +759,15 @@ namespace fmpm
                         Patterns::Bool(),
                         "Write particle and grid fields as VTU/PVTU with PVD "
                         "records for ParaView. Units: none.");
+      prm.declare_entry(
+        "Write particle csv",
+        output.write_particle_csv ? "true" : "false",
+        Patterns::Bool(),
+        "Write particles_NNNNN.csv at each output: one file gathered from "
+        "all ranks, rows sorted by point id, columns id, body, material, "
+        "position, velocity, Cauchy stress (2D: xx, yy, xy; 3D: xx, yy, zz, "
+        "xy, xz, yz), pressure, J, internal_energy (per unit mass) and "
+        "plastic_strain (0 where the model has none). Units: SI.");
       prm.declare_entry("Track dissipated energy",
                         "false",
                         Patterns::Bool(),
@@ -1036,10 +1045,8 @@ namespace fmpm
         char *end             = nullptr;
         time.stability_factor = std::strtod(stability_factor.c_str(), &end);
         AssertThrow(end != stability_factor.c_str() && *end == '\0' &&
-                      time.stability_factor > 0 &&
-                      time.stability_factor <= 1,
-                    ExcMessage("Time/Stability factor = <" +
-                               stability_factor +
+                      time.stability_factor > 0 && time.stability_factor <= 1,
+                    ExcMessage("Time/Stability factor = <" + stability_factor +
                                "> is not allowed. Allowed: 'auto' (the "
                                "method's factor) or a number in (0, 1]."));
       }
@@ -1136,12 +1143,13 @@ namespace fmpm
       }
 
     prm.enter_subsection("Output");
-    output.directory         = prm.get("Directory");
-    output.interval          = prm.get_double("Interval");
-    output.step_interval     = prm.get_integer("Step interval");
-    output.write_vtu         = prm.get_bool("Write vtu");
-    output.progress_seconds  = prm.get_double("Progress interval");
-    output.track_dissipation = prm.get_bool("Track dissipated energy");
+    output.directory          = prm.get("Directory");
+    output.interval           = prm.get_double("Interval");
+    output.step_interval      = prm.get_integer("Step interval");
+    output.write_vtu          = prm.get_bool("Write vtu");
+    output.write_particle_csv = prm.get_bool("Write particle csv");
+    output.progress_seconds   = prm.get_double("Progress interval");
+    output.track_dissipation  = prm.get_bool("Track dissipated energy");
     prm.leave_subsection();
 
     contact.parse_parameters(prm, size.n_materials);

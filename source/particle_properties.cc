@@ -37,10 +37,18 @@ namespace fmpm
                                    const unsigned int n_components)
   {
     AssertThrow(n_components > 0, ExcInternalError());
-    for (const auto &field : fields)
-      AssertThrow(field.first != name,
-                  ExcMessage("Particle property <" + name +
-                             "> was requested twice."));
+    // A name requested again with the same size is shared (e.g. the
+    // internal energy of several materials of one model).
+    for (unsigned int f = 0; f < fields.size(); ++f)
+      if (fields[f].first == name)
+        {
+          const unsigned int end =
+            f + 1 < fields.size() ? fields[f + 1].second : names.size();
+          AssertThrow(end - fields[f].second == n_components,
+                      ExcMessage("Particle property <" + name +
+                                 "> was requested with two sizes."));
+          return fields[f].second;
+        }
     const unsigned int first = names.size();
     fields.emplace_back(name, first);
     const bool is_vector = (n_components == dim);
@@ -55,6 +63,18 @@ namespace fmpm
                       DataComponentInterpretation::component_is_scalar);
       }
     return first;
+  }
+
+
+
+  template <int dim>
+  bool
+  ParticleProperties<dim>::has(const std::string &name) const
+  {
+    for (const auto &field : fields)
+      if (field.first == name)
+        return true;
+    return false;
   }
 
 

@@ -142,7 +142,8 @@ namespace fmpm
     double stability_factor = 0;
   };
 
-  /** @brief How F^(n+1) follows from F^n and L (Deformation gradient/Update). */
+  /** @brief How F^(n+1) follows from F^n and L (Deformation gradient/Update).
+   */
   enum class DeformationGradientUpdate
   {
     first_order,
@@ -225,12 +226,14 @@ namespace fmpm
   /** @brief What a run writes and how often. */
   struct OutputParameters
   {
-    std::string  directory         = "output";
-    double       interval          = 0.0;
-    unsigned int step_interval     = 0;
-    bool         write_vtu         = true;
-    double       progress_seconds  = 5.0;
-    bool         track_dissipation = false;
+    std::string  directory     = "output";
+    double       interval      = 0.0;
+    unsigned int step_interval = 0;
+    bool         write_vtu     = true;
+    /** particles_NNNNN.csv at each output (rank 0, rows by point id). */
+    bool   write_particle_csv = false;
+    double progress_seconds   = 5.0;
+    bool   track_dissipation  = false;
   };
 
   /** @brief When a run writes checkpoints (Output directory/checkpoint/). */

@@ -73,11 +73,16 @@ namespace fmpm
 
     /**
      * @brief Request @p n_components slots called @p name.
-     * @return the offset of the first slot.
+     * @return the offset of the first slot. A name requested before with
+     * the same number of components returns the same slots.
      * Must be called before the ParticleHandler is created.
      */
     unsigned int
     request(const std::string &name, const unsigned int n_components);
+
+    /** @brief Whether slots called @p name were requested. */
+    bool
+    has(const std::string &name) const;
 
     /** @brief Offset of the slots called @p name; throws if unknown. */
     unsigned int

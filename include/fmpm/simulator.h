@@ -429,6 +429,10 @@ namespace fmpm
     material_history_columns() const;
     void
     print_test_particles() const;
+    /** particles_NNNNN.csv of output @p n_output (Output/Write particle
+     * csv). */
+    void
+    write_particle_csv() const;
 
     MPI_Comm            mpi_communicator;
     const Parameters    parameters;
@@ -525,7 +529,10 @@ namespace fmpm
     /** Every locally owned point and its support (S, G) for this step. */
     SupportCache<dim> supports;
 
-    ParticleProperties<dim>         particle_properties;
+    ParticleProperties<dim> particle_properties;
+    /** Smallest vertex distance of each active cell with points, for the
+     * models that need it (artificial viscosity). */
+    std::vector<double>             cell_size_by_index;
     Particles::ParticleHandler<dim> particle_handler;
 
     // Grid fields in the notation of seed 000.

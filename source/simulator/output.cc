@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iomanip>
 #include <map>
+#include <sstream>
 
 namespace fmpm
 {
@@ -227,6 +228,9 @@ namespace fmpm
       while (next_output_time <= time * (1 + 1e-12))
         next_output_time += output.interval;
 
+    if (output.write_particle_csv)
+      write_particle_csv();
+
     if (!output.write_vtu)
       {
         ++n_output;
@@ -344,6 +348,85 @@ namespace fmpm
 
   template <int dim>
   void
+  Simulator<dim>::write_particle_csv() const
+  {
+    using Index = PropertyIndex<dim>;
+    // Optional per-point state of the constitutive models (0 otherwise).
+    const bool has_energy         = particle_properties.has("internal_energy");
+    const bool has_plastic_strain = particle_properties.has("plastic_strain");
+    const unsigned int energy_slot =
+      has_energy ? particle_properties.offset("internal_energy") : 0;
+    const unsigned int plastic_slot =
+      has_plastic_strain ? particle_properties.offset("plastic_strain") : 0;
+    // Stored stress order xx, yy, zz, xy, xz, yz; 2D writes xx, yy, xy.
+    const std::vector<unsigned int> stress_slots =
+      dim == 2 ? std::vector<unsigned int>{0, 1, 3} :
+                 std::vector<unsigned int>{0, 1, 2, 3, 4, 5};
+    const unsigned int n_columns = 2 + 2 * dim + stress_slots.size() + 4;
+
+    std::vector<std::pair<types::particle_index, std::vector<double>>> local;
+    local.reserve(particle_handler.n_locally_owned_particles());
+    for (const auto &particle : particle_handler)
+      {
+        const ArrayView<const double> p = particle.get_properties();
+        std::vector<double>           row;
+        row.reserve(n_columns);
+        row.push_back(p[Index::body_id]);
+        row.push_back(p[Index::material_id]);
+        for (unsigned int d = 0; d < dim; ++d)
+          row.push_back(particle.get_location()[d]);
+        for (unsigned int d = 0; d < dim; ++d)
+          row.push_back(p[Index::velocity + d]);
+        for (const unsigned int c : stress_slots)
+          row.push_back(p[Index::stress + c]);
+        row.push_back(
+          -(p[Index::stress] + p[Index::stress + 1] + p[Index::stress + 2]) /
+          3.);
+        row.push_back(determinant(get_tensor3(p, Index::deformation_gradient)));
+        row.push_back(has_energy ? p[energy_slot] : 0.);
+        row.push_back(has_plastic_strain ? p[plastic_slot] : 0.);
+        local.emplace_back(particle.get_id(), std::move(row));
+      }
+    const auto all = Utilities::MPI::gather(mpi_communicator, local, 0);
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
+      return;
+    std::vector<std::pair<types::particle_index, std::vector<double>>> rows;
+    for (const auto &rank : all)
+      rows.insert(rows.end(), rank.begin(), rank.end());
+    std::sort(rows.begin(), rows.end(), [](const auto &a, const auto &b) {
+      return a.first < b.first;
+    });
+
+    const char        *axes = "xyz";
+    std::ostringstream name;
+    name << parameters.output.directory << "/particles_" << std::setw(5)
+         << std::setfill('0') << n_output << ".csv";
+    std::ofstream out(name.str());
+    AssertThrow(out, ExcMessage("Cannot write <" + name.str() + ">."));
+    out << "id,body,material";
+    for (unsigned int d = 0; d < dim; ++d)
+      out << ',' << axes[d];
+    for (unsigned int d = 0; d < dim; ++d)
+      out << ",v" << axes[d];
+    for (const unsigned int c : stress_slots)
+      out << ",stress_" << axes[stress_component_i[c]]
+          << axes[stress_component_j[c]];
+    out << ",pressure,J,internal_energy,plastic_strain\n";
+    out << std::setprecision(12);
+    for (const auto &row : rows)
+      {
+        out << row.first << ',' << static_cast<int>(row.second[0]) << ','
+            << static_cast<int>(row.second[1]);
+        for (unsigned int c = 2; c < row.second.size(); ++c)
+          out << ',' << row.second[c];
+        out << '\n';
+      }
+  }
+
+
+
+  template <int dim>
+  void
   Simulator<dim>::write_summary(const std::string           &status,
                                 const SimulationFailure     *failure,
                                 const GlobalStatistics<dim> &statistics)
@@ -368,10 +451,11 @@ namespace fmpm
       Utilities::MPI::sum(local_points, mpi_communicator) /
       Utilities::MPI::n_mpi_processes(mpi_communicator);
     // LR (seed 004 §3.1): fits and NLLS iterations on all ranks.
-    const double fits = Utilities::MPI::sum(static_cast<double>(logistic_fits),
-                                            mpi_communicator);
-    const double fit_iterations = Utilities::MPI::sum(
-      static_cast<double>(logistic_iterations), mpi_communicator);
+    const double fits =
+      Utilities::MPI::sum(static_cast<double>(logistic_fits), mpi_communicator);
+    const double fit_iterations =
+      Utilities::MPI::sum(static_cast<double>(logistic_iterations),
+                          mpi_communicator);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
 

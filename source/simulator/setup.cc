@@ -508,6 +508,9 @@ namespace fmpm
           where + "/" +
           ConstitutiveModel::Registry<dim>::subsection_name(
             parameters.materials[m].model_name));
+        // Materials of one model share its slots (request() returns the
+        // offset of a name requested before).
+        constitutive_models.back()->request_properties(particle_properties);
       }
 
     prm.enter_subsection("Mass matrix");
@@ -609,10 +612,9 @@ namespace fmpm
       method.mass_matrix = parameters.method.mass_matrix;
       method.order       = mass_matrix->order();
       const auto fields  = particle_update->required_fields();
-      method.flip_type   = std::find(fields.begin(),
-                                   fields.end(),
-                                   ParticleUpdate::acceleration) !=
-                         fields.end();
+      method.flip_type =
+        std::find(fields.begin(), fields.end(), ParticleUpdate::acceleration) !=
+        fields.end();
       method.strain_update = parameters.method.strain_update;
       method.strain_update_mass_matrix =
         parameters.method.strain_update_mass_matrix;
@@ -747,7 +749,8 @@ namespace fmpm
         const double                           M = density * c * c;
         ConstitutiveModel::StressUpdateInputs  inputs;
         ConstitutiveModel::StressUpdateOutputs outputs;
-        inputs.time_step = 1;
+        inputs.time_step         = 1;
+        inputs.reference_density = density;
         inputs.resize(1);
         outputs.resize(1);
         for (auto &particle : particle_handler)

@@ -54,13 +54,12 @@ namespace fmpm
      * for the batch.
      */
     void
-    deformation_gradient_increments(
-      const DeformationGradientUpdate update,
-      const MethodParameters         &method,
-      const std::vector<Tensor<2, 3>> &L,
-      const double                     dt,
-      const unsigned int               n_points,
-      std::vector<Tensor<2, 3>>       &dF)
+    deformation_gradient_increments(const DeformationGradientUpdate  update,
+                                    const MethodParameters          &method,
+                                    const std::vector<Tensor<2, 3>> &L,
+                                    const double                     dt,
+                                    const unsigned int               n_points,
+                                    std::vector<Tensor<2, 3>>       &dF)
     {
       const Tensor<2, 3> I = unit_symmetric_tensor<3>();
       switch (update)
@@ -209,16 +208,14 @@ namespace fmpm
 
 
 
-
-
   template <int dim>
   void
   Simulator<dim>::compute_supports()
   {
     TimerOutput::Scope timer(computing_timer, "shape functions");
-    using Index              = PropertyIndex<dim>;
-    constexpr unsigned int n = GridTransfer<dim>::n_nodes;
-    auto &pool               = particle_handler.get_property_pool();
+    using Index                 = PropertyIndex<dim>;
+    constexpr unsigned int n    = GridTransfer<dim>::n_nodes;
+    auto                  &pool = particle_handler.get_property_pool();
     supports.clear();
     const unsigned int n_points = particle_handler.n_locally_owned_particles();
     if (n_points == 0)
@@ -240,12 +237,12 @@ namespace fmpm
 
     // A node of a support: itself, or for a hanging node its masters with
     // the constraint weights (S_jp += c_ij S_ip).
-    auto add_node = [&](const unsigned int             first,
-                        const unsigned int             local_index,
-                        const types::global_dof_index  dof,
-                        const bool                     constrained,
-                        const double                   S,
-                        const Tensor<1, dim>          &G) {
+    auto add_node = [&](const unsigned int            first,
+                        const unsigned int            local_index,
+                        const types::global_dof_index dof,
+                        const bool                    constrained,
+                        const double                  S,
+                        const Tensor<1, dim>         &G) {
       if (!constrained)
         supports.add_entry(first, local_index, S, G);
       else
@@ -371,7 +368,7 @@ namespace fmpm
   Simulator<dim>::particles_to_grid(const bool with_forces)
   {
     TimerOutput::Scope timer(computing_timer, "particles to grid");
-    using Index              = PropertyIndex<dim>;
+    using Index = PropertyIndex<dim>;
 
     // m̃ as cell-wise matrices where the mass matrix accepts them, else the
     // assembled sparse matrix (the collection BC methods need its entries).
@@ -382,8 +379,8 @@ namespace fmpm
       !use_cellwise_full_mass && (mass_matrix->needs_full_mass_matrix() ||
                                   velocity_conditions.needs_full_mass_matrix());
     const bool with_full_mass = use_cellwise_full_mass || assemble_full;
-    lumped_mass = 0;
-    momentum    = 0;
+    lumped_mass               = 0;
+    momentum                  = 0;
     if (with_forces)
       force = 0;
     if (assemble_full)
@@ -392,9 +389,9 @@ namespace fmpm
       cellwise_full_mass.clear();
 
     // Per-material fields (contact): m^α, p^α0, f^α0, g^α, Σ S M X.
-    const bool         contact     = contact_active();
-    contact_geometry_valid         = false;
-    const unsigned int n_materials = material_fields.size();
+    const bool contact                = contact_active();
+    contact_geometry_valid            = false;
+    const unsigned int    n_materials = material_fields.size();
     std::vector<double *> m_alpha(n_materials), p_alpha(n_materials * dim),
       f_alpha(n_materials * dim), g_alpha, x_alpha;
     if (contact_needs_gradients)
@@ -424,9 +421,9 @@ namespace fmpm
           }
       }
 
-    auto        &pool = particle_handler.get_property_pool();
-    const auto  &partitioner     = *lumped_mass.get_partitioner();
-    const bool   uniform_body_force = !has_point_body_force();
+    auto          &pool               = particle_handler.get_property_pool();
+    const auto    &partitioner        = *lumped_mass.get_partitioner();
+    const bool     uniform_body_force = !has_point_body_force();
     Tensor<1, dim> gravity;
     for (unsigned int d = 0; d < dim; ++d)
       gravity[d] = parameters.gravity[d];
@@ -439,9 +436,9 @@ namespace fmpm
         p[d] = momentum.block(d).begin();
         f[d] = force.block(d).begin();
       }
-    const unsigned int *const        node = supports.node.data();
-    const double *const              S    = supports.S.data();
-    const Tensor<1, dim> *const      G    = supports.G.data();
+    const unsigned int *const   node = supports.node.data();
+    const double *const         S    = supports.S.data();
+    const Tensor<1, dim> *const G    = supports.G.data();
     // m̃ of one cell over the union of its points' supports: the nodes, and
     // the place in them of each support entry of the cell's points.
     std::vector<unsigned int>            cell_nodes, slot;
@@ -473,16 +470,17 @@ namespace fmpm
              k < supports.cell_point_begin[c + 1];
              ++k)
           {
-            const double *const P     = pool.get_properties(supports.handle[k]).data();
-            const double        M     = P[Index::mass];
-            const unsigned int  begin = supports.support_begin[k];
-            const unsigned int  end   = supports.support_begin[k + 1];
-            double              MV[dim];
+            const double *const P =
+              pool.get_properties(supports.handle[k]).data();
+            const double       M     = P[Index::mass];
+            const unsigned int begin = supports.support_begin[k];
+            const unsigned int end   = supports.support_begin[k + 1];
+            double             MV[dim];
             for (unsigned int d = 0; d < dim; ++d)
               MV[d] = M * P[Index::velocity + d];
             // m = SᵀM (Eq. 1.6), p = SᵀMV; with contact also m^α, p^α0 of
             // the point's material (Eq. 5).
-            auto scatter_mass_momentum = [&](double *const       m_target,
+            auto scatter_mass_momentum = [&](double *const        m_target,
                                              double *const *const p_target) {
               for (unsigned int j = begin; j < end; ++j)
                 {
@@ -500,13 +498,14 @@ namespace fmpm
                 const Tensor<1, dim> b =
                   uniform_body_force ?
                     gravity :
-                    external_acceleration(
-                      ArrayView<const double>(P, particle_properties.n_properties()),
-                      pool.get_location(supports.handle[k]),
-                      gravity);
+                    external_acceleration(ArrayView<const double>(
+                                            P,
+                                            particle_properties.n_properties()),
+                                          pool.get_location(supports.handle[k]),
+                                          gravity);
                 double sigma[dim][dim];
                 stress_block<dim>(P + Index::stress, sigma);
-                const double V = P[Index::volume];
+                const double   V = P[Index::volume];
                 double *const *f_a =
                   contact ? &f_alpha[supports.material[k] * dim] : nullptr;
                 for (unsigned int j = begin; j < end; ++j)
@@ -594,8 +593,8 @@ namespace fmpm
   Simulator<dim>::compute_forces()
   {
     TimerOutput::Scope timer(computing_timer, "particles to grid");
-    using Index = PropertyIndex<dim>;
-    force       = 0;
+    using Index                       = PropertyIndex<dim>;
+    force                             = 0;
     auto          &pool               = particle_handler.get_property_pool();
     const bool     uniform_body_force = !has_point_body_force();
     Tensor<1, dim> gravity;
@@ -661,7 +660,7 @@ namespace fmpm
 
     unsigned int fields[ParticleUpdate::n_grid_fields];
     unsigned int n_fields = 0;
-    using FieldViews = std::array<std::array<const double *, dim>,
+    using FieldViews      = std::array<std::array<const double *, dim>,
                                   ParticleUpdate::n_grid_fields>;
     // The fields of the centre of mass, or with contact of each material
     // (the point reads its material's field, Eq. 32).
@@ -689,9 +688,9 @@ namespace fmpm
     std::vector<Tensor<1, dim>> old_velocity, damping_velocity;
     std::vector<Point<dim>>     old_position;
     double                      max_V2 = 0;
-    const bool has_moving_walls = velocity_conditions.has_moving_boxes();
-    const unsigned int *const node = supports.node.data();
-    const double *const       S    = supports.S.data();
+    const bool has_moving_walls        = velocity_conditions.has_moving_boxes();
+    const unsigned int *const node     = supports.node.data();
+    const double *const       S        = supports.S.data();
 
     // One batch per cell with points (the plugin's virtual call per batch).
     for (unsigned int c = 0; c < supports.n_cells(); ++c)
@@ -710,7 +709,7 @@ namespace fmpm
               pool.get_properties(supports.handle[k]).data();
             for (unsigned int d = 0; d < dim; ++d)
               batch.velocity[q][d] = P[Index::velocity + d];
-            batch.position[q] = pool.get_location(supports.handle[k]);
+            batch.position[q]        = pool.get_location(supports.handle[k]);
             const unsigned int begin = supports.support_begin[k];
             const unsigned int end   = supports.support_begin[k + 1];
             const FieldViews  &field_values =
@@ -773,8 +772,7 @@ namespace fmpm
               const Tensor<1, dim> dV = batch.velocity[q] - old_velocity[q];
               const Tensor<1, dim> dX_dt =
                 (batch.position[q] - old_position[q]) / time_step;
-              local_dissipation +=
-                M * (a_dt * (v_g + 0.5 * a_dt) - dV * dX_dt);
+              local_dissipation += M * (a_dt * (v_g + 0.5 * a_dt) - dV * dX_dt);
             }
 
         // Scatter the new V and X, and the new reference location of each
@@ -782,10 +780,10 @@ namespace fmpm
         // use the support cache); the others are sorted at the step's end.
         for (unsigned int q = 0; q < n_points; ++q)
           {
-            const unsigned int    k = first_point + q;
-            const auto            h = supports.handle[k];
-            double *const         P = pool.get_properties(h).data();
-            const Tensor<1, dim> &V = batch.velocity[q];
+            const unsigned int    k  = first_point + q;
+            const auto            h  = supports.handle[k];
+            double *const         P  = pool.get_properties(h).data();
+            const Tensor<1, dim> &V  = batch.velocity[q];
             const double          V2 = V * V;
             if (!std::isfinite(V2) && local_failure.empty())
               {
@@ -801,10 +799,8 @@ namespace fmpm
             // Points do not enter a moving wall's box.
             if (has_moving_walls)
               velocity_conditions.push_out_of_walls(batch.position[q]);
-            const Point<dim> xi =
-              GridTransfer<dim>::reference_point(data,
-                                                 batch.position[q],
-                                                 pool.get_reference_location(h));
+            const Point<dim> xi = GridTransfer<dim>::reference_point(
+              data, batch.position[q], pool.get_reference_location(h));
             pool.set_location(h, batch.position[q]);
             if (GridTransfer<dim>::is_inside(xi))
               pool.set_reference_location(h, xi);
@@ -830,11 +826,11 @@ namespace fmpm
     else
       compute_field(field);
     TimerOutput::Scope timer(computing_timer, "stress update");
-    using Index                        = PropertyIndex<dim>;
-    const unsigned int     n_materials = constitutive_models.size();
+    using Index                                 = PropertyIndex<dim>;
+    const unsigned int              n_materials = constitutive_models.size();
     const DeformationGradientUpdate F_update =
       parameters.method.deformation_gradient_method();
-    auto &pool = particle_handler.get_property_pool();
+    auto              &pool         = particle_handler.get_property_pool();
     const unsigned int n_properties = particle_properties.n_properties();
 
     ConstitutiveModel::StressUpdateInputs  inputs;
@@ -844,14 +840,27 @@ namespace fmpm
     outputs.resize(stress_batch_size);
     std::vector<Tensor<2, 3>> dF(stress_batch_size);
     double                    wave_speed = 0;
-    const double *v_a[dim];
-    auto          view_velocities = [&](const GridVectorField &v) {
+    const double             *v_a[dim];
+    auto                      view_velocities = [&](const GridVectorField &v) {
       for (unsigned int a = 0; a < dim; ++a)
         v_a[a] = v.block(a).begin();
     };
     view_velocities(grid_fields[field]);
     const unsigned int *const   node = supports.node.data();
     const Tensor<1, dim> *const G    = supports.G.data();
+
+    // Cell sizes (Eq. 52's Δx) only for models that read them, by active
+    // cell index for the cells with points.
+    bool needs_cell_size = false;
+    for (const auto &model : constitutive_models)
+      needs_cell_size = needs_cell_size || model->needs_cell_size();
+    if (needs_cell_size)
+      {
+        cell_size_by_index.resize(triangulation.n_active_cells());
+        for (unsigned int c = 0; c < supports.n_cells(); ++c)
+          cell_size_by_index[supports.cell_index[c]] =
+            supports.cell_iterator[c]->minimum_vertex_distance();
+      }
 
     // Points of a batch grouped by material for the model call (one group
     // when the scene has one material).
@@ -883,6 +892,11 @@ namespace fmpm
               view_velocities(material_fields[m].fields[field]);
             inputs.resize(n_group);
             outputs.resize(n_group);
+            inputs.reference_density = parameters.materials[m].density;
+            if (constitutive_models[m]->needs_cell_size())
+              for (unsigned int q = 0; q < n_group; ++q)
+                inputs.cell_size[q] =
+                  cell_size_by_index[supports.cell[group_points[q]]];
             // L = ∇v = Σ_i v_i ⊗ G_pi (Eqs. 2.7, 2.18), plane strain in 2D.
             for (unsigned int q = 0; q < n_group; ++q)
               {
@@ -898,10 +912,8 @@ namespace fmpm
                         L[a][b] += v_ia * G[j][b];
                     }
                 inputs.velocity_gradient[q] = L;
-                inputs.properties[q] =
-                  ArrayView<double>(pool.get_properties(supports.handle[k])
-                                      .data(),
-                                    n_properties);
+                inputs.properties[q]        = ArrayView<double>(
+                  pool.get_properties(supports.handle[k]).data(), n_properties);
               }
             deformation_gradient_increments(F_update,
                                             parameters.method,
@@ -930,7 +942,17 @@ namespace fmpm
                   }
               }
 
+            outputs.failed_point = -1;
             constitutive_models[m]->update_stress(inputs, outputs);
+            if (outputs.failed_point >= 0 && local_failure.empty())
+              {
+                const auto h =
+                  supports.handle[group_points[outputs.failed_point]];
+                std::ostringstream message;
+                message << "material point " << pool.get_id(h) << " at ("
+                        << pool.get_location(h) << ") " << outputs.failure;
+                local_failure = message.str();
+              }
 
             for (unsigned int q = 0; q < n_group; ++q)
               {
@@ -957,11 +979,15 @@ namespace fmpm
                     local_failure = message.str();
                   }
               }
-            wave_speed = std::max(wave_speed,
-                                  constitutive_models[m]->max_wave_speed(
-                                    parameters.materials[m].density,
-                                    ArrayView<const double>(J_of_group,
-                                                            n_group)));
+            if (constitutive_models[m]->computes_wave_speed())
+              for (unsigned int q = 0; q < n_group; ++q)
+                wave_speed = std::max(wave_speed, outputs.wave_speed[q]);
+            else
+              wave_speed =
+                std::max(wave_speed,
+                         constitutive_models[m]->max_wave_speed(
+                           parameters.materials[m].density,
+                           ArrayView<const double>(J_of_group, n_group)));
           }
       }
     local_max_wave_speed = wave_speed;
@@ -1008,13 +1034,13 @@ namespace fmpm
         const Point<dim> *const location =
           &pool.get_location(supports.handle[k]);
         typename Particles::ParticleHandler<dim>::particle_iterator particle;
-        bool found_particle = false;
+        bool       found_particle = false;
         const auto cell_with_points =
           std::upper_bound(supports.cell_point_begin.begin(),
                            supports.cell_point_begin.end(),
                            k) -
           supports.cell_point_begin.begin() - 1;
-        const auto cell = supports.cell_iterator[cell_with_points];
+        const auto cell  = supports.cell_iterator[cell_with_points];
         auto       range = particle_handler.particles_in_cell(cell);
         for (auto candidate = range.begin(); candidate != range.end();
              ++candidate)
@@ -1035,8 +1061,7 @@ namespace fmpm
         bool             found = false;
         for (const unsigned int v : cell->vertex_indices())
           {
-            for (const auto &candidate :
-                 vertex_to_cells[cell->vertex_index(v)])
+            for (const auto &candidate : vertex_to_cells[cell->vertex_index(v)])
               {
                 if (candidate == cell || !candidate->is_locally_owned())
                   continue;

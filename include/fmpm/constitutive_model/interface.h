@@ -4,6 +4,7 @@
 #ifndef fmpm_constitutive_model_interface_h
 #define fmpm_constitutive_model_interface_h
 
+#include <fmpm/particle_properties.h>
 #include <fmpm/plugins.h>
 
 #include <deal.II/base/array_view.h>
@@ -38,8 +39,13 @@ namespace fmpm
       std::vector<Tensor<2, 3>> velocity_gradient;
       /** All property slots of each point, for models with history state. */
       std::vector<ArrayView<double>> properties;
+      /** Size of each point's cell (its smallest vertex distance), filled
+       * only for models whose needs_cell_size() is true. Units: m. */
+      std::vector<double> cell_size;
       /** Time increment of this update. Units: s. */
       double time_step = 0;
+      /** Reference density ρ0 of the batch's material. Units: kg/m^3. */
+      double reference_density = 0;
 
       void
       resize(const unsigned int n)
@@ -47,6 +53,7 @@ namespace fmpm
         deformation_gradient.resize(n);
         velocity_gradient.resize(n);
         properties.resize(n);
+        cell_size.resize(n);
       }
     };
 
@@ -57,12 +64,20 @@ namespace fmpm
       std::vector<SymmetricTensor<2, 3>> cauchy_stress;
       /** Stored energy per unit reference volume. Units: J/m^3. */
       std::vector<double> strain_energy_density;
+      /** Current wave speed of each point, filled only by models whose
+       * computes_wave_speed() is true. Units: m/s. */
+      std::vector<double> wave_speed;
+      /** The first point (index in the batch) whose state the model cannot
+       * continue from, or -1; failure says why. */
+      int         failed_point = -1;
+      std::string failure;
 
       void
       resize(const unsigned int n)
       {
         cauchy_stress.resize(n);
         strain_energy_density.resize(n);
+        wave_speed.resize(n);
       }
     };
 
@@ -88,6 +103,31 @@ namespace fmpm
       {}
 
       /**
+       * @brief Request the per-point history slots the model keeps (called
+       * once, before the material points exist).
+       */
+      virtual void
+      request_properties(ParticleProperties<dim> &)
+      {}
+
+      /** @brief Whether update_stress() reads StressUpdateInputs::cell_size
+       * (the Simulator fills it only then). */
+      virtual bool
+      needs_cell_size() const
+      {
+        return false;
+      }
+
+      /** @brief Whether update_stress() fills StressUpdateOutputs::wave_speed
+       * (state-dependent wave speeds); otherwise the Simulator asks
+       * max_wave_speed(). */
+      virtual bool
+      computes_wave_speed() const
+      {
+        return false;
+      }
+
+      /**
        * @brief Stress and stored energy of each point from its state.
        * May modify the history slots in @p inputs.properties.
        */
@@ -109,7 +149,8 @@ namespace fmpm
        * inline loop or a closed form. Units: m/s.
        */
       virtual double
-      max_wave_speed(const double density, const ArrayView<const double> &J) const
+      max_wave_speed(const double                   density,
+                     const ArrayView<const double> &J) const
       {
         double c = 0;
         for (const double J_q : J)

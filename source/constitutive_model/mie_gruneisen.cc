@@ -1,0 +1,339 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/constitutive_model/mie_gruneisen.h>
+#include <fmpm/parameters.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace fmpm
+{
+  namespace ConstitutiveModel
+  {
+    template <int dim>
+    void
+    MieGruneisen<dim>::declare_parameters(ParameterHandler &prm)
+    {
+      const MieGruneisen<dim> defaults;
+      prm.declare_entry("Bulk modulus",
+                        format_number(defaults.bulk_modulus),
+                        Patterns::Double(),
+                        "K of seed 004 Eq. (51) (K = ρ0 C0², C0 the bulk "
+                        "sound speed of the Hugoniot U_s = C0 + S1 u_p). "
+                        "Must be positive. Units: Pa.");
+      prm.declare_entry("Shear modulus",
+                        format_number(defaults.shear_modulus),
+                        Patterns::Double(),
+                        "G of the shear term of seed 004 Eq. (18). Must not "
+                        "be negative. Units: Pa.");
+      prm.declare_entry("Gruneisen gamma",
+                        format_number(defaults.gruneisen_gamma),
+                        Patterns::Double(),
+                        "γ0 of Eq. (51). Must not be negative. Units: none.");
+      prm.declare_entry("S1",
+                        format_number(defaults.s1),
+                        Patterns::Double(),
+                        "Slope S1 of the Hugoniot U_s = C0 + S1 u_p (Eq. "
+                        "51). Must be positive. Units: none.");
+      prm.declare_entry("Artificial viscosity A1",
+                        format_number(defaults.artificial_viscosity_a1),
+                        Patterns::Double(),
+                        "A1 of q = ρ Δx |D_kk| (A1 C + A2 Δx |D_kk|), Eq. "
+                        "(52), added to the pressure in compression; 0 with "
+                        "A2 = 0: no viscosity. Must not be negative. Units: "
+                        "none.");
+      prm.declare_entry("Artificial viscosity A2",
+                        format_number(defaults.artificial_viscosity_a2),
+                        Patterns::Double(),
+                        "A2 of Eq. (52). Must not be negative. Units: none.");
+      prm.declare_entry("Yield stress",
+                        format_number(defaults.yield_stress),
+                        Patterns::Double(),
+                        "Initial von Mises yield stress σ_y (J2 plasticity "
+                        "on the deviatoric Kirchhoff stress); 0: no "
+                        "plasticity. Must not be negative. Units: Pa.");
+      prm.declare_entry("Hardening modulus",
+                        format_number(defaults.hardening_modulus),
+                        Patterns::Double(),
+                        "Linear hardening H: the yield stress is σ_y + H ε_p "
+                        "(ε_p the equivalent plastic strain). Must not be "
+                        "negative. Units: Pa.");
+    }
+
+
+
+    template <int dim>
+    void
+    MieGruneisen<dim>::parse_parameters(ParameterHandler &prm)
+    {
+      bulk_modulus            = prm.get_double("Bulk modulus");
+      shear_modulus           = prm.get_double("Shear modulus");
+      gruneisen_gamma         = prm.get_double("Gruneisen gamma");
+      s1                      = prm.get_double("S1");
+      artificial_viscosity_a1 = prm.get_double("Artificial viscosity A1");
+      artificial_viscosity_a2 = prm.get_double("Artificial viscosity A2");
+      yield_stress            = prm.get_double("Yield stress");
+      hardening_modulus       = prm.get_double("Hardening modulus");
+    }
+
+
+
+    template <int dim>
+    void
+    MieGruneisen<dim>::check_parameters(const std::string &where) const
+    {
+      auto require = [&](const bool         ok,
+                         const std::string &name,
+                         const double       value,
+                         const std::string &allowed) {
+        AssertThrow(ok,
+                    ExcMessage(where + "/" + name + " = " +
+                               format_number(value) + " is not allowed. " +
+                               "Allowed: " + allowed + "."));
+      };
+      require(bulk_modulus > 0,
+              "Bulk modulus",
+              bulk_modulus,
+              "any value > 0 (Pa)");
+      require(shear_modulus >= 0,
+              "Shear modulus",
+              shear_modulus,
+              "any value >= 0 (Pa)");
+      require(gruneisen_gamma >= 0,
+              "Gruneisen gamma",
+              gruneisen_gamma,
+              "any value >= 0");
+      require(s1 > 0, "S1", s1, "any value > 0");
+      require(artificial_viscosity_a1 >= 0,
+              "Artificial viscosity A1",
+              artificial_viscosity_a1,
+              "any value >= 0");
+      require(artificial_viscosity_a2 >= 0,
+              "Artificial viscosity A2",
+              artificial_viscosity_a2,
+              "any value >= 0");
+      require(yield_stress >= 0,
+              "Yield stress",
+              yield_stress,
+              "0 (no plasticity) or any value > 0 (Pa)");
+      require(hardening_modulus >= 0,
+              "Hardening modulus",
+              hardening_modulus,
+              "any value >= 0 (Pa)");
+      require(yield_stress == 0 || shear_modulus > 0,
+              "Shear modulus",
+              shear_modulus,
+              "a value > 0 when Yield stress > 0 (Pa)");
+    }
+
+
+
+    template <int dim>
+    void
+    MieGruneisen<dim>::request_properties(ParticleProperties<dim> &properties)
+    {
+      energy_slot  = properties.request("internal_energy", 1);
+      plastic_slot = properties.request("plastic_strain", 1);
+      if (yield_stress > 0)
+        elastic_b_slot = properties.request("elastic_b_minus_identity", 6);
+    }
+
+
+
+    template <int dim>
+    void
+    MieGruneisen<dim>::cold_pressure(const double eta,
+                                     double      &p,
+                                     double      &dp_deta) const
+    {
+      if (eta <= 0)
+        {
+          p       = bulk_modulus * eta;
+          dp_deta = bulk_modulus;
+          return;
+        }
+      // K η (1 − γ0η/2)/(1 − S1η)² (Eq. 51 without ρ0 γ0 U).
+      const double g    = gruneisen_gamma;
+      const double r    = 1. / (1. - s1 * eta);
+      const double term = eta * (1. - 0.5 * g * eta);
+      p                 = bulk_modulus * term * r * r;
+      dp_deta =
+        bulk_modulus * ((1. - g * eta) * r * r + 2. * s1 * term * r * r * r);
+    }
+
+
+
+    template <int dim>
+    double
+    MieGruneisen<dim>::tangent_bulk_modulus(const double J,
+                                            const double p) const
+    {
+      const double eta = 1. - J;
+      double       p_cold, dp_cold;
+      cold_pressure(eta, p_cold, dp_cold);
+      // Along an isentrope dU = p dη/ρ0, so d(ρ0 γ0 U)/dη = γ0 p.
+      const double dp_deta = eta > 0 ? dp_cold + gruneisen_gamma * p : dp_cold;
+      return J * dp_deta;
+    }
+
+
+
+    template <int dim>
+    SymmetricTensor<2, 3>
+    MieGruneisen<dim>::elastic_shear_stress(const Tensor<2, 3> &F) const
+    {
+      const double                J = determinant(F);
+      const SymmetricTensor<2, 3> b_bar =
+        std::pow(J, -2. / 3.) * symmetrize(F * transpose(F));
+      return shear_modulus * deviator(b_bar);
+    }
+
+
+
+    template <int dim>
+    double
+    MieGruneisen<dim>::wave_speed(const double density, const double J) const
+    {
+      double p, dp;
+      cold_pressure(1. - J, p, dp);
+      const double K_t = tangent_bulk_modulus(J, p);
+      return std::sqrt(std::max(K_t + 4. / 3. * shear_modulus, 0.) * J /
+                       density);
+    }
+
+
+
+    template <int dim>
+    void
+    MieGruneisen<dim>::update_stress(const StressUpdateInputs &inputs,
+                                     StressUpdateOutputs      &outputs) const
+    {
+      using Index                          = PropertyIndex<dim>;
+      const double                rho0     = inputs.reference_density;
+      const double                dt       = inputs.time_step;
+      const double                g0       = gruneisen_gamma;
+      const bool                  plastic  = yield_stress > 0;
+      const bool                  viscous  = needs_cell_size();
+      const double                sqrt_2_3 = std::sqrt(2. / 3.);
+      const SymmetricTensor<2, 3> I        = unit_symmetric_tensor<3>();
+
+      for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
+        {
+          const ArrayView<double> &P  = inputs.properties[q];
+          const Tensor<2, 3>      &F1 = inputs.deformation_gradient[q];
+          const Tensor<2, 3> F0 = get_tensor3(P, Index::deformation_gradient);
+          const SymmetricTensor<2, 3> sigma0 =
+            get_symmetric_tensor3(P, Index::stress);
+          const double J0 = determinant(F0), J1 = determinant(F1);
+          const double eta = 1. - J1;
+          if (eta > 0 && 1. - s1 * eta <= 0)
+            {
+              if (outputs.failed_point < 0)
+                {
+                  std::ostringstream message;
+                  message << "is compressed past the Mie-Gruneisen "
+                             "singularity 1 - S1 eta = 0 (J = "
+                          << J1 << ", S1 eta = " << s1 * eta
+                          << "); lower the time step or the loading";
+                  outputs.failed_point = q;
+                  outputs.failure      = message.str();
+                }
+              outputs.cauchy_stress[q]         = sigma0;
+              outputs.strain_energy_density[q] = rho0 * P[energy_slot];
+              outputs.wave_speed[q]            = 0;
+              continue;
+            }
+
+          // Kirchhoff deviatoric stress s (elastic, or radial return).
+          SymmetricTensor<2, 3> s;
+          if (!plastic)
+            s = elastic_shear_stress(F1);
+          else
+            {
+              SymmetricTensor<2, 3> b_e =
+                get_symmetric_tensor3(P, elastic_b_slot);
+              b_e += I;
+              const Tensor<2, 3> f     = F1 * invert(F0);
+              const Tensor<2, 3> f_bar = std::pow(determinant(f), -1. / 3.) * f;
+              const SymmetricTensor<2, 3> b_trial =
+                symmetrize(f_bar * Tensor<2, 3>(b_e) * transpose(f_bar));
+              const SymmetricTensor<2, 3> s_trial =
+                shear_modulus * deviator(b_trial);
+              const double I_e    = trace(b_trial) / 3.;
+              const double mu_bar = shear_modulus * I_e;
+              const double norm   = s_trial.norm();
+              double      &eps_p  = P[plastic_slot];
+              const double f_yield =
+                norm - sqrt_2_3 * (yield_stress + hardening_modulus * eps_p);
+              s = s_trial;
+              if (f_yield > 0)
+                {
+                  const double dgamma =
+                    f_yield / (2. * mu_bar + 2. / 3. * hardening_modulus);
+                  s -= (2. * mu_bar * dgamma / norm) * s_trial;
+                  eps_p += sqrt_2_3 * dgamma;
+                }
+              set_symmetric_tensor3(P,
+                                    elastic_b_slot,
+                                    s / shear_modulus + (I_e - 1.) * I);
+            }
+
+          // Pressure of Eq. (51): cold part now, ρ0 γ0 U after the energy.
+          double p_cold, dp_cold;
+          cold_pressure(eta, p_cold, dp_cold);
+          const double U0        = P[energy_slot];
+          const double energy_on = eta > 0 ? 1. : 0.;
+          const double rho       = rho0 / J1;
+          const double K_t =
+            tangent_bulk_modulus(J1, p_cold + energy_on * rho0 * g0 * U0);
+          const double C   = std::sqrt(std::max(K_t, 0.) / rho);
+          const double Dkk = trace(inputs.velocity_gradient[q]);
+          // Artificial viscosity, Eq. (52), in compression only.
+          double q_visc = 0;
+          if (viscous && Dkk < 0)
+            {
+              const double h = inputs.cell_size[q] * std::abs(Dkk);
+              q_visc =
+                rho * h *
+                (artificial_viscosity_a1 * C + artificial_viscosity_a2 * h);
+            }
+
+          // dU = σ : D dt / ρ, midpoint in σ and J; the volumetric part
+          // from J (ρ0 dU = −p̄ ΔJ), the deviatoric part from dev(D) dt.
+          const SymmetricTensor<2, 3> s_cauchy = s / J1;
+          const SymmetricTensor<2, 3> D_dev =
+            deviator(symmetrize(inputs.velocity_gradient[q]));
+          const double J_mid = 0.5 * (J0 + J1), dJ = J1 - J0;
+          const double shear_work =
+            0.5 * J_mid * ((deviator(sigma0) + s_cauchy) * D_dev) * dt;
+          const double pressure_work =
+            0.5 * (trace(sigma0) / 3. - p_cold - q_visc) * dJ;
+          const double U1 = (U0 + (shear_work + pressure_work) / rho0) /
+                            (1. + 0.5 * energy_on * g0 * dJ);
+          P[energy_slot] = U1;
+
+          const double p           = p_cold + energy_on * rho0 * g0 * U1;
+          outputs.cauchy_stress[q] = s_cauchy - (p + q_visc) * I;
+          outputs.strain_energy_density[q] = rho0 * U1;
+          outputs.wave_speed[q]            = std::sqrt(
+            std::max(tangent_bulk_modulus(J1, p) + 4. / 3. * shear_modulus,
+                     0.) /
+            rho);
+        }
+    }
+
+
+
+    FMPM_REGISTER_CONSTITUTIVE_MODEL(
+      MieGruneisen,
+      "mie gruneisen",
+      "Shock model of seed 004 Sec. 4.3: Mie-Gruneisen pressure (Eq. 51) with "
+      "internal energy per unit mass from the stress power, artificial "
+      "viscosity (Eq. 52), the hyperelastic shear term of Eq. (18) and "
+      "optional J2 plasticity with linear hardening.")
+
+    template class MieGruneisen<2>;
+    template class MieGruneisen<3>;
+  } // namespace ConstitutiveModel
+} // namespace fmpm
