@@ -768,6 +768,16 @@ namespace fmpm
         "position, velocity, Cauchy stress (2D: xx, yy, xy; 3D: xx, yy, zz, "
         "xy, xz, yz), pressure, J, internal_energy (per unit mass) and "
         "plastic_strain (0 where the model has none). Units: SI.");
+      prm.declare_entry(
+        "Write grid acceleration",
+        output.write_grid_acceleration ? "true" : "false",
+        Patterns::Bool(),
+        "Add the grid acceleration a = m~_k^-1 f + dv+/dt of seed 000 Eq. "
+        "(4.1) (the series' acceleration of the forces plus the change the "
+        "velocity conditions make) to the grid VTU as acceleration_x/y/z, "
+        "for crack and J-integral codes; solved only in the steps before a "
+        "grid output. With contact it is the centre-of-mass field (contact "
+        "forces cancel in it). Units: none.");
       prm.declare_entry("Track dissipated energy",
                         "false",
                         Patterns::Bool(),
@@ -1143,13 +1153,14 @@ namespace fmpm
       }
 
     prm.enter_subsection("Output");
-    output.directory          = prm.get("Directory");
-    output.interval           = prm.get_double("Interval");
-    output.step_interval      = prm.get_integer("Step interval");
-    output.write_vtu          = prm.get_bool("Write vtu");
-    output.write_particle_csv = prm.get_bool("Write particle csv");
-    output.progress_seconds   = prm.get_double("Progress interval");
-    output.track_dissipation  = prm.get_bool("Track dissipated energy");
+    output.directory               = prm.get("Directory");
+    output.interval                = prm.get_double("Interval");
+    output.step_interval           = prm.get_integer("Step interval");
+    output.write_vtu               = prm.get_bool("Write vtu");
+    output.write_particle_csv      = prm.get_bool("Write particle csv");
+    output.write_grid_acceleration = prm.get_bool("Write grid acceleration");
+    output.progress_seconds        = prm.get_double("Progress interval");
+    output.track_dissipation       = prm.get_bool("Track dissipated energy");
     prm.leave_subsection();
 
     contact.parse_parameters(prm, size.n_materials);

@@ -231,9 +231,11 @@ namespace fmpm
     unsigned int step_interval = 0;
     bool         write_vtu     = true;
     /** particles_NNNNN.csv at each output (rank 0, rows by point id). */
-    bool   write_particle_csv = false;
-    double progress_seconds   = 5.0;
-    bool   track_dissipation  = false;
+    bool write_particle_csv = false;
+    /** Grid acceleration m̃ₖ⁻¹f + Δv⁺/Δt (seed 000 Eq. 4.1) in the grid VTU. */
+    bool   write_grid_acceleration = false;
+    double progress_seconds        = 5.0;
+    bool   track_dissipation       = false;
   };
 
   /** @brief When a run writes checkpoints (Output directory/checkpoint/). */

@@ -157,6 +157,13 @@ namespace fmpm
       return grid_fields[field];
     }
 
+    /** @brief The DoF handler of the grid fields. */
+    const DoFHandler<dim> &
+    get_dof_handler() const
+    {
+      return dof_handler;
+    }
+
     /** @brief m̃ as cell-wise matrices this step, or nullptr when m̃ is the
      * assembled sparse matrix (or not needed). */
     const CellwiseMatrix *

@@ -525,6 +525,11 @@ namespace fmpm
         for (unsigned int f = 0; f < n_grid_fields; ++f)
           if (field_needed[f])
             compute_material_field(static_cast<GridField>(f));
+      // Seed 000 Eq. 4.1: f holds the conditions' forces, and the solve
+      // sets the known accelerations of the corrected nodes (Δv⁺/Δt).
+      if (parameters.output.write_grid_acceleration &&
+          grid_output_follows_step(dt))
+        compute_field(acceleration);
       // How well v⁺ satisfies the conditions (summary.json).
       if (field_computed[updated_velocity])
         {

@@ -257,6 +257,16 @@ namespace fmpm
       const char *names[3] = {"velocity_x", "velocity_y", "velocity_z"};
       for (unsigned int d = 0; d < dim; ++d)
         grid_output.add_data_vector(v.block(d), names[d]);
+      if (output.write_grid_acceleration &&
+          field_computed[ParticleUpdate::acceleration])
+        {
+          const GridVectorField &a = grid_fields[ParticleUpdate::acceleration];
+          const char            *acceleration_names[3] = {"acceleration_x",
+                                                          "acceleration_y",
+                                                          "acceleration_z"};
+          for (unsigned int d = 0; d < dim; ++d)
+            grid_output.add_data_vector(a.block(d), acceleration_names[d]);
+        }
       if (contact_active())
         {
           const char *normal_names[3] = {"contact_normal_x",
