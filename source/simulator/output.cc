@@ -524,9 +524,10 @@ namespace fmpm
     out << "  \"initial_total_energy\": " << number(initial_total_energy)
         << ",\n";
     out << "  \"energy_error\": "
-        << number(
-             (statistics.total_energy() - initial_total_energy) /
-             std::max(std::abs(initial_total_energy), initial_energy_scale))
+        << number((statistics.total_energy() - initial_total_energy) /
+                  std::max({std::abs(initial_total_energy),
+                            initial_energy_scale,
+                            external_work_scale}))
         << ",\n";
     out << "  \"lost_points\": " << total_lost_points << ",\n";
     if (contact_active())
