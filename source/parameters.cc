@@ -889,8 +889,11 @@ namespace fmpm
                       "left their cell (their reference coordinates are kept "
                       "up to date during the particle update); false runs "
                       "deal.II's full sort of every point every step. The "
-                      "physics is the same. Used on one MPI rank; several "
-                      "ranks always use deal.II's sort. Units: none.");
+                      "physics is the same. Used on one MPI rank on meshes "
+                      "with cells that are not axis-aligned boxes; several "
+                      "ranks and box meshes use deal.II's sort (on boxes it "
+                      "costs little and keeps the points in cell order in "
+                      "memory, which makes every pass faster). Units: none.");
     prm.leave_subsection();
 
     prm.enter_subsection("Timer");

@@ -25,6 +25,7 @@
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/mapping_cartesian.h>
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
@@ -394,6 +395,12 @@ namespace fmpm
                              const std::vector<GridVectorField *> &out);
     void
     update_particles();
+    /** @brief Whether sort_particles_into_cells() moves only the points
+     * that left their cell (one rank, general cells), which needs their
+     * reference locations from the particle update. */
+    bool
+    fast_point_sorting_applies() const;
+
     void
     sort_particles_into_cells();
     void
@@ -448,6 +455,12 @@ namespace fmpm
 
     parallel::distributed::Triangulation<dim> triangulation;
     MappingQ<dim>                             mapping;
+    /** The points' mapping when every cell is an axis-aligned box (its
+     * real-to-unit transform is a scaling; deal.II's sort of the points
+     * then costs little), else @ref mapping. */
+    MappingCartesian<dim> cartesian_mapping;
+    /** Whether the points use @ref cartesian_mapping. */
+    bool points_use_cartesian_mapping = false;
     FE_Q<dim>                                 fe;
     DoFHandler<dim>                           dof_handler;
     IndexSet                                  locally_owned_dofs;

@@ -109,9 +109,41 @@ namespace fmpm
   void
   Simulator<dim>::initialize_particle_handler()
   {
-    particle_handler.initialize(triangulation,
-                                mapping,
-                                particle_properties.n_properties());
+    // Every active cell an axis-aligned box on every rank (and no curved
+    // manifold, so refinement keeps it so): the points use the Cartesian
+    // mapping.
+    bool boxes = true;
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        if (!boxes)
+          break;
+        if (cell->is_artificial())
+          continue;
+        if (cell->manifold_id() != numbers::flat_manifold_id)
+          boxes = false;
+        const Point<dim> lower = cell->vertex(0);
+        const Point<dim> upper =
+          cell->vertex(GeometryInfo<dim>::vertices_per_cell - 1);
+        const double tolerance = 1e-12 * lower.distance(upper);
+        for (const unsigned int v : cell->vertex_indices())
+          for (unsigned int d = 0; d < dim; ++d)
+            if (std::abs(cell->vertex(v)[d] -
+                         ((v >> d) & 1 ? upper[d] : lower[d])) > tolerance)
+              boxes = false;
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->manifold_id() != numbers::flat_manifold_id)
+            boxes = false;
+      }
+    points_use_cartesian_mapping =
+      Utilities::MPI::min(boxes ? 1 : 0, mpi_communicator) == 1;
+    if (points_use_cartesian_mapping)
+      particle_handler.initialize(triangulation,
+                                  cartesian_mapping,
+                                  particle_properties.n_properties());
+    else
+      particle_handler.initialize(triangulation,
+                                  mapping,
+                                  particle_properties.n_properties());
     particle_handler.signals.particle_lost.connect(
       [this](const typename Particles::ParticleIterator<dim> &particle,
              const typename Triangulation<dim>::active_cell_iterator &) {
