@@ -21,12 +21,28 @@
 // With --contact-orders [rounds], the same scene with FMPM(k) and XPIC(k),
 // k = 1, 2, 5, with one velocity field and with LR contact (net incremental
 // and once per step), and prints the cost of contact per order.
+//
+// With --sizes, benchmark_2d.prm at about 1e4, 1e5 and 1e6 points (the
+// mesh refined with the points per cell kept), and prints the time per
+// particle-step and the peak resident memory per point of each size.
+//
+// Every run prints each phase's time per point-step and an estimate of
+// the memory bandwidth the step uses: the bytes the passes move per
+// point-step (counted from the per-point data each pass reads and writes,
+// see bytes_per_point_step()) times the point-steps per second, against
+// this machine's bandwidth measured by a STREAM triad. The default run
+// (benchmark_2d, benchmark_gimp_2d, benchmark_3d) ends with issue 12's
+// targets beside the measured figures.
 
 #include <fmpm/parameters.h>
 #include <fmpm/simulator.h>
 
 #include <deal.II/base/mpi.h>
 
+#include <deal.II/base/utilities.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
@@ -79,6 +95,112 @@ namespace
       if (phase.first != "setup" && phase.first != "output")
         seconds += phase.second.get_value<double>();
     return seconds / summary.get<double>("n_steps");
+  }
+
+  /**
+   * This machine's memory bandwidth in bytes per second: the best of 5
+   * STREAM triads a = b + s c over arrays of 2^25 doubles (STREAM counts
+   * 24 bytes per element; the write-allocate is not counted).
+   */
+  double
+  stream_bandwidth()
+  {
+    const std::size_t   n = std::size_t(1) << 25;
+    std::vector<double> a(n, 0.), b(n, 1.), c(n, 2.);
+    double              best = 1e300;
+    for (unsigned int round = 0; round < 5; ++round)
+      {
+        const auto start = std::chrono::steady_clock::now();
+        for (std::size_t i = 0; i < n; ++i)
+          a[i] = b[i] + 0.5 * c[i];
+        const std::chrono::duration<double> elapsed =
+          std::chrono::steady_clock::now() - start;
+        best = std::min(best, elapsed.count());
+      }
+    // Keep the triad from being optimised away.
+    if (a[n / 2] != 2.)
+      std::cerr << "stream triad: unexpected value\n";
+    return 24. * n / best;
+  }
+
+  /**
+   * Bytes the passes of one FLIP-type step move per point: the per-point
+   * data each pass reads and writes, counted by cache line where a pass
+   * touches a part of a point's property record (Q doubles per point, 64
+   * byte lines). s support entries per point of 4 + 8 + 8 dim bytes (node,
+   * S, G). Grid vectors (a few per cent of the points' bytes) are left out.
+   *   supports:         read x (8 dim), write the entries and 16 per point
+   *   particles to grid: read the entries, the line with M and V
+   *   stress update:     read node and G, read and write the record
+   *                      (F, σ, V, energy), forces from the same record
+   *   particle update:   read node and S, read and write the line with V,
+   *                      read and write x and the reference location
+   *   sort:              read x, move the record and x (deal.II's memory
+   *                      sort) on boxes
+   */
+  double
+  bytes_per_point_step(const boost::property_tree::ptree &summary)
+  {
+    const double dim     = summary.get<double>("dimension");
+    const double Q       = summary.get<double>("n_properties", 0.);
+    const double s       = summary.get<double>("support_entries_per_point", 0.);
+    const double entry   = 4 + 8 + 8 * dim;
+    const double record  = 64. * std::ceil(8. * Q / 64.);
+    const double line    = 64.;
+    const double x       = 8. * dim;
+    const double support = x + s * entry + 16.;
+    const double p2g     = s * entry + line;
+    const double stress  = s * (4 + 8 * dim) + 2 * record;
+    const double update  = s * (4 + 8) + 2 * line + 4 * x;
+    const double sort    = x + 2 * (record + 2 * x);
+    return support + p2g + stress + update + sort;
+  }
+
+  /** Prints the phases of @p summary per step and per point-step, and the
+   * bandwidth estimate against @p bandwidth (bytes/s). */
+  void
+  print_phases(const boost::property_tree::ptree &summary,
+               const double                       bandwidth)
+  {
+    const double n_steps  = summary.get<double>("n_steps");
+    const double n_points = summary.get<double>("n_particles");
+    std::cout << "    time per step and phase:      ms/step   ns/point-step\n";
+    for (const auto &phase : summary.get_child("phase_wall_seconds"))
+      {
+        const double seconds = phase.second.get_value<double>();
+        std::cout << "      " << std::left << std::setw(26) << phase.first
+                  << std::right << std::fixed << std::setprecision(3)
+                  << std::setw(10)
+                  << (phase.first == "setup" ? seconds * 1000 :
+                                               seconds * 1000 / n_steps);
+        if (phase.first == "setup")
+          std::cout << "  (once)";
+        else
+          std::cout << std::setw(12) << std::setprecision(1)
+                    << 1e9 * seconds / (n_steps * n_points);
+        std::cout << "\n";
+      }
+    const double rate  = n_points / seconds_per_step(summary);
+    const double bytes = bytes_per_point_step(summary);
+    std::cout << std::setprecision(0) << "    bytes moved per point-step "
+              << "(estimate): " << bytes << "; at " << std::scientific
+              << std::setprecision(3) << rate << " point-steps/s that is "
+              << std::fixed << std::setprecision(2) << bytes * rate / 1e9
+              << " GB/s = " << std::setprecision(1)
+              << 100 * bytes * rate / bandwidth
+              << " % of the measured bandwidth ("
+              << std::setprecision(2) << bandwidth / 1e9 << " GB/s)\n";
+    const double resident = summary.get<double>("resident_bytes", 0.);
+    if (resident > 0)
+      std::cout << std::setprecision(0)
+                << "    resident memory at the end of the run: "
+                << resident / 1048576. << " MiB, " << resident / n_points
+                << " bytes per point (support cache "
+                << summary.get<double>("support_cache_bytes", 0.) / n_points
+                << "); peak of the process so far: "
+                << summary.get<double>("peak_resident_bytes", 0.) / n_points
+                << " bytes per point\n";
+    std::cout << std::scientific;
   }
 
   /** A variant of a scene: a label and the parameters it overrides. */
@@ -319,6 +441,65 @@ namespace
       }
     std::cout << std::flush;
   }
+
+  /** The --sizes mode: time per particle-step and memory per point from
+   * about 1e4 to 1e6 points (issue 12: within 20 %). */
+  void
+  compare_sizes(const std::string              &scene,
+                const std::vector<std::string> &overrides)
+  {
+    const bool is_root =
+      dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+    // benchmark_2d: 2.545 n^2 points on n x n cells; steps for about 1e7
+    // point-steps (at least 10).
+    const std::vector<std::pair<unsigned int, unsigned int>> sizes = {
+      {63, 400}, {200, 100}, {627, 15}};
+    std::vector<boost::property_tree::ptree> summaries;
+    for (const auto &size : sizes)
+      {
+        std::vector<std::string> files = {scene};
+        files.insert(files.end(), overrides.begin(), overrides.end());
+        auto sources = fmpm::load_scene_sources(files);
+        const std::string n = std::to_string(size.first);
+        sources.emplace_back(
+          "--sizes",
+          "subsection Mesh\n  set Subdivisions = " + n + ", " + n +
+            "\nend\nsubsection Time\n  set Maximum number of steps = " +
+            std::to_string(size.second) +
+            "\nend\nsubsection Output\n  set Directory = output-sizes-" + n +
+            "\nend\n");
+        if (is_root)
+          std::cout << "\n=== " << n << " x " << n << " cells" << std::endl;
+        summaries.push_back(run_scene(sources));
+      }
+    if (!is_root)
+      return;
+    // After the runs: its arrays would set their resident-memory peak.
+    const double bandwidth = stream_bandwidth();
+    std::cout << "\n=== sizes on " << scene << "\n"
+              << "| points | steps | particle-steps/s | ns per point-step | "
+                 "/ 1e5-point figure | peak resident bytes per point "
+                 "(process, sizes in increasing order) | "
+                 "bandwidth used |\n|---|---|---|---|---|---|---|\n";
+    const double reference = seconds_per_step(summaries[1]) /
+                             summaries[1].get<double>("n_particles");
+    for (const auto &summary : summaries)
+      {
+        const double points  = summary.get<double>("n_particles");
+        const double per     = seconds_per_step(summary) / points;
+        const double bytes   = bytes_per_point_step(summary);
+        std::cout << "| " << std::fixed << std::setprecision(0) << points
+                  << " | " << summary.get<double>("n_steps") << " | "
+                  << std::scientific << std::setprecision(2) << 1 / per
+                  << " | " << std::fixed << std::setprecision(0) << 1e9 * per
+                  << " | " << std::setprecision(2) << per / reference << " | "
+                  << std::setprecision(0)
+                  << summary.get<double>("peak_resident_bytes", 0.) / points
+                  << " | " << std::setprecision(1)
+                  << 100 * bytes / per / bandwidth << " % |\n";
+      }
+    std::cout << std::flush;
+  }
 } // namespace
 
 int
@@ -333,11 +514,14 @@ main(int argc, char **argv)
   unsigned int             method_rounds   = 0;
   bool                     contact_mode    = false;
   bool                     orders_mode     = false;
+  bool                     sizes_mode      = false;
   for (int i = 1; i < argc; ++i)
     {
       const std::string arg = argv[i];
       if (arg == "--")
         after_separator = true;
+      else if (arg == "--sizes" && !after_separator)
+        sizes_mode = true;
       else if ((arg == "--methods" || arg == "--contact" ||
                 arg == "--contact-orders") &&
                !after_separator)
@@ -352,6 +536,14 @@ main(int argc, char **argv)
         }
       else
         (after_separator ? overrides : scenes).push_back(arg);
+    }
+  if (sizes_mode)
+    {
+      compare_sizes(scenes.empty() ?
+                      FMPM_SOURCE_DIR "/parameters/benchmark_2d.prm" :
+                      scenes.front(),
+                    overrides);
+      return 0;
     }
   if (orders_mode)
     {
@@ -380,40 +572,60 @@ main(int argc, char **argv)
                       method_rounds);
       return 0;
     }
-  if (scenes.empty())
+  const bool default_scenes = scenes.empty();
+  if (default_scenes)
     scenes = {FMPM_SOURCE_DIR "/parameters/benchmark_2d.prm",
+              FMPM_SOURCE_DIR "/parameters/benchmark_gimp_2d.prm",
               FMPM_SOURCE_DIR "/parameters/benchmark_3d.prm"};
+  std::vector<double> rates;
 
+  // The scenes first, then the bandwidth (its arrays would otherwise set
+  // the runs' resident-memory high-water mark), then the report.
+  std::vector<boost::property_tree::ptree> summaries;
   for (const auto &scene : scenes)
     {
       std::vector<std::string> files = {scene};
       files.insert(files.end(), overrides.begin(), overrides.end());
-      const boost::property_tree::ptree summary =
-        run_scene(fmpm::load_scene_sources(files));
-      if (!is_root)
-        continue;
+      summaries.push_back(run_scene(fmpm::load_scene_sources(files)));
+    }
+  const double bandwidth = is_root ? stream_bandwidth() : 0.;
+  for (unsigned int s = 0; s < scenes.size() && is_root; ++s)
+    {
+      const auto &scene   = scenes[s];
+      const auto &summary = summaries[s];
       const double n_steps = summary.get<double>("n_steps");
       std::cout << "\n=== benchmark " << scene << "\n"
                 << "    " << summary.get<std::string>("status") << ", "
                 << summary.get<int>("dimension") << "D, "
                 << summary.get<int>("n_mpi_ranks") << " rank(s), "
                 << summary.get<long>("n_particles") << " points, "
-                << summary.get<long>("n_cells") << " cells, " << n_steps
-                << " steps\n"
+                << summary.get<long>("n_cells") << " cells, "
+                << static_cast<long>(n_steps) << " steps\n"
                 << "    particle-steps per second (whole run): "
                 << std::scientific << std::setprecision(3)
                 << summary.get<double>("particle_steps_per_second") << "\n";
+      const double rate =
+        summary.get<long>("n_particles") / seconds_per_step(summary);
+      rates.push_back(rate);
       std::cout << "    particle-steps per second (time steps only): "
-                << summary.get<long>("n_particles") / seconds_per_step(summary)
-                << "\n    time per step and phase (ms):\n";
-      for (const auto &phase : summary.get_child("phase_wall_seconds"))
-        std::cout << "      " << std::left << std::setw(26) << phase.first
-                  << std::right << std::fixed << std::setprecision(3)
-                  << std::setw(10)
-                  << (phase.first == "setup" ?
-                        phase.second.get_value<double>() * 1000 :
-                        phase.second.get_value<double>() * 1000 / n_steps)
-                  << (phase.first == "setup" ? "  (once)" : "") << "\n";
-      std::cout << std::scientific;
+                << rate << "\n";
+      print_phases(summary, bandwidth);
+    }
+  if (default_scenes && is_root)
+    {
+      // Issue 12's targets (one core) beside the measured figures.
+      const char *labels[3] = {"2D classic FLIP (benchmark_2d)",
+                               "2D uGIMP FLIP USAVG+ (benchmark_gimp_2d)",
+                               "3D classic (benchmark_3d)"};
+      const double targets[3] = {1e7, 5e6, 4e6};
+      std::cout << "\n=== targets (issue 12, one core)\n"
+                << "| scene | target particle-steps/s | measured | "
+                   "measured / target |\n|---|---|---|---|\n";
+      for (unsigned int k = 0; k < 3; ++k)
+        std::cout << "| " << labels[k] << " | " << std::scientific
+                  << std::setprecision(1) << targets[k] << " | "
+                  << std::setprecision(2) << rates[k] << " | " << std::fixed
+                  << std::setprecision(2) << rates[k] / targets[k] << " |\n";
+      std::cout << std::flush;
     }
 }

@@ -301,6 +301,15 @@ namespace fmpm
     particles_to_grid(const bool with_forces);
     void
     compute_forces();
+    /** f += −V σ G + S M b for point @p k of the support cache with
+     * properties @p P (Eq. 2.11; b with gravity @p gravity). */
+    void
+    scatter_point_force(const unsigned int    k,
+                        const double *const   P,
+                        const Tensor<1, dim> &gravity,
+                        const bool            uniform_body_force,
+                        double *const        *f,
+                        double *const        *f_a);
     /** Gravity, the scene's b(·, t) at @p expression_point (x, or X for
      * manufactured solutions) and the rotating frame's terms at a point at
      * x moving with V. */
@@ -332,9 +341,14 @@ namespace fmpm
     /** Compute a nodal field (once per step) with BCs, ghosts, constraints. */
     void
     compute_field(const ParticleUpdate::GridField field);
+    /** Update the stresses with the velocity field @p grid_velocity over
+     * @p dt; with @p with_forces also f (as compute_forces()) from the new
+     * stresses in the same sweep where the point order allows (one
+     * material), else by compute_forces(). */
     void
     update_stresses(const ParticleUpdate::GridField grid_velocity,
-                    const double                    dt);
+                    const double                    dt,
+                    const bool                      with_forces = false);
 
     // --- multimaterial contact (simulator/contact.cc, seed 004) ---
     /** The stages at which contact corrects the material momenta. */
@@ -460,12 +474,12 @@ namespace fmpm
      * then costs little), else @ref mapping. */
     MappingCartesian<dim> cartesian_mapping;
     /** Whether the points use @ref cartesian_mapping. */
-    bool points_use_cartesian_mapping = false;
-    FE_Q<dim>                                 fe;
-    DoFHandler<dim>                           dof_handler;
-    IndexSet                                  locally_owned_dofs;
-    IndexSet                                  locally_relevant_dofs;
-    AffineConstraints<double>                 constraints;
+    bool                      points_use_cartesian_mapping = false;
+    FE_Q<dim>                 fe;
+    DoFHandler<dim>           dof_handler;
+    IndexSet                  locally_owned_dofs;
+    IndexSet                  locally_relevant_dofs;
+    AffineConstraints<double> constraints;
     /** Whether any rank has a hanging node (constraints to distribute). */
     bool                has_hanging_nodes = false;
     GridTransfer<dim>   transfer;

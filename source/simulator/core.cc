@@ -508,8 +508,8 @@ namespace fmpm
     if (update_first)
       {
         const GridField v = lumped_strain_velocity ? lumped_velocity : velocity;
-        update_stresses(v, average ? dt / 2 : dt); // solves v itself
-        compute_forces();
+        // Solves v itself; f in the same sweep.
+        update_stresses(v, average ? dt / 2 : dt, true);
       }
 
     // 3.-4. p⁺ = p + (f + f^(BC))Δt (Eqs. 2.16, 2.42): the conditions'

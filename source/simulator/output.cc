@@ -7,6 +7,7 @@
 #include <fmpm/simulator.h>
 
 #include <deal.II/base/data_out_base.h>
+#include <deal.II/base/utilities.h>
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/particles/data_out.h>
 
@@ -466,6 +467,23 @@ namespace fmpm
     const double fit_iterations =
       Utilities::MPI::sum(static_cast<double>(logistic_iterations),
                           mpi_communicator);
+    // Memory: the resident-set high-water mark of every rank (VmHWM), and
+    // the support cache's entries and bytes (issue 12's figures).
+    Utilities::System::MemoryStats memory_stats;
+    Utilities::System::get_memory_stats(memory_stats);
+    const double peak_resident_bytes =
+      Utilities::MPI::sum(1024. * memory_stats.VmHWM, mpi_communicator);
+    const double resident_bytes =
+      Utilities::MPI::sum(1024. * memory_stats.VmRSS, mpi_communicator);
+    const double support_entries =
+      Utilities::MPI::sum(static_cast<double>(supports.node.size()),
+                          mpi_communicator);
+    const double cached_points =
+      Utilities::MPI::sum(static_cast<double>(supports.n_points()),
+                          mpi_communicator);
+    const double support_cache_bytes =
+      Utilities::MPI::sum(static_cast<double>(supports.memory_consumption()),
+                          mpi_communicator);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
       return;
 
@@ -504,6 +522,16 @@ namespace fmpm
             << ",\n";
       }
     out << "  \"n_dofs\": " << dof_handler.n_dofs() << ",\n";
+    out << "  \"n_properties\": " << particle_properties.n_properties()
+        << ",\n";
+    out << "  \"support_entries_per_point\": "
+        << number(cached_points > 0 ? support_entries / cached_points : 0.)
+        << ",\n";
+    out << "  \"support_cache_bytes\": " << number(support_cache_bytes)
+        << ",\n";
+    out << "  \"peak_resident_bytes\": " << number(peak_resident_bytes)
+        << ",\n";
+    out << "  \"resident_bytes\": " << number(resident_bytes) << ",\n";
     out << "  \"n_steps\": " << timestep_number << ",\n";
     out << "  \"end_time\": " << number(time) << ",\n";
     out << "  \"wall_seconds\": " << number(wall) << ",\n";

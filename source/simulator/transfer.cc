@@ -617,36 +617,54 @@ namespace fmpm
       }
 
     for (unsigned int k = 0; k < supports.n_points(); ++k)
-      {
-        const double *const P = pool.get_properties(supports.handle[k]).data();
-        const double        M = P[Index::mass];
-        const double        V = P[Index::volume];
-        double              sigma[dim][dim];
-        stress_block<dim>(P + Index::stress, sigma);
-        const Tensor<1, dim> b =
-          uniform_body_force ?
-            gravity :
-            external_acceleration(
-              ArrayView<const double>(P, particle_properties.n_properties()),
-              pool.get_location(supports.handle[k]),
-              gravity);
-        double *const *f_a =
-          contact ? &f_alpha[supports.material[k] * dim] : nullptr;
-        for (unsigned int j = supports.support_begin[k];
-             j < supports.support_begin[k + 1];
-             ++j)
-          for (unsigned int a = 0; a < dim; ++a)
-            {
-              const double f_ja =
-                nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
-              f[a][node[j]] += f_ja;
-              if (contact) // f^α0 (Eq. 29)
-                f_a[a][node[j]] += f_ja;
-            }
-      }
+      scatter_point_force(k,
+                          pool.get_properties(supports.handle[k]).data(),
+                          gravity,
+                          uniform_body_force,
+                          f,
+                          contact ? &f_alpha[supports.material[k] * dim] :
+                                    nullptr);
     force.compress(VectorOperation::add);
     for (auto &field : material_fields)
       field.force.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::scatter_point_force(const unsigned int    k,
+                                      const double *const   P,
+                                      const Tensor<1, dim> &gravity,
+                                      const bool            uniform_body_force,
+                                      double *const        *f,
+                                      double *const        *f_a)
+  {
+    using Index                      = PropertyIndex<dim>;
+    const unsigned int *const   node = supports.node.data();
+    const double *const         S    = supports.S.data();
+    const Tensor<1, dim> *const G    = supports.G.data();
+    const double                M    = P[Index::mass];
+    const double                V    = P[Index::volume];
+    double                      sigma[dim][dim];
+    stress_block<dim>(P + Index::stress, sigma);
+    const Tensor<1, dim> b =
+      uniform_body_force ?
+        gravity :
+        external_acceleration(
+          ArrayView<const double>(P, particle_properties.n_properties()),
+          particle_handler.get_property_pool().get_location(supports.handle[k]),
+          gravity);
+    for (unsigned int j = supports.support_begin[k];
+         j < supports.support_begin[k + 1];
+         ++j)
+      for (unsigned int a = 0; a < dim; ++a)
+        {
+          const double f_ja = nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
+          f[a][node[j]] += f_ja;
+          if (f_a != nullptr) // f^α0 (Eq. 29)
+            f_a[a][node[j]] += f_ja;
+        }
   }
 
 
@@ -822,7 +840,8 @@ namespace fmpm
   template <int dim>
   void
   Simulator<dim>::update_stresses(const ParticleUpdate::GridField field,
-                                  const double                    dt)
+                                  const double                    dt,
+                                  const bool                      with_forces)
   {
     // The velocities of the centre of mass, or with contact of the group's
     // material (Eq. 28); their solves time themselves.
@@ -854,6 +873,23 @@ namespace fmpm
     view_velocities(grid_fields[field]);
     const unsigned int *const   node = supports.node.data();
     const Tensor<1, dim> *const G    = supports.G.data();
+
+    // USF/USAVG: f from the new stresses in this sweep when the points are
+    // visited in cache order (one material: the sums are those of
+    // compute_forces()); else compute_forces() after it.
+    const bool     forces_here = with_forces && n_materials == 1 && !contact;
+    double        *f[dim];
+    Tensor<1, dim> gravity;
+    const bool     uniform_body_force = !has_point_body_force();
+    if (forces_here)
+      {
+        force = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            f[d]       = force.block(d).begin();
+            gravity[d] = parameters.gravity[d];
+          }
+      }
 
     // Cell sizes (Eq. 52's Δx) only for models that read them, by active
     // cell index for the cells with points.
@@ -985,6 +1021,14 @@ namespace fmpm
                     local_failure = message.str();
                   }
               }
+            if (forces_here)
+              for (unsigned int q = 0; q < n_group; ++q)
+                scatter_point_force(group_points[q],
+                                    inputs.properties[q].data(),
+                                    gravity,
+                                    uniform_body_force,
+                                    f,
+                                    nullptr);
             if (constitutive_models[m]->computes_wave_speed())
               for (unsigned int q = 0; q < n_group; ++q)
                 wave_speed = std::max(wave_speed, outputs.wave_speed[q]);
@@ -997,6 +1041,13 @@ namespace fmpm
           }
       }
     local_max_wave_speed = wave_speed;
+    if (forces_here)
+      force.compress(VectorOperation::add);
+    else if (with_forces)
+      {
+        timer.stop(); // compute_forces() times itself
+        compute_forces();
+      }
   }
 
 

@@ -71,10 +71,10 @@ if [ "$mode" = kill ]; then
 fi
 grep -q '"status": "completed"' resumed/summary.json || fail "resumed run not completed"
 
-# The physics of summary.json: without wall times and (other rank counts)
+# The physics of summary.json: without wall times, memory and (other rank counts)
 # the partition.
 physics() {
-  sed '/"phase_wall_seconds"/,$d' "$1" | grep -v -e wall_seconds -e particle_steps_per_second \
+  sed '/"phase_wall_seconds"/,$d' "$1" | grep -v -e wall_seconds -e particle_steps_per_second -e resident_bytes -e support_cache_bytes \
     | if [ "$full_ranks" = "$resume_ranks" ]; then cat; else grep -v -e n_mpi_ranks -e point_imbalance; fi
 }
 physics full/summary.json > full.summary
