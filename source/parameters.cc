@@ -887,13 +887,14 @@ namespace fmpm
                       Patterns::Bool(),
                       "After each step, move only the material points that "
                       "left their cell (their reference coordinates are kept "
-                      "up to date during the particle update); false runs "
-                      "deal.II's full sort of every point every step. The "
-                      "physics is the same. Used on one MPI rank on meshes "
-                      "with cells that are not axis-aligned boxes; several "
-                      "ranks and box meshes use deal.II's sort (on boxes it "
-                      "costs little and keeps the points in cell order in "
-                      "memory, which makes every pass faster). Units: none.");
+                      "up to date during the particle update), and run "
+                      "deal.II's full sort, which also puts the points' "
+                      "memory back in cell order, once the moved points "
+                      "reach half of all points; false runs deal.II's full "
+                      "sort of every point every step. The physics is the "
+                      "same (to round-off: the order of the points within a "
+                      "cell differs). Used on one MPI rank; several ranks "
+                      "use deal.II's sort. Units: none.");
     prm.leave_subsection();
 
     prm.enter_subsection("Timer");

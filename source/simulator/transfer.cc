@@ -603,10 +603,6 @@ namespace fmpm
     double *f[dim];
     for (unsigned int d = 0; d < dim; ++d)
       f[d] = force.block(d).begin();
-    const unsigned int *const   node = supports.node.data();
-    const double *const         S    = supports.S.data();
-    const Tensor<1, dim> *const G    = supports.G.data();
-
     const bool            contact = contact_active();
     std::vector<double *> f_alpha(material_fields.size() * dim);
     for (unsigned int a = 0; a < material_fields.size(); ++a)
@@ -1056,12 +1052,12 @@ namespace fmpm
   bool
   Simulator<dim>::fast_point_sorting_applies() const
   {
-    // deal.II's sort on boxes costs a scaling per point and leaves the
-    // points' memory in cell order (every pass reads it faster: 2.4e6 ->
-    // 2.8e6 particle-steps/s on benchmark_2d); the fast sort moves only the
-    // points that left their cell, which pays on general cells, where
-    // deal.II's transform is a Newton solve per point.
-    return parameters.fast_point_sorting && !points_use_cartesian_mapping &&
+    // The fast sort moves only the points that left their cell; deal.II's
+    // sort checks every point and puts the points' memory in cell order
+    // (which every pass reads faster), so the fast sort hands over to it
+    // when the points it moved reach a fraction of all points (see
+    // sort_particles_into_cells()).
+    return parameters.fast_point_sorting &&
            Utilities::MPI::n_mpi_processes(mpi_communicator) == 1;
   }
 
@@ -1078,9 +1074,18 @@ namespace fmpm
     // a point went to another rank's cell, or could not be found nearby, or
     // left the mesh, deal.II's full sort handles every point (and reports
     // lost points).
-    if (!fast_point_sorting_applies())
+    // Memory order: the moved points take free slots, away from their new
+    // cell's other points; once the moved points reach this fraction of all
+    // points, deal.II's sort (which reorders the memory) runs instead.
+    // (benchmark_2d, sort ms/step: 8.2 at 0.2, 6.7 at 0.5, 7.5 at 1, 6.9
+    // never; 11.8 with deal.II's sort every step.)
+    constexpr double memory_sort_fraction = 0.5;
+    if (!fast_point_sorting_applies() ||
+        points_moved_since_memory_sort + points_that_left_their_cell.size() >
+          memory_sort_fraction * supports.n_points())
       {
         points_that_left_their_cell.clear();
+        points_moved_since_memory_sort = 0;
         particle_handler.sort_particles_into_subdomains_and_cells();
         return;
       }
@@ -1172,9 +1177,13 @@ namespace fmpm
     // rank; mixing it with local moves is not safe in deal.II 9.4, so the
     // fast path is used on one rank only (see doc/benchmarks.md).
     if (global_flags[0] != 0)
-      particle_handler.sort_particles_into_subdomains_and_cells();
+      {
+        particle_handler.sort_particles_into_subdomains_and_cells();
+        points_moved_since_memory_sort = 0;
+      }
     else if (global_flags[1] != 0)
       {
+        points_moved_since_memory_sort += moves.size();
         if (!leaving.empty())
           particle_handler.remove_particles(leaving);
         for (const auto &move : moves)
