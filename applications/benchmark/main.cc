@@ -38,7 +38,6 @@
 #include <fmpm/simulator.h>
 
 #include <deal.II/base/mpi.h>
-
 #include <deal.II/base/utilities.h>
 
 #include <algorithm>
@@ -188,8 +187,8 @@ namespace
               << std::fixed << std::setprecision(2) << bytes * rate / 1e9
               << " GB/s = " << std::setprecision(1)
               << 100 * bytes * rate / bandwidth
-              << " % of the measured bandwidth ("
-              << std::setprecision(2) << bandwidth / 1e9 << " GB/s)\n";
+              << " % of the measured bandwidth (" << std::setprecision(2)
+              << bandwidth / 1e9 << " GB/s)\n";
     const double resident = summary.get<double>("resident_bytes", 0.);
     if (resident > 0)
       std::cout << std::setprecision(0)
@@ -311,8 +310,7 @@ namespace
         std::cout << "| " << methods[k].label << " | " << std::scientific
                   << std::setprecision(2) << n_particles / seconds << " | "
                   << std::fixed << std::setprecision(2) << seconds / reference
-                  << " | " << std::setprecision(1) << 1000 * grid_solve
-                  << " | "
+                  << " | " << std::setprecision(1) << 1000 * grid_solve << " | "
                   << (cg > 0 ? std::to_string(static_cast<int>(cg + 0.5)) :
                                std::string("-"))
                   << " |\n";
@@ -347,13 +345,11 @@ namespace
     const double reference   = seconds_per_step(summaries[0]);
     auto         ms_per_step = [](const boost::property_tree::ptree &summary,
                           const std::string                 &phase) {
-      return 1000 *
-             summary.get<double>("phase_wall_seconds." + phase, 0.) /
+      return 1000 * summary.get<double>("phase_wall_seconds." + phase, 0.) /
              summary.get<double>("n_steps");
     };
     std::cout << "\n=== contact on " << scene << " (" << n_particles
-              << " points; each phase's fastest of " << rounds
-              << " rounds)\n"
+              << " points; each phase's fastest of " << rounds << " rounds)\n"
               << "| normals | particle-steps/s | cost / one field | contact "
                  "ms/step | normals ms/step | point clouds ms/step | LR "
                  "fits/step | NLLS iterations (mean) |\n"
@@ -362,8 +358,7 @@ namespace
       {
         const auto  &summary = summaries[k];
         const double seconds = seconds_per_step(summary);
-        const double fits =
-          summary.get<double>("logistic_regression_fits", 0.);
+        const double fits = summary.get<double>("logistic_regression_fits", 0.);
         std::cout << "| " << variants[k].label << " | " << std::scientific
                   << std::setprecision(2) << n_particles / seconds << " | "
                   << std::fixed << std::setprecision(2) << seconds / reference
@@ -389,7 +384,7 @@ namespace
                          const std::vector<std::string> &overrides,
                          const unsigned int              rounds)
   {
-    std::vector<Variant> variants;
+    std::vector<Variant>     variants;
     std::vector<std::string> methods;
     for (const std::string update : {"fmpm", "xpic"})
       for (const unsigned int k : {1u, 2u, 5u})
@@ -423,8 +418,7 @@ namespace
       return;
     const double n_particles = summaries[0].get<double>("n_particles");
     std::cout << "\n=== contact per order on " << scene << " (" << n_particles
-              << " points; each phase's fastest of " << rounds
-              << " rounds)\n"
+              << " points; each phase's fastest of " << rounds << " rounds)\n"
               << "| method | one field particle-steps/s | contact, net "
                  "incremental / one field | contact, once per step / one "
                  "field |\n"
@@ -459,8 +453,8 @@ namespace
       {
         std::vector<std::string> files = {scene};
         files.insert(files.end(), overrides.begin(), overrides.end());
-        auto sources = fmpm::load_scene_sources(files);
-        const std::string n = std::to_string(size.first);
+        auto              sources = fmpm::load_scene_sources(files);
+        const std::string n       = std::to_string(size.first);
         sources.emplace_back(
           "--sizes",
           "subsection Mesh\n  set Subdivisions = " + n + ", " + n +
@@ -481,18 +475,18 @@ namespace
                  "/ 1e5-point figure | peak resident bytes per point "
                  "(process, sizes in increasing order) | "
                  "bandwidth used |\n|---|---|---|---|---|---|---|\n";
-    const double reference = seconds_per_step(summaries[1]) /
-                             summaries[1].get<double>("n_particles");
+    const double reference =
+      seconds_per_step(summaries[1]) / summaries[1].get<double>("n_particles");
     for (const auto &summary : summaries)
       {
-        const double points  = summary.get<double>("n_particles");
-        const double per     = seconds_per_step(summary) / points;
-        const double bytes   = bytes_per_point_step(summary);
+        const double points = summary.get<double>("n_particles");
+        const double per    = seconds_per_step(summary) / points;
+        const double bytes  = bytes_per_point_step(summary);
         std::cout << "| " << std::fixed << std::setprecision(0) << points
                   << " | " << summary.get<double>("n_steps") << " | "
-                  << std::scientific << std::setprecision(2) << 1 / per
-                  << " | " << std::fixed << std::setprecision(0) << 1e9 * per
-                  << " | " << std::setprecision(2) << per / reference << " | "
+                  << std::scientific << std::setprecision(2) << 1 / per << " | "
+                  << std::fixed << std::setprecision(0) << 1e9 * per << " | "
+                  << std::setprecision(2) << per / reference << " | "
                   << std::setprecision(0)
                   << summary.get<double>("peak_resident_bytes", 0.) / points
                   << " | " << std::setprecision(1)
@@ -539,35 +533,35 @@ main(int argc, char **argv)
     }
   if (sizes_mode)
     {
-      compare_sizes(scenes.empty() ?
-                      FMPM_SOURCE_DIR "/parameters/benchmark_2d.prm" :
-                      scenes.front(),
+      compare_sizes(scenes.empty() ? FMPM_SOURCE_DIR
+                      "/parameters/benchmark_2d.prm" :
+                                     scenes.front(),
                     overrides);
       return 0;
     }
   if (orders_mode)
     {
-      compare_contact_orders(
-        scenes.empty() ? FMPM_SOURCE_DIR "/parameters/benchmark_contact_2d.prm" :
-                         scenes.front(),
-        overrides,
-        method_rounds);
+      compare_contact_orders(scenes.empty() ? FMPM_SOURCE_DIR
+                               "/parameters/benchmark_contact_2d.prm" :
+                                              scenes.front(),
+                             overrides,
+                             method_rounds);
       return 0;
     }
   if (contact_mode)
     {
-      compare_contact(scenes.empty() ?
-                        FMPM_SOURCE_DIR "/parameters/benchmark_contact_2d.prm" :
-                        scenes.front(),
+      compare_contact(scenes.empty() ? FMPM_SOURCE_DIR
+                        "/parameters/benchmark_contact_2d.prm" :
+                                       scenes.front(),
                       overrides,
                       method_rounds);
       return 0;
     }
   if (method_rounds > 0)
     {
-      compare_methods(scenes.empty() ?
-                        FMPM_SOURCE_DIR "/parameters/benchmark_2d.prm" :
-                        scenes.front(),
+      compare_methods(scenes.empty() ? FMPM_SOURCE_DIR
+                        "/parameters/benchmark_2d.prm" :
+                                       scenes.front(),
                       overrides,
                       method_rounds);
       return 0;
@@ -591,8 +585,8 @@ main(int argc, char **argv)
   const double bandwidth = is_root ? stream_bandwidth() : 0.;
   for (unsigned int s = 0; s < scenes.size() && is_root; ++s)
     {
-      const auto &scene   = scenes[s];
-      const auto &summary = summaries[s];
+      const auto  &scene   = scenes[s];
+      const auto  &summary = summaries[s];
       const double n_steps = summary.get<double>("n_steps");
       std::cout << "\n=== benchmark " << scene << "\n"
                 << "    " << summary.get<std::string>("status") << ", "
@@ -607,16 +601,16 @@ main(int argc, char **argv)
       const double rate =
         summary.get<long>("n_particles") / seconds_per_step(summary);
       rates.push_back(rate);
-      std::cout << "    particle-steps per second (time steps only): "
-                << rate << "\n";
+      std::cout << "    particle-steps per second (time steps only): " << rate
+                << "\n";
       print_phases(summary, bandwidth);
     }
   if (default_scenes && is_root)
     {
       // Issue 12's targets (one core) beside the measured figures.
-      const char *labels[3] = {"2D classic FLIP (benchmark_2d)",
-                               "2D uGIMP FLIP USAVG+ (benchmark_gimp_2d)",
-                               "3D classic (benchmark_3d)"};
+      const char  *labels[3]  = {"2D classic FLIP (benchmark_2d)",
+                                 "2D uGIMP FLIP USAVG+ (benchmark_gimp_2d)",
+                                 "3D classic (benchmark_3d)"};
       const double targets[3] = {1e7, 5e6, 4e6};
       std::cout << "\n=== targets (issue 12, one core)\n"
                 << "| scene | target particle-steps/s | measured | "

@@ -950,8 +950,14 @@ namespace fmpm
                         L[a][b] += v_ia * G[j][b];
                     }
                 inputs.velocity_gradient[q] = L;
-                inputs.properties[q]        = ArrayView<double>(
-                  pool.get_properties(supports.handle[k]).data(), n_properties);
+                double *const P =
+                  pool.get_properties(supports.handle[k]).data();
+                inputs.properties[q] = ArrayView<double>(P, n_properties);
+                // The record is read below and by the model: fetch its
+                // cache lines now (points moved by the sort sit away from
+                // their cell's others in memory).
+                for (unsigned int line = 0; line < n_properties; line += 8)
+                  __builtin_prefetch(P + line, 1);
               }
             deformation_gradient_increments(F_update,
                                             parameters.method,
