@@ -317,69 +317,30 @@ initialize(void)
 
 // ---------------------------------------------------------------- p2p
 
-int
-MPI_Send(const void *buf, int count, MPI_Datatype type, int dest, int tag,
-         MPI_Comm comm)
-{
-  count_send(tag, dest, type_bytes(count, type));
-  return PMPI_Send(buf, count, type, dest, tag, comm);
-}
+// The blocking and nonblocking sends: count, then call PMPI_<name>.
+#define COUNTED_SEND(name)                                                     \
+  int MPI_##name(const void *buf, int count, MPI_Datatype type, int dest,     \
+                 int tag, MPI_Comm comm)                                       \
+  {                                                                            \
+    count_send(tag, dest, type_bytes(count, type));                            \
+    return PMPI_##name(buf, count, type, dest, tag, comm);                     \
+  }
+#define COUNTED_NONBLOCKING_SEND(name)                                         \
+  int MPI_##name(const void *buf, int count, MPI_Datatype type, int dest,     \
+                 int tag, MPI_Comm comm, MPI_Request *request)                 \
+  {                                                                            \
+    count_send(tag, dest, type_bytes(count, type));                            \
+    return PMPI_##name(buf, count, type, dest, tag, comm, request);            \
+  }
 
-int
-MPI_Ssend(const void *buf, int count, MPI_Datatype type, int dest, int tag,
-          MPI_Comm comm)
-{
-  count_send(tag, dest, type_bytes(count, type));
-  return PMPI_Ssend(buf, count, type, dest, tag, comm);
-}
-
-int
-MPI_Rsend(const void *buf, int count, MPI_Datatype type, int dest, int tag,
-          MPI_Comm comm)
-{
-  count_send(tag, dest, type_bytes(count, type));
-  return PMPI_Rsend(buf, count, type, dest, tag, comm);
-}
-
-int
-MPI_Bsend(const void *buf, int count, MPI_Datatype type, int dest, int tag,
-          MPI_Comm comm)
-{
-  count_send(tag, dest, type_bytes(count, type));
-  return PMPI_Bsend(buf, count, type, dest, tag, comm);
-}
-
-int
-MPI_Isend(const void *buf, int count, MPI_Datatype type, int dest, int tag,
-          MPI_Comm comm, MPI_Request *request)
-{
-  count_send(tag, dest, type_bytes(count, type));
-  return PMPI_Isend(buf, count, type, dest, tag, comm, request);
-}
-
-int
-MPI_Issend(const void *buf, int count, MPI_Datatype type, int dest, int tag,
-           MPI_Comm comm, MPI_Request *request)
-{
-  count_send(tag, dest, type_bytes(count, type));
-  return PMPI_Issend(buf, count, type, dest, tag, comm, request);
-}
-
-int
-MPI_Irsend(const void *buf, int count, MPI_Datatype type, int dest, int tag,
-           MPI_Comm comm, MPI_Request *request)
-{
-  count_send(tag, dest, type_bytes(count, type));
-  return PMPI_Irsend(buf, count, type, dest, tag, comm, request);
-}
-
-int
-MPI_Ibsend(const void *buf, int count, MPI_Datatype type, int dest, int tag,
-           MPI_Comm comm, MPI_Request *request)
-{
-  count_send(tag, dest, type_bytes(count, type));
-  return PMPI_Ibsend(buf, count, type, dest, tag, comm, request);
-}
+COUNTED_SEND(Send)
+COUNTED_SEND(Ssend)
+COUNTED_SEND(Rsend)
+COUNTED_SEND(Bsend)
+COUNTED_NONBLOCKING_SEND(Isend)
+COUNTED_NONBLOCKING_SEND(Issend)
+COUNTED_NONBLOCKING_SEND(Irsend)
+COUNTED_NONBLOCKING_SEND(Ibsend)
 
 int
 MPI_Sendrecv(const void *sendbuf, int sendcount, MPI_Datatype sendtype,
