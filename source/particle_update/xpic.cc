@@ -8,6 +8,32 @@ namespace fmpm
   namespace ParticleUpdate
   {
     template <int dim>
+    void
+    Xpic<dim>::declare_parameters(ParameterHandler &prm)
+    {
+      prm.declare_entry(
+        "Position update psi",
+        "1",
+        Patterns::Double(0, 1),
+        "X += (v_m + (1 - psi) a dt + psi dV/2) dt with dV = V(n+1) - V(n): "
+        "1 is Table 2.1's XPIC(k) position update, 0 moves the points with "
+        "the lumped grid velocity S m^-1 p+ that also updates their "
+        "deformation gradient (FLIP's), which keeps XPIC(k >= 3) stable "
+        "under large compression (doc/studies/stability.md). Units: none.");
+    }
+
+
+
+    template <int dim>
+    void
+    Xpic<dim>::parse_parameters(ParameterHandler &prm)
+    {
+      psi = prm.get_double("Position update psi");
+    }
+
+
+
+    template <int dim>
     std::vector<GridField>
     Xpic<dim>::required_fields() const
     {
@@ -20,15 +46,18 @@ namespace fmpm
     void
     Xpic<dim>::update(Batch<dim> &batch) const
     {
-      const double dt  = batch.time_step;
-      const auto  &v_k = batch.grid[velocity];            // S m̃ₖ⁻¹ p
-      const auto  &v_m = batch.grid[lumped_velocity];     // S m⁻¹ p
-      const auto  &a   = batch.grid[lumped_acceleration]; // S m⁻¹ f
+      const double dt        = batch.time_step;
+      const auto  &v_k       = batch.grid[velocity];        // S m̃ₖ⁻¹ p
+      const auto  &v_m       = batch.grid[lumped_velocity]; // S m⁻¹ p
+      const auto  &a         = batch.grid[lumped_acceleration]; // S m⁻¹ f
+      const double a_weight  = (1. - psi) * dt;
+      const double dV_weight = 0.5 * psi;
       for (unsigned int q = 0; q < batch.size(); ++q)
         {
           const Tensor<1, dim> V_new = v_k[q] + a[q] * dt;
-          batch.position[q] +=
-            (v_m[q] + 0.5 * (V_new - batch.velocity[q])) * dt;
+          batch.position[q] += (v_m[q] + a_weight * a[q] +
+                                dV_weight * (V_new - batch.velocity[q])) *
+                               dt;
           batch.velocity[q] = V_new;
         }
     }
@@ -36,6 +65,6 @@ namespace fmpm
     FMPM_REGISTER_PARTICLE_UPDATE(
       Xpic,
       "xpic",
-      "XPIC(k) of seed 000 Eqs. 2.34-2.35 / Table 2.1: V = S m~_k^-1 p + S m^-1 f dt, X += [S m^-1 p + (V(n+1) - V(n))/2] dt; k is the order of the mass matrix (lumped: XPIC(1), Eq. 2.38).")
+      "XPIC(k) of seed 000 Eqs. 2.34-2.35 / Table 2.1: V = S m~_k^-1 p + S m^-1 f dt, X += [S m^-1 p + (V(n+1) - V(n))/2] dt (Position update psi = 1; 0: X += S m^-1 p+ dt); k is the order of the mass matrix (lumped: XPIC(1), Eq. 2.38).")
   } // namespace ParticleUpdate
 } // namespace fmpm

@@ -21,11 +21,25 @@ namespace fmpm
     class Fmpm : public Interface<dim>
     {
     public:
+      static void
+      declare_parameters(ParameterHandler &prm);
+
+      void
+      parse_parameters(ParameterHandler &prm) override;
+
       std::vector<GridField>
       required_fields() const override;
 
       void
       update(Batch<dim> &batch) const override;
+
+      /**
+       * psi of seed 000 Eq. 2.28 with the FMPM acceleration A dt = v_p - V:
+       * X += (v_p - psi (v_p - V)/2) dt. 1 is Table 2.1's average of the old
+       * and new velocities, 0 moves the points with the grid velocity that
+       * also updates F.
+       */
+      double psi = 1;
     };
   } // namespace ParticleUpdate
 } // namespace fmpm

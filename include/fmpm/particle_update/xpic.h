@@ -21,11 +21,23 @@ namespace fmpm
     class Xpic : public Interface<dim>
     {
     public:
+      static void
+      declare_parameters(ParameterHandler &prm);
+
+      void
+      parse_parameters(ParameterHandler &prm) override;
+
       std::vector<GridField>
       required_fields() const override;
 
       void
       update(Batch<dim> &batch) const override;
+
+      /**
+       * 1: Table 2.1's X += (v_m + dV/2) dt; 0: X += (v_m + a dt) dt, the
+       * lumped grid velocity S m⁻¹p⁺ that also updates F (FLIP's).
+       */
+      double psi = 1;
     };
   } // namespace ParticleUpdate
 } // namespace fmpm
