@@ -101,6 +101,39 @@ TEST(ParticleUpdate, XpicOneIsEquation238)
 
 
 
+TEST(ParticleUpdate, PsiZeroMovesPointsWithTheGridVelocity)
+{
+  // Eq. 2.28 with psi = 0: FMPM(k) moves the points with v_p = S m~_k^-1 p+
+  // and XPIC(k) with S m^-1 p+ (FLIP's), the velocities that update F;
+  // the new particle velocities are those of psi = 1.
+  Batch<2> in = random_batch(20);
+  for (unsigned int q = 0; q < 20; ++q)
+    in.grid[velocity][q] *= 0.5; // S m~_k^-1 p differs from S m^-1 p
+  const double   dt = in.time_step;
+  const Batch<2> fmpm =
+    run("fmpm", in, "subsection Fmpm\nset Position update psi = 0\nend\n");
+  const Batch<2> fmpm1 = run("fmpm", in);
+  const Batch<2> xpic =
+    run("xpic", in, "subsection Xpic\nset Position update psi = 0\nend\n");
+  const Batch<2> xpic1 = run("xpic", in);
+  for (unsigned int q = 0; q < 20; ++q)
+    {
+      const Tensor<1, 2> v_p = in.grid[updated_velocity][q];
+      const Tensor<1, 2> Sm_p_plus =
+        in.grid[lumped_velocity][q] + dt * in.grid[lumped_acceleration][q];
+      EXPECT_LT((fmpm.position[q] - (in.position[q] + v_p * dt)).norm(), 1e-15);
+      EXPECT_LT((xpic.position[q] - (in.position[q] + Sm_p_plus * dt)).norm(),
+                1e-15);
+      EXPECT_EQ(fmpm.velocity[q], fmpm1.velocity[q]);
+      EXPECT_EQ(xpic.velocity[q], xpic1.velocity[q]);
+      // and psi = 1 does not move them so
+      EXPECT_GT((fmpm1.position[q] - fmpm.position[q]).norm(), 1e-6);
+      EXPECT_GT((xpic1.position[q] - xpic.position[q]).norm(), 1e-6);
+    }
+}
+
+
+
 TEST(ParticleUpdate, FmpmLumpedGivesPicVelocityNotPicPosition)
 {
   const Batch<2> in                  = random_batch(20);
