@@ -834,6 +834,16 @@ namespace fmpm
                         "factor times the largest of the initial total "
                         "energy and the energy put in by body forces. "
                         "Units: none.");
+      prm.declare_entry(
+        "Kinetic energy limit",
+        format_number(failure.kinetic_energy_limit),
+        Patterns::Double(0),
+        "The run fails when the kinetic energy exceeds this; 0: no limit. "
+        "For quasi-static scenes (a slow piston, a compression test): an "
+        "unstable method there shows as kinetic energy far above the "
+        "quasi-static level while the total energy stays below the work the "
+        "walls did, which the energy growth limit cannot see. Units: J (per "
+        "unit thickness in 2D).");
       prm.declare_entry("Points leaving the mesh",
                         failure.lost_points,
                         Patterns::Selection("stop|delete"),
@@ -1176,8 +1186,9 @@ namespace fmpm
     prm.leave_subsection();
 
     prm.enter_subsection("Failure detection");
-    failure.energy_growth_limit = prm.get_double("Energy growth limit");
-    failure.lost_points         = prm.get("Points leaving the mesh");
+    failure.energy_growth_limit  = prm.get_double("Energy growth limit");
+    failure.kinetic_energy_limit = prm.get_double("Kinetic energy limit");
+    failure.lost_points          = prm.get("Points leaving the mesh");
     prm.leave_subsection();
 
     prm.enter_subsection("Reference solution");

@@ -146,6 +146,18 @@ namespace fmpm
             "studies/stability.md). Use 'Particle update/Model name = fmpm' "
             "with the full mass matrix, or keep FLIP with 'Mass matrix/"
             "Model name = fmpm' of order 2 to 5 or 'lumped'.";
+        // Large compression (doc/studies/stability.md, "Large compression"):
+        // with Table 2.1's averaged position update FMPM(k)/XPIC(k) of k >= 3
+        // and the exact solve blow up at any measured Courant number; psi = 0
+        // is stable up to C = 1 there but less accurate for displacements.
+        if (!method.flip_type && method.order >= 3 &&
+            method.position_update_psi > 0)
+          limit.note =
+            "for large compression (tens of percent strain) set 'Position "
+            "update psi = 0' in 'Particle update/Fmpm' (or '/Xpic'): with "
+            "psi > 0 this method blows up there at every measured Courant "
+            "number (doc/studies/stability.md, \"Large compression\"); "
+            "psi = 1 is more accurate for displacements elsewhere.";
         return limit;
       }
 

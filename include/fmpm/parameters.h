@@ -253,6 +253,10 @@ namespace fmpm
   struct FailureParameters
   {
     double energy_growth_limit = 2.0;
+    /** The run fails when the kinetic energy exceeds this; 0: no limit.
+     * For quasi-static scenes, whose instabilities show as kinetic energy
+     * while the total stays below the external work. Units: J. */
+    double kinetic_energy_limit = 0;
     /** stop or delete */
     std::string lost_points = "stop";
   };

@@ -420,6 +420,11 @@ namespace fmpm
     void
     check_energy(const GlobalStatistics<dim> &statistics);
 
+    /** Where the fastest material point is (id, body, position, speed), for
+     * failure messages; collective. */
+    std::string
+    fastest_point() const;
+
     // --- checkpoint and restart (simulator/checkpoint_restart.cc) ---
     /** Install the SIGTERM/SIGINT handler that requests a checkpoint. */
     void

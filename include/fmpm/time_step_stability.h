@@ -26,6 +26,10 @@ namespace fmpm
     std::string strain_update = "usavg+";
     /** 'Time/Strain update mass matrix': same or lumped. */
     std::string strain_update_mass_matrix = "same";
+    /** psi of seed 000 Eq. 2.28 in the FMPM/XPIC position update
+     * ('Particle update/Fmpm|Xpic/Position update psi'); 0 for the other
+     * updates. */
+    double position_update_psi = 0;
   };
 
   /**
@@ -45,6 +49,9 @@ namespace fmpm
     /** Why no time step makes this method stable, and what to choose
      * instead; empty when it is not known to fail. */
     std::string warning;
+    /** A setting to consider for some scenes (printed at start-up, not a
+     * warning); empty when there is none. */
+    std::string note;
   };
 
   /**

@@ -274,6 +274,8 @@ namespace fmpm
             << format_number(parameters.time.courant_number)
             << " x stability factor " << format_number(stability.factor, 3)
             << " (" << stability.basis << ")" << std::endl;
+    if (!stability.note.empty())
+      pcout << "      note: " << stability.note << std::endl;
     if (!stability.warning.empty() && is_root && !parameters.test_mode)
       std::cerr << "fmpm: warning: " << stability.warning << std::endl;
 
@@ -392,6 +394,8 @@ namespace fmpm
                 << "): lower Time/Courant number or "
                 << "Time step, or set Time/Strain update mass matrix = "
                 << "lumped." << std::endl;
+        if (!stability.note.empty())
+          pcout << "    Note: " << stability.note << std::endl;
         tout << "FAILED at step " << failure.step << ": " << failure.what()
              << std::endl;
         const GlobalStatistics<dim> statistics = compute_statistics();
@@ -1036,9 +1040,51 @@ namespace fmpm
         message << "total energy grew from " << initial_total_energy << " to "
                 << E << " J (external work " << external_work
                 << " J), past Failure detection/Energy growth limit = "
-                << parameters.failure.energy_growth_limit;
+                << parameters.failure.energy_growth_limit << "; "
+                << fastest_point();
         throw SimulationFailure(message.str(), timestep_number, time);
       }
+    const double kinetic_limit = parameters.failure.kinetic_energy_limit;
+    if (kinetic_limit > 0 && statistics.kinetic_energy > kinetic_limit)
+      throw SimulationFailure(
+        "kinetic energy " + format_number(statistics.kinetic_energy, 6) +
+          " J is above Failure detection/Kinetic energy limit = " +
+          format_number(kinetic_limit) + " J (total energy " +
+          format_number(E, 6) + " J, external work " +
+          format_number(external_work, 6) + " J); " + fastest_point(),
+        timestep_number,
+        time);
+  }
+
+
+
+  template <int dim>
+  std::string
+  Simulator<dim>::fastest_point() const
+  {
+    using Index          = PropertyIndex<dim>;
+    double      speed    = -1;
+    std::string location = "no material points";
+    for (const auto &particle : particle_handler)
+      {
+        const auto   p = particle.get_properties();
+        const double v = get_vector<dim>(p, Index::velocity).norm();
+        if (v > speed)
+          {
+            speed = v;
+            std::ostringstream text;
+            text << "the fastest material point, " << particle.get_id()
+                 << " of Body " << static_cast<unsigned int>(p[Index::body_id])
+                 << ", moves at " << format_number(v, 6) << " m/s at position ("
+                 << particle.get_location() << ")";
+            location = text.str();
+          }
+      }
+    const auto speeds = Utilities::MPI::all_gather(mpi_communicator, speed);
+    const auto locations =
+      Utilities::MPI::all_gather(mpi_communicator, location);
+    return locations[std::max_element(speeds.begin(), speeds.end()) -
+                     speeds.begin()];
   }
 
   template class Simulator<2>;

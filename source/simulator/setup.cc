@@ -618,7 +618,8 @@ namespace fmpm
       method.strain_update = parameters.method.strain_update;
       method.strain_update_mass_matrix =
         parameters.method.strain_update_mass_matrix;
-      stability = stability_limit(method);
+      method.position_update_psi = particle_update->position_update_psi();
+      stability                  = stability_limit(method);
       if (parameters.time.stability_factor > 0)
         {
           stability.basis = "Time/Stability factor (the method's: " +

@@ -8,7 +8,7 @@
 set -u
 fmpm="$1"; base="$2"; narrow="$3"
 max_kinetic() {
-  printf 'subsection Particle update\n subsection Fmpm\n  set Position update psi = %s\n end\nend\nsubsection Output\n set Directory = output-compression-%s\n set Write vtu = false\nend\n' "$1" "$1" > "compression-$1.prm"
+  printf 'subsection Particle update\n subsection Fmpm\n  set Position update psi = %s\n end\nend\nsubsection Output\n set Directory = output-compression-%s\n set Write vtu = false\nend\nsubsection Failure detection\n set Kinetic energy limit = 0\nend\n' "$1" "$1" > "compression-$1.prm"
   "$fmpm" "$base" "$narrow" "compression-$1.prm" > "compression-$1.log" 2>&1
   awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "kinetic_energy") c = i; next }
            { if ($c > m) m = $c } END { print m + 0 }' "output-compression-$1/history.csv"

@@ -83,10 +83,12 @@ namespace
             EXPECT_LE(full, previous + 1e-12) << su;
             // Lumped strain velocities: at least as stable.
             if (strain_mass == "lumped")
-              EXPECT_GE(full,
-                        fmpm::stability_limit(
-                          method("full", 1000000, flip, su, "same"))
-                          .factor);
+              {
+                EXPECT_GE(full,
+                          fmpm::stability_limit(
+                            method("full", 1000000, flip, su, "same"))
+                            .factor);
+              }
           }
     // The measured values (doc/studies/stability.md).
     EXPECT_DOUBLE_EQ(
@@ -117,6 +119,34 @@ namespace
       fmpm::stability_limit(method("consistent", 1, false, "usl"));
     EXPECT_NE(consistent.warning.find("free surfaces"), std::string::npos);
     EXPECT_LT(consistent.factor, 1);
+  }
+
+
+
+  // doc/studies/stability.md "Large compression": FMPM/XPIC of k >= 3 and
+  // the exact solve with psi > 0 get a note naming psi = 0; k <= 2, psi = 0,
+  // FLIP-type updates and the lumped matrix get none.
+  TEST(StabilityLimit, LargeCompressionNoteNamesPsi)
+  {
+    auto note = [](const std::string &mass,
+                   const unsigned int order,
+                   const bool         flip_type,
+                   const double       psi) {
+      fmpm::StabilityMethod m = method(mass, order, flip_type, "usavg+");
+      m.position_update_psi   = psi;
+      return fmpm::stability_limit(m).note;
+    };
+    for (const unsigned int k : {3u, 5u, 10u, 20u})
+      for (const double psi : {1., 0.25})
+        EXPECT_NE(note("fmpm", k, false, psi).find("Position update psi = 0"),
+                  std::string::npos)
+          << k << ' ' << psi;
+    EXPECT_NE(note("full", 1000000, false, 1).find("Large compression"),
+              std::string::npos);
+    EXPECT_TRUE(note("fmpm", 2, false, 1).empty());
+    EXPECT_TRUE(note("fmpm", 5, false, 0).empty());
+    EXPECT_TRUE(note("fmpm", 5, true, 1).empty());
+    EXPECT_TRUE(note("lumped", 1, false, 1).empty());
   }
 
 

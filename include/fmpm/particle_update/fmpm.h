@@ -33,6 +33,12 @@ namespace fmpm
       void
       update(Batch<dim> &batch) const override;
 
+      double
+      position_update_psi() const override
+      {
+        return psi;
+      }
+
       /**
        * psi of seed 000 Eq. 2.28 with the FMPM acceleration A dt = v_p - V:
        * X += (v_p - psi (v_p - V)/2) dt. 1 is Table 2.1's average of the old

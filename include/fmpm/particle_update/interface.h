@@ -98,6 +98,15 @@ namespace fmpm
       virtual std::vector<GridField>
       required_fields() const = 0;
 
+      /** @brief psi of seed 000 Eq. 2.28 in the position update, where the
+       * update has one that the stability factor depends on (FMPM, XPIC);
+       * 0 otherwise. */
+      virtual double
+      position_update_psi() const
+      {
+        return 0;
+      }
+
       /** @brief Overwrite velocity and position of every point of @p batch. */
       virtual void
       update(Batch<dim> &batch) const = 0;

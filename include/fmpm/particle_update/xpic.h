@@ -33,6 +33,12 @@ namespace fmpm
       void
       update(Batch<dim> &batch) const override;
 
+      double
+      position_update_psi() const override
+      {
+        return psi;
+      }
+
       /**
        * 1: Table 2.1's X += (v_m + dV/2) dt; 0: X += (v_m + a dt) dt, the
        * lumped grid velocity S m⁻¹p⁺ that also updates F (FLIP's).
