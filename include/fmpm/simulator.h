@@ -407,6 +407,13 @@ namespace fmpm
     void
     apply_material_full_mass(const std::vector<GridVectorField *> &in,
                              const std::vector<GridVectorField *> &out);
+    /** The exact full-mass solve with per-material fields: the k → ∞ limit
+     * of multimaterial FMPM(k) with net incremental contact, solved by
+     * conjugate gradients in the increments the contact law of the
+     * increments allows (doc/contact.md). On entry @p field holds the
+     * contact-corrected lumped velocities z₁^α. */
+    void
+    solve_material_full_mass(const ParticleUpdate::GridField field);
     void
     update_particles();
     /** @brief Whether sort_particles_into_cells() moves only the points
@@ -503,6 +510,9 @@ namespace fmpm
       GridVectorField delta_velocity;   // Δv^α of the first correction
       GridVectorField series_product;   // m̃^α z (multimaterial XPIC(k))
       GridVectorField series_increment; // m^α δz^α (net incremental contact)
+      // The exact solve with contact: residual, direction, free components.
+      GridVectorField series_residual, series_direction, series_free;
+      GridScalar      weak_coupling; // c^α = m̃^α 1_W
       std::array<GridVectorField, ParticleUpdate::n_grid_fields> fields;
       std::array<bool, ParticleUpdate::n_grid_fields>            computed{};
     };
@@ -555,6 +565,19 @@ namespace fmpm
     std::vector<CloudPoint>   cloud;
     /** LR: fits and NLLS iterations since the start (benchmark figures). */
     unsigned long long logistic_fits = 0, logistic_iterations = 0;
+    /** The exact solve with contact (Mass matrix = full): its settings,
+     * taken from the mass matrix, and its CG figures since the start. */
+    bool material_exact_solve = false;
+    /** The exact solve with contact: the owned nodes with materials in
+     * contact and those materials (bit a: material a). */
+    std::vector<std::pair<unsigned int, unsigned int>> contact_groups;
+    /** The exact solve with contact: weak nodes, material by material. */
+    std::vector<char>  material_weak;
+    double             material_solve_tolerance      = 1e-10;
+    double             material_weak_threshold       = 0.1;
+    unsigned int       material_solve_max_iterations = 1000;
+    unsigned long long material_solves = 0, material_solve_iterations = 0,
+                       material_solve_failures = 0;
     /** n̂ and the separation (cells) at contact nodes (grid output). */
     GridVectorField contact_normal;
     GridScalar      contact_separation;

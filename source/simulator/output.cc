@@ -566,6 +566,13 @@ namespace fmpm
           out << "  \"logistic_regression_fits\": " << number(fits)
               << ",\n  \"logistic_regression_iterations_mean\": "
               << number(fit_iterations / fits) << ",\n";
+        if (material_solves > 0) // the same on every rank (CG is global)
+          out << "  \"contact_cg_solves\": " << material_solves
+              << ",\n  \"contact_cg_iterations_mean\": "
+              << number(static_cast<double>(material_solve_iterations) /
+                        material_solves)
+              << ",\n  \"contact_cg_failures\": " << material_solve_failures
+              << ",\n";
       }
     if (!velocity_conditions.labels().empty())
       {

@@ -675,12 +675,22 @@ namespace fmpm
     if (parameters.contact.multimaterial && parameters.size.n_materials > 1)
       {
         const std::string &mass = parameters.method.mass_matrix;
-        AssertThrow(mass == "lumped" || mass == "fmpm",
+        AssertThrow(mass == "lumped" || mass == "fmpm" || mass == "full",
                     ExcMessage("Contact/Model name = multimaterial works with "
-                               "'Mass matrix/Model name = lumped' or 'fmpm' "
-                               "(multimaterial XPIC(k)/FMPM(k)); this scene "
-                               "has '" +
+                               "'Mass matrix/Model name = lumped', 'fmpm' "
+                               "(multimaterial XPIC(k)/FMPM(k)) or 'full' "
+                               "(their exact limit); this scene has '" +
                                mass + "'."));
+        AssertThrow(mass != "full" || parameters.contact.net_incremental,
+                    ExcMessage(
+                      "'Mass matrix/Model name = full' with contact is the "
+                      "k -> infinity limit of net incremental contact; "
+                      "'Contact/Contact in mass-matrix iterations = once "
+                      "per step' has no contact left in that limit (the "
+                      "series converges to the solve of the uncorrected "
+                      "momenta, seed 000 Eq. 3.22). Set it to 'net "
+                      "incremental', or use 'Mass matrix/Model name = fmpm' "
+                      "with a finite Order."));
         AssertThrow(!velocity_conditions.needs_full_mass_matrix(),
                     ExcMessage("Contact/Model name = multimaterial needs a "
                                "'Boundary conditions/Method' without the full "
