@@ -404,7 +404,9 @@ namespace fmpm
             (alpha.front() < beta.front() ? 1. : -1.) * specified_normal;
           return node;
         }
-      const double h = node_cell_size.local_element(i);
+      // (velocity only has no cell size and returns before using it)
+      const double h =
+        contact_needs_cell_size ? node_cell_size.local_element(i) : 0.;
       if (method == Method::logistic_regression)
         {
           // Eqs. 19-21: the plane between the two classes of the cloud;
