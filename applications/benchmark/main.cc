@@ -19,8 +19,9 @@
 // normals (LR: the fits) and point clouds, and the LR iterations.
 //
 // With --contact-orders [rounds], the same scene with FMPM(k) and XPIC(k),
-// k = 1, 2, 5, with one velocity field and with LR contact (net incremental
-// and once per step), and prints the cost of contact per order.
+// k = 1, 2, 5, and the exact solve, with one velocity field and with LR
+// contact (net incremental and once per step), and prints the cost of
+// contact per order.
 //
 // With --sizes, benchmark_2d.prm at about 1e4, 1e5 and 1e6 points (the
 // mesh refined with the points per cell kept), and prints the time per
@@ -412,6 +413,18 @@ namespace
                       "multimaterial\n  set Contact in mass-matrix iterations "
                       "= once per step\nend\n"});
         }
+    // The exact solve (the limit of net incremental contact; once per step
+    // has no limit and is refused).
+    const std::string exact =
+      "subsection Particle update\n  set Model name = fmpm\nend\n"
+      "subsection Mass matrix\n  set Model name = full\nend\n";
+    variants.push_back(
+      {"exact solve, one field",
+       exact + "subsection Contact\n  set Model name = none\nend\n"});
+    variants.push_back({"exact solve, LR, net incremental",
+                        exact + "subsection Contact\n  set Model name = "
+                                "multimaterial\n  set Contact in mass-matrix "
+                                "iterations = net incremental\nend\n"});
     const auto summaries =
       run_variants(scene, overrides, variants, rounds, "--contact-orders");
     if (summaries.empty())
@@ -433,6 +446,11 @@ namespace
                   << std::fixed << std::setprecision(2) << net / one << " | "
                   << once / one << " |\n";
       }
+    const double one = seconds_per_step(summaries[3 * methods.size()]);
+    const double net = seconds_per_step(summaries[3 * methods.size() + 1]);
+    std::cout << "| exact solve | " << std::scientific << std::setprecision(2)
+              << n_particles / one << " | " << std::fixed
+              << std::setprecision(2) << net / one << " | refused |\n";
     std::cout << std::flush;
   }
 
