@@ -49,9 +49,15 @@ and each run's last state, points coloured by body, the points inside
 another body ringed) and ``ellipse_compaction_common.png`` (the same at the
 common compression), and prints the tables in Markdown.
 
+``--run LABEL DIR`` (repeated) analyses single fmpm output directories
+instead of a study's runs (the checks on doc/studies/ellipse_compaction.md),
+``--name`` changes the stem of the files written.
+
 Usage::
 
     ellipse_compaction.py STUDY_FILE [--output DIR] [--quick]
+    ellipse_compaction.py --run LABEL DIR [--run LABEL DIR ...] --output DIR
+                          [--name STEM] [--title TEXT]
                           [--speed 100] [--height 0.002] [--width 0.001]
                           [--neighbours 8] [--votes 6]
 """
@@ -196,7 +202,15 @@ def draw_states(pyplot, panels, args, path):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("study")
+    parser.add_argument("study", nargs="?")
+    parser.add_argument("--run", nargs=2, action="append",
+                        metavar=("LABEL", "DIR"),
+                        help="analyse this fmpm output directory instead of "
+                        "a study's runs (repeatable; needs --output)")
+    parser.add_argument("--name", default="ellipse_compaction",
+                        help="stem of the files written")
+    parser.add_argument("--title", help="chart title (default: the "
+                        "study's)")
     parser.add_argument("--output")
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--speed", type=float, default=100.0)
@@ -206,22 +220,38 @@ def main():
     parser.add_argument("--votes", type=int, default=6)
     args = parser.parse_args()
 
-    study = fmpm_study.parse_study(Path(args.study), quick=args.quick)
-    output = Path(args.output) if args.output else Path(
-        "study_" + Path(args.study).stem + ("_quick" if args.quick else ""))
+    if args.run:
+        if not args.output:
+            parser.error("--run needs --output")
+        output = Path(args.output)
+        output.mkdir(parents=True, exist_ok=True)
+        runs = [(label, f"run {label}", Path(directory))
+                for label, directory in args.run]
+        title = args.title or "Ellipse compaction"
+    elif args.study:
+        study = fmpm_study.parse_study(Path(args.study), quick=args.quick)
+        output = Path(args.output) if args.output else Path(
+            "study_" + Path(args.study).stem
+            + ("_quick" if args.quick else ""))
+        runs = [(run.swept.get("Label", run.label()), run.run_id,
+                 run.directory)
+                for run in fmpm_study.expand_runs(study, output)]
+        title = args.title or study.title
+    else:
+        parser.error("give a study file or --run LABEL DIR")
+    stem = args.name
 
     results, histories, snapshots = [], {}, {}
-    for run in fmpm_study.expand_runs(study, output):
-        label = run.swept.get("Label", run.label())
-        summary = fmpm_study.read_json(run.directory / "summary.json") or {}
-        history_path = run.directory / "history.csv"
+    for label, run_id, directory in runs:
+        summary = fmpm_study.read_json(directory / "summary.json") or {}
+        history_path = directory / "history.csv"
         if not history_path.exists():
-            print(f"{run.run_id}: no history.csv (not run?)", file=sys.stderr)
+            print(f"{run_id}: no history.csv (not run?)", file=sys.stderr)
             continue
         rows = read_history(history_path)
-        files = sorted(run.directory.glob("particles_*.csv"))
+        files = sorted(directory.glob("particles_*.csv"))
         if not files:
-            print(f"{run.run_id}: no particles_*.csv (pruned?)",
+            print(f"{run_id}: no particles_*.csv (pruned?)",
                   file=sys.stderr)
         series = []
         snapshots[label] = []
@@ -251,7 +281,7 @@ def main():
                 "on_piston": on_piston,
                 "contact_nodes": row.get("contact_nodes")})
         histories[label] = series
-        walls = progress(run.directory / "log.txt")
+        walls = progress(directory / "log.txt")
         phases = summary.get("phase_wall_seconds", {})
         last = series[-1]
         tail = [s for s in series if s["compression"] >= 72.5 - 1e-9]
@@ -260,7 +290,7 @@ def main():
                    if s["contact_nodes"] is not None]
         results.append({
             "label": label,
-            "run": run.run_id,
+            "run": run_id,
             "status": summary.get("status", "not run"),
             "final_compression_percent": last["compression"],
             "final_stress_gpa": last["stress"],
@@ -344,12 +374,12 @@ def main():
             return f"{value:.5g}"
         return str(value)
 
-    with open(output / "ellipse_compaction.csv", "w", newline="") as stream:
+    with open(output / f"{stem}.csv", "w", newline="") as stream:
         writer = csv.writer(stream)
         writer.writerow(columns)
         for r in results:
             writer.writerow([text(r[c]) for c in columns])
-    with open(output / "ellipse_compaction_history.csv", "w",
+    with open(output / f"{stem}_history.csv", "w",
               newline="") as stream:
         writer = csv.writer(stream)
         writer.writerow(["label", "time", "compression_percent",
@@ -446,9 +476,9 @@ def main():
     volume_axis.set_title("volume ratio (above 1: overlap)")
     volume_axis.grid(alpha=0.3)
     volume_axis.legend(fontsize=8)
-    figure.suptitle(study.title)
+    figure.suptitle(title)
     figure.tight_layout()
-    figure.savefig(output / "ellipse_compaction.png", dpi=120)
+    figure.savefig(output / f"{stem}.png", dpi=120)
 
     labels = [label for label in histories if snapshots[label]]
     if labels:
@@ -465,17 +495,15 @@ def main():
 
         draw_states(pyplot, [initial] + [
             panel(label, len(snapshots[label]) - 1) for label in labels],
-            args, output / "ellipse_compaction_final.png")
+            args, output / f"{stem}_final.png")
         draw_states(pyplot, [initial] + [
             panel(r["label"], r["common_index"]) for r in results
             if r["label"] in labels and
             r["common_index"] < len(snapshots[r["label"]])],
-            args, output / "ellipse_compaction_common.png")
-    print(f"written: {output / 'ellipse_compaction.csv'}, "
-          f"{output / 'ellipse_compaction_history.csv'}, "
-          f"{output / 'ellipse_compaction.png'}, "
-          f"{output / 'ellipse_compaction_final.png'}, "
-          f"{output / 'ellipse_compaction_common.png'}")
+            args, output / f"{stem}_common.png")
+    print("written: " + ", ".join(
+        str(output / f"{stem}{suffix}") for suffix in (
+            ".csv", "_history.csv", ".png", "_final.png", "_common.png")))
 
 
 if __name__ == "__main__":
