@@ -212,17 +212,33 @@ namespace fmpm
      * for parallelograms/parallelepipeds, Newton iterations of the
      * multilinear map otherwise.
      */
-    static Point<dim>
-    reference_point(const CellData &cell, const Point<dim> &x, Point<dim> xi)
+    static DEAL_II_ALWAYS_INLINE Point<dim>
+                                 reference_point(const CellData &cell, const Point<dim> &x, const Point<dim> &xi)
     {
-      // Affine cells: x = x₀ + J ξ inverts in one product.
+      // Affine cells: x = x₀ + J ξ inverts in one product (inlined: the
+      // particle update calls it for every point).
       if (cell.is_affine)
-        return Point<dim>(transpose(cell.inverse_jacobian_transpose) *
-                          (x - cell.vertex[0]));
+        {
+          Point<dim> xi_affine;
+          for (unsigned int c = 0; c < dim; ++c)
+            for (unsigned int d = 0; d < dim; ++d)
+              xi_affine[c] += cell.inverse_jacobian_transpose[d][c] *
+                              (x[d] - cell.vertex[0][d]);
+          return xi_affine;
+        }
+      return reference_point_by_newton(cell, x, xi);
+    }
+
+    /** @brief reference_point() on a cell that is not affine: Newton
+     * iterations of the multilinear map from @p xi. */
+    static Point<dim>
+    reference_point_by_newton(const CellData   &cell,
+                              const Point<dim> &x,
+                              Point<dim>        xi)
+    {
       std::array<double, n_nodes>         S;
       std::array<Tensor<1, dim>, n_nodes> dS;
-      for (unsigned int iteration = 0; iteration < 8;
-           ++iteration)
+      for (unsigned int iteration = 0; iteration < 8; ++iteration)
         {
           values(xi, S);
           Point<dim> x_xi;

@@ -417,8 +417,8 @@ namespace fmpm
     void
     update_particles();
     /** @brief Whether sort_particles_into_cells() moves only the points
-     * that left their cell (one rank), which needs their reference
-     * locations from the particle update. */
+     * that left their cell (and sends only those that leave the rank),
+     * which needs their reference locations from the particle update. */
     bool
     fast_point_sorting_applies() const;
 
@@ -647,8 +647,8 @@ namespace fmpm
     /** Points (support cache indices) whose new position left their cell
      * in this step. */
     std::vector<unsigned int> points_that_left_their_cell;
-    /** Points the fast sort moved since deal.II's sort last put the
-     * points' memory in cell order. */
+    /** Points the fast sort moved (all ranks) since deal.II's sort last
+     * put the points' memory in cell order. */
     std::size_t points_moved_since_memory_sort = 0;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>

@@ -10,6 +10,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace fmpm
@@ -1058,13 +1061,13 @@ namespace fmpm
   bool
   Simulator<dim>::fast_point_sorting_applies() const
   {
-    // The fast sort moves only the points that left their cell; deal.II's
+    // The fast sort moves only the points that left their cell (to a
+    // neighbour on this rank, or sent to the rank that owns it); deal.II's
     // sort checks every point and puts the points' memory in cell order
     // (which every pass reads faster), so the fast sort hands over to it
     // when the points it moved reach a fraction of all points (see
     // sort_particles_into_cells()).
-    return parameters.fast_point_sorting &&
-           Utilities::MPI::n_mpi_processes(mpi_communicator) == 1;
+    return parameters.fast_point_sorting;
   }
 
 
@@ -1075,49 +1078,57 @@ namespace fmpm
   {
     TimerOutput::Scope timer(computing_timer, "sort points into cells");
     // The particle update set the reference locations of the points that
-    // stayed in their cells. Move the others to the locally owned cell that
-    // now holds them, searching the cells around the old cell's vertices. If
-    // a point went to another rank's cell, or could not be found nearby, or
-    // left the mesh, deal.II's full sort handles every point (and reports
-    // lost points).
+    // stayed in their cells. Move the others to the cell that now holds
+    // them, searching the (owned or ghost) cells around the old cell's
+    // vertices: a locally owned cell takes the point here, a ghost cell's
+    // owner receives it (one point-to-point exchange of only these points).
+    // If a point could not be found nearby or left the mesh, deal.II's full
+    // sort handles every point (and reports lost points).
     // Memory order: the moved points take free slots, away from their new
-    // cell's other points; once the moved points reach this fraction of all
-    // points, deal.II's sort (which reorders the memory) runs instead.
-    // (benchmark_2d, sort ms/step: 8.2 at 0.2, 6.7 at 0.5, 7.5 at 1, 6.9
-    // never; 11.8 with deal.II's sort every step.)
-    constexpr double memory_sort_fraction = 0.5;
-    if (!fast_point_sorting_applies() ||
-        points_moved_since_memory_sort + points_that_left_their_cell.size() >
-          memory_sort_fraction * supports.n_points())
+    // cell's other points; once the moved points (all ranks) reach this
+    // fraction of all points, deal.II's sort (which reorders the memory)
+    // runs instead.
+    // (benchmark_2d, 400 steps, one rank, particle-steps/s: 1.52-1.65e6 at
+    // 0.02 and 0.05, 1.80-1.96e6 at 0.1, 1.86-1.89e6 at 0.2, 1.58-1.60e6
+    // at 0.5: the passes read scattered memory for longer at 0.5, deal.II's
+    // sort runs too often below 0.1.)
+    constexpr double memory_sort_fraction = 0.2;
+    if (!fast_point_sorting_applies())
       {
         points_that_left_their_cell.clear();
         points_moved_since_memory_sort = 0;
         particle_handler.sort_particles_into_subdomains_and_cells();
         return;
       }
+    // A point moved to another cell of this rank; its properties are
+    // moved_properties[n_properties * (its place in moves)...].
     struct Move
     {
       typename Triangulation<dim>::active_cell_iterator cell;
       Point<dim>                                        x, xi;
       types::particle_index                             id;
-      std::vector<double>                               properties;
     };
 
     auto &pool = particle_handler.get_property_pool();
+    const unsigned int n_properties = particle_properties.n_properties();
     std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
                       leaving;
-    std::vector<Move> moves;
-    bool              need_full_sort = false;
-    Point<dim>        center;
+    std::vector<Move>   moves;
+    std::vector<double> moved_properties;
+    // Per receiving rank, per point: id, x, the new cell's CellId (binary),
+    // the properties.
+    std::map<unsigned int, std::vector<double>> sent;
+    std::uint64_t                               n_sent         = 0;
+    bool                                        need_full_sort = false;
+    Point<dim>                                  center;
     for (unsigned int d = 0; d < dim; ++d)
       center[d] = 0.5;
     for (const unsigned int k : points_that_left_their_cell)
       {
-        // The point's iterator: find it among its cell's points.
+        // The point's iterator: its place among its cell's points is its
+        // place in the cache (compute_supports() walks them in that order).
         const Point<dim> *const location =
           &pool.get_location(supports.handle[k]);
-        typename Particles::ParticleHandler<dim>::particle_iterator particle;
-        bool       found_particle = false;
         const auto cell_with_points =
           std::upper_bound(supports.cell_point_begin.begin(),
                            supports.cell_point_begin.end(),
@@ -1125,82 +1136,223 @@ namespace fmpm
           supports.cell_point_begin.begin() - 1;
         const auto cell  = supports.cell_iterator[cell_with_points];
         auto       range = particle_handler.particles_in_cell(cell);
-        for (auto candidate = range.begin(); candidate != range.end();
-             ++candidate)
-          if (&candidate->get_location() == location)
-            {
-              particle       = candidate;
-              found_particle = true;
-              break;
-            }
-        Assert(found_particle, ExcInternalError());
-        if (!found_particle)
+        auto       particle =
+          std::next(range.begin(),
+                    k - supports.cell_point_begin[cell_with_points]);
+        if (&particle->get_location() != location)
           {
+            Assert(false, ExcInternalError());
             need_full_sort = true;
             continue;
           }
         leaving.push_back(particle);
-        const Point<dim> x     = *location;
-        bool             found = false;
-        for (const unsigned int v : cell->vertex_indices())
-          {
-            for (const auto &candidate : vertex_to_cells[cell->vertex_index(v)])
-              {
-                if (candidate == cell || !candidate->is_locally_owned())
-                  continue;
-                const Point<dim> xi = GridTransfer<dim>::reference_point(
-                  transfer.cell_data(candidate->active_cell_index()),
-                  x,
-                  center);
-                if (GridTransfer<dim>::is_inside(xi))
+        const Point<dim> x = *location;
+
+        // The new cell: across the face the point crossed, from neighbour
+        // to neighbour (a corner takes two steps); where that meets a
+        // boundary, a finer neighbour or an artificial cell, the cells
+        // around the old cell's vertices.
+        typename Triangulation<dim>::active_cell_iterator target;
+        Point<dim>                                        xi;
+        {
+          auto       walk       = cell;
+          Point<dim> xi_walk    = GridTransfer<dim>::reference_point(
+            transfer.cell_data(cell->active_cell_index()), x, center);
+          for (unsigned int hop = 0; hop <= dim; ++hop)
+            {
+              unsigned int face = numbers::invalid_unsigned_int;
+              for (unsigned int d = 0; d < dim; ++d)
+                if (xi_walk[d] < -1e-12 || xi_walk[d] > 1 + 1e-12)
                   {
-                    const auto p = particle->get_properties();
-                    moves.push_back(
-                      Move{candidate,
-                           x,
-                           xi,
-                           particle->get_id(),
-                           std::vector<double>(p.begin(), p.end())});
-                    found = true;
+                    face = 2 * d + (xi_walk[d] > 1 ? 1 : 0);
                     break;
                   }
+              if (face == numbers::invalid_unsigned_int)
+                {
+                  if (walk != cell)
+                    {
+                      target = walk;
+                      xi     = xi_walk;
+                    }
+                  break;
+                }
+              if (walk->at_boundary(face) || walk->neighbor(face)->has_children())
+                break;
+              walk = walk->neighbor(face);
+              if (walk->is_artificial())
+                break;
+              xi_walk = GridTransfer<dim>::reference_point(
+                transfer.cell_data(walk->active_cell_index()), x, center);
+            }
+        }
+        if (target.state() != IteratorState::valid)
+          for (const unsigned int v : cell->vertex_indices())
+            {
+              for (const auto &candidate :
+                   vertex_to_cells[cell->vertex_index(v)])
+                {
+                  if (candidate == cell || candidate->is_artificial())
+                    continue;
+                  xi = GridTransfer<dim>::reference_point(
+                    transfer.cell_data(candidate->active_cell_index()),
+                    x,
+                    center);
+                  if (GridTransfer<dim>::is_inside(xi))
+                    {
+                      target = candidate;
+                      break;
+                    }
+                }
+              if (target.state() == IteratorState::valid)
+                break;
+            }
+        const bool found = target.state() == IteratorState::valid;
+        if (found)
+          {
+            const auto p = particle->get_properties();
+            if (target->is_locally_owned())
+              {
+                moves.push_back(Move{target, x, xi, particle->get_id()});
+                moved_properties.insert(moved_properties.end(),
+                                        p.begin(),
+                                        p.end());
               }
-            if (found)
-              break;
+            else
+              {
+                std::vector<double> &buffer = sent[target->subdomain_id()];
+                buffer.push_back(particle->get_id());
+                for (unsigned int d = 0; d < dim; ++d)
+                  buffer.push_back(x[d]);
+                for (const unsigned int word :
+                     target->id().template to_binary<dim>())
+                  buffer.push_back(word);
+                buffer.insert(buffer.end(), p.begin(), p.end());
+                ++n_sent;
+              }
           }
         if (!found)
           need_full_sort = true;
       }
-    // One reduction: does any rank need the full sort, did any rank move
-    // points (then the handler's cached counts must be updated, together).
-    const unsigned int local_flags[2] = {need_full_sort ? 1u : 0u,
-                                         moves.empty() ? 0u : 1u};
-    unsigned int global_flags[2] = {0, 0};
-    Utilities::MPI::max(make_array_view(local_flags),
+    // One reduction: does any rank need the full sort, how many points left
+    // their cells and how many their rank, on all ranks (the same decision
+    // on every rank).
+    const std::uint64_t local_counts[3] = {need_full_sort ? 1u : 0u,
+                                           points_that_left_their_cell.size(),
+                                           n_sent};
+    std::uint64_t       global_counts[3] = {0, 0, 0};
+    Utilities::MPI::sum(make_array_view(local_counts),
                         mpi_communicator,
-                        make_array_view(global_flags));
-    // On several ranks deal.II's sort also exchanges the points that changed
-    // rank; mixing it with local moves is not safe in deal.II 9.4, so the
-    // fast path is used on one rank only (see doc/benchmarks.md).
-    if (global_flags[0] != 0)
+                        make_array_view(global_counts));
+    points_that_left_their_cell.clear();
+    if (global_counts[0] != 0 ||
+        points_moved_since_memory_sort + global_counts[1] >
+          memory_sort_fraction * particle_handler.n_global_particles())
       {
         particle_handler.sort_particles_into_subdomains_and_cells();
         points_moved_since_memory_sort = 0;
+        return;
       }
-    else if (global_flags[1] != 0)
+    if (global_counts[1] == 0)
+      return;
+    points_moved_since_memory_sort += global_counts[1];
+
+    // Only the points that change rank travel, to the owners of ghost cells:
+    // every neighbour sends each of its neighbours one message (empty if it
+    // has no point for it), so the receives are matched by source.
+    std::map<unsigned int, std::vector<double>> received;
+    if (global_counts[2] != 0)
       {
-        points_moved_since_memory_sort += moves.size();
-        if (!leaving.empty())
-          particle_handler.remove_particles(leaving);
-        for (const auto &move : moves)
-          particle_handler.insert_particle(move.x,
-                                           move.xi,
-                                           move.id,
-                                           move.cell,
-                                           make_array_view(move.properties));
-        particle_handler.update_cached_numbers();
+        constexpr int tag = 31511; // fmpm's point exchange
+        const std::set<types::subdomain_id> &neighbours =
+          triangulation.ghost_owners();
+        std::vector<MPI_Request> requests;
+        requests.reserve(neighbours.size());
+        for (const auto &destination : sent)
+          AssertThrow(neighbours.count(destination.first) == 1,
+                      ExcInternalError());
+        for (const types::subdomain_id rank : neighbours)
+          {
+            const std::vector<double> &buffer = sent[rank];
+            requests.emplace_back();
+            const int ierr = MPI_Isend(buffer.data(),
+                                       buffer.size(),
+                                       MPI_DOUBLE,
+                                       rank,
+                                       tag,
+                                       mpi_communicator,
+                                       &requests.back());
+            AssertThrowMPI(ierr);
+          }
+        for (const types::subdomain_id rank : neighbours)
+          {
+            MPI_Status status;
+            int        ierr = MPI_Probe(rank, tag, mpi_communicator, &status);
+            AssertThrowMPI(ierr);
+            int count = 0;
+            ierr      = MPI_Get_count(&status, MPI_DOUBLE, &count);
+            AssertThrowMPI(ierr);
+            std::vector<double> &buffer = received[rank];
+            buffer.resize(count);
+            ierr = MPI_Recv(buffer.data(),
+                            count,
+                            MPI_DOUBLE,
+                            rank,
+                            tag,
+                            mpi_communicator,
+                            MPI_STATUS_IGNORE);
+            AssertThrowMPI(ierr);
+          }
+        const int ierr =
+          MPI_Waitall(requests.size(), requests.data(), MPI_STATUSES_IGNORE);
+        AssertThrowMPI(ierr);
       }
-    points_that_left_their_cell.clear();
+    // One by one, each cell's points from the last: a removal leaves the
+    // places of the cell's earlier points unchanged. (remove_particles()
+    // would also recount every point on this rank, collectively.)
+    for (auto particle = leaving.rbegin(); particle != leaving.rend();
+         ++particle)
+      particle_handler.remove_particle(*particle);
+    for (unsigned int m = 0; m < moves.size(); ++m)
+      particle_handler.insert_particle(
+        moves[m].x,
+        moves[m].xi,
+        moves[m].id,
+        moves[m].cell,
+        ArrayView<const double>(moved_properties.data() + m * n_properties,
+                                n_properties));
+    const unsigned int record = 1 + dim + 4 + n_properties;
+    for (const auto &from_rank : received)
+      {
+        const std::vector<double> &buffer = from_rank.second;
+        AssertDimension(buffer.size() % record, 0);
+        for (std::size_t r = 0; r < buffer.size(); r += record)
+          {
+            const double *const entry = buffer.data() + r;
+            Point<dim>          x;
+            for (unsigned int d = 0; d < dim; ++d)
+              x[d] = entry[1 + d];
+            CellId::binary_type binary;
+            for (unsigned int w = 0; w < 4; ++w)
+              binary[w] = static_cast<unsigned int>(entry[1 + dim + w]);
+            const typename Triangulation<dim>::active_cell_iterator cell =
+              triangulation.create_cell_iterator(CellId(binary));
+            Assert(cell->is_locally_owned(), ExcInternalError());
+            const Point<dim> xi = GridTransfer<dim>::reference_point(
+              transfer.cell_data(cell->active_cell_index()), x, center);
+            particle_handler.insert_particle(
+              x,
+              xi,
+              static_cast<types::particle_index>(entry[0]),
+              cell,
+              ArrayView<const double>(entry + 1 + dim + 4, n_properties));
+          }
+      }
+    // The handler's counts (points per rank, next free id) change only when
+    // points change rank (one pass over all points, and collective); its
+    // largest number of points per cell, which fmpm does not read, is
+    // refreshed by the next deal.II sort.
+    if (global_counts[2] != 0)
+      particle_handler.update_cached_numbers();
   }
 
   template class Simulator<2>;
