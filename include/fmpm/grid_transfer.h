@@ -213,7 +213,9 @@ namespace fmpm
      * multilinear map otherwise.
      */
     static DEAL_II_ALWAYS_INLINE Point<dim>
-                                 reference_point(const CellData &cell, const Point<dim> &x, const Point<dim> &xi)
+                                 reference_point(const CellData   &cell,
+                                                 const Point<dim> &x,
+                                                 const Point<dim> &xi)
     {
       // Affine cells: x = x₀ + J ξ inverts in one product (inlined: the
       // particle update calls it for every point).

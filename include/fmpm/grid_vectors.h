@@ -4,10 +4,9 @@
 #ifndef fmpm_grid_vectors_h
 #define fmpm_grid_vectors_h
 
+#include <deal.II/base/exceptions.h>
 #include <deal.II/lac/la_parallel_block_vector.h>
 #include <deal.II/lac/la_parallel_vector.h>
-
-#include <deal.II/base/exceptions.h>
 
 #include <vector>
 
@@ -114,7 +113,7 @@ namespace fmpm
       dst = 0;
       for (unsigned int c = 0; c < n_cells(); ++c)
         {
-          const unsigned int  n     = cell_node_begin[c + 1] - cell_node_begin[c];
+          const unsigned int  n = cell_node_begin[c + 1] - cell_node_begin[c];
           const unsigned int *index = &local_indices[cell_node_begin[c]];
           const double       *a     = &values[cell_value_begin[c]];
           for (unsigned int i = 0; i < n; a += n - i, ++i)
@@ -148,7 +147,7 @@ namespace fmpm
       double x[3][64], y[3][64];
       for (unsigned int c = 0; c < n_cells(); ++c)
         {
-          const unsigned int  n     = cell_node_begin[c + 1] - cell_node_begin[c];
+          const unsigned int  n = cell_node_begin[c + 1] - cell_node_begin[c];
           const unsigned int *index = &local_indices[cell_node_begin[c]];
           const double       *a     = &values[cell_value_begin[c]];
           Assert(n <= 64, dealii::ExcInternalError());
@@ -177,9 +176,9 @@ namespace fmpm
     /**
      * The kernel for two components (and a third one if @p third): each
      * stored entry a_ij (i <= j) adds a_ij x_j to y_i and, off the diagonal,
-     * a_ij x_i to y_j; each node's pair (x, y) travels as one two-lane vector (GCC/Clang vector
-     * extension; SSE2 on x86-64), so one multiply serves both components;
-     * z, in 3D, goes alone.
+     * a_ij x_i to y_j; each node's pair (x, y) travels as one two-lane vector
+     * (GCC/Clang vector extension; SSE2 on x86-64), so one multiply serves both
+     * components; z, in 3D, goes alone.
      */
     template <unsigned int n, bool third>
     void
@@ -189,8 +188,8 @@ namespace fmpm
       typedef double         pair __attribute__((vector_size(16)));
       const unsigned int     n_cells = local_indices.size() / n;
       constexpr unsigned int n_upper = n * (n + 1) / 2;
-      const double *const    src0 = source[0], *const src1 = source[1];
-      const double *const    src2 = third ? source[2] : nullptr;
+      const double *const src0 = source[0], *const src1 = source[1];
+      const double *const src2 = third ? source[2] : nullptr;
       double *const dst0 = destination[0], *const dst1 = destination[1];
       double *const dst2 = third ? destination[2] : nullptr;
       pair          x[n], y[n];

@@ -51,7 +51,8 @@ namespace fmpm
     std::vector<unsigned int> cell;
     /** Material index of the point (filled with contact only). */
     std::vector<unsigned char> material;
-    /** The point's support is entries [support_begin[k], support_begin[k+1]). */
+    /** The point's support is entries [support_begin[k], support_begin[k+1]).
+     */
     std::vector<unsigned int> support_begin;
     /** @} */
 

@@ -106,10 +106,14 @@ namespace fmpm
     NeoHookean<dim>::max_wave_speed(const double                   density,
                                     const ArrayView<const double> &J) const
     {
-      double c = 0;
+      // The wave speed grows with J (J² K/2 + K/2 + 4G J/3 over ρ): one
+      // evaluation at the largest J.
+      if (J.size() == 0)
+        return 0;
+      double J_max = J[0];
       for (const double J_q : J)
-        c = std::max(c, NeoHookean<dim>::wave_speed(density, J_q));
-      return c;
+        J_max = std::max(J_max, J_q);
+      return NeoHookean<dim>::wave_speed(density, J_max);
     }
 
 

@@ -4,12 +4,12 @@
 #include <fmpm/mass_matrix/full.h>
 #include <fmpm/simulator.h>
 
-#include <cstring>
-
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
+
+#include <cstring>
 
 namespace fmpm
 {
@@ -132,8 +132,8 @@ namespace fmpm
 
         // Per component: r·D⁻¹r, then r·r.
         double local[2 * 3] = {}, global[2 * 3] = {};
-        x                   = 0;
-        direction           = 0;
+        x         = 0;
+        direction = 0;
         for (unsigned int b = 0; b < n_blocks; ++b)
           {
             const double *d  = inverse_diagonal.block(b).begin();
@@ -323,8 +323,8 @@ namespace fmpm
                        const GridVectorField         &p,
                        GridVectorField               &v)
       {
-        const MPI_Comm comm = m.get_partitioner()->get_mpi_communicator();
-        const unsigned int n = m.locally_owned_size();
+        const MPI_Comm     comm = m.get_partitioner()->get_mpi_communicator();
+        const unsigned int n    = m.locally_owned_size();
         for (unsigned int b = 0; b < p.n_blocks(); ++b)
           {
             // Known nodes that carry mass exchange momentum with the walls.
@@ -383,7 +383,7 @@ namespace fmpm
       // Fixed nodes (known, weak, empty) and two starts of the iteration:
       // v on known nodes, m⁻¹p on weak ones, 0 on empty ones, and on free
       // nodes m⁻¹p (lumped start) or the given v (warm start).
-      const unsigned int      n_blocks = p.n_blocks();
+      const unsigned int      n_blocks         = p.n_blocks();
       GridVectorField        &lumped_start     = w.lumped_start;
       GridVectorField        &inverse_diagonal = w.inverse_diagonal;
       BlendedMass<MatrixType> A{K, 1 - delta, {}, {}};
@@ -405,8 +405,9 @@ namespace fmpm
             else if (is_weak)
               v_i = p.block(b).local_element(i) / m_i;
             lumped_start.block(b).local_element(i) =
-              is_known || is_weak || is_empty ? v_i :
-                                                p.block(b).local_element(i) / m_i;
+              is_known || is_weak || is_empty ?
+                v_i :
+                p.block(b).local_element(i) / m_i;
             // 1 marks free nodes here; their inverse diagonal comes below.
             inverse_diagonal.block(b).local_element(i) = 0;
             if (is_known || is_weak || (is_empty && m_i != 0))
@@ -461,12 +462,12 @@ namespace fmpm
             {
               const double x_i = x0.block(b).local_element(i);
               double      &r_i = r0.block(b).local_element(i);
-              r_i = inverse_diagonal.block(b).local_element(i) == 0 ?
-                      0. :
-                      p.block(b).local_element(i) -
-                        (1 - delta) *
-                          (r_i + weak_coupling.local_element(i) * x_i) -
-                        delta * m.local_element(i) * x_i;
+              r_i =
+                inverse_diagonal.block(b).local_element(i) == 0 ?
+                  0. :
+                  p.block(b).local_element(i) -
+                    (1 - delta) * (r_i + weak_coupling.local_element(i) * x_i) -
+                    delta * m.local_element(i) * x_i;
             }
       };
       // Start from v only where it is the better start (it is not, e.g.,
@@ -523,17 +524,17 @@ namespace fmpm
       return result;
     }
 
-#define FMPM_INSTANTIATE(MatrixType)                                     \
-  template FullMassSolve solve_full_mass_system(                        \
-    const MatrixType &,                                                 \
-    const GridScalar &,                                                 \
-    const GridScalar &,                                                 \
-    const std::vector<GridScalar> *,                                    \
-    const GridScalar &,                                                 \
-    const GridVectorField &,                                            \
-    GridVectorField &,                                                  \
-    const bool,                                                         \
-    const FullMassSolveSettings &,                                      \
+#define FMPM_INSTANTIATE(MatrixType)             \
+  template FullMassSolve solve_full_mass_system( \
+    const MatrixType &,                          \
+    const GridScalar &,                          \
+    const GridScalar &,                          \
+    const std::vector<GridScalar> *,             \
+    const GridScalar &,                          \
+    const GridVectorField &,                     \
+    GridVectorField &,                           \
+    const bool,                                  \
+    const FullMassSolveSettings &,               \
     FullMassWorkspace *);
     FMPM_INSTANTIATE(TrilinosWrappers::SparseMatrix)
     FMPM_INSTANTIATE(CellwiseMatrix)
@@ -604,35 +605,34 @@ namespace fmpm
           if (mask[b].local_element(i) != 0)
             v.block(b).local_element(i) = values[b].local_element(i);
       FullMassSolveSettings settings;
-      settings.tolerance       = tolerance;
-      settings.residual_scale  = residual_scale;
-      settings.max_iterations  = max_iterations;
-      settings.lumped_fraction = lumped_fraction;
-      settings.mass_floor      = this->get_simulator().mass_floor();
+      settings.tolerance         = tolerance;
+      settings.residual_scale    = residual_scale;
+      settings.max_iterations    = max_iterations;
+      settings.lumped_fraction   = lumped_fraction;
+      settings.mass_floor        = this->get_simulator().mass_floor();
       settings.conserve_momentum = columns_sum_to_lumped_mass();
-      const GridScalar   &m    = this->get_lumped_mass();
-      const FullMassSolve result =
-        cellwise_matrix() ?
-          solve_full_mass_system(*cellwise_matrix(),
-                                 diagonal,
-                                 m,
-                                 &mask,
-                                 weak,
-                                 p,
-                                 v,
-                                 start_from_v,
-                                 settings,
-                                 &workspace) :
-          solve_full_mass_system(matrix(),
-                                 diagonal,
-                                 m,
-                                 &mask,
-                                 weak,
-                                 p,
-                                 v,
-                                 start_from_v,
-                                 settings,
-                                 &workspace);
+      const GridScalar   &m      = this->get_lumped_mass();
+      const FullMassSolve result = cellwise_matrix() ?
+                                     solve_full_mass_system(*cellwise_matrix(),
+                                                            diagonal,
+                                                            m,
+                                                            &mask,
+                                                            weak,
+                                                            p,
+                                                            v,
+                                                            start_from_v,
+                                                            settings,
+                                                            &workspace) :
+                                     solve_full_mass_system(matrix(),
+                                                            diagonal,
+                                                            m,
+                                                            &mask,
+                                                            weak,
+                                                            p,
+                                                            v,
+                                                            start_from_v,
+                                                            settings,
+                                                            &workspace);
       ++n_solves;
       total_iterations += result.iterations;
       max_iterations_used = std::max(max_iterations_used, result.iterations);
@@ -669,7 +669,7 @@ namespace fmpm
           // A node barely touched by points: m̃ᵢᵢ/mᵢ = Σ M S² / Σ M S < τ.
           const double m_i     = m.local_element(i);
           const bool   is_weak = m_i > floor && diagonal.local_element(i) <
-                                                  weak_node_threshold * m_i;
+                                                weak_node_threshold * m_i;
           weak.local_element(i) = is_weak ? 1. : 0.;
           n_weak += is_weak;
         }

@@ -1109,10 +1109,10 @@ namespace fmpm
       types::particle_index                             id;
     };
 
-    auto &pool = particle_handler.get_property_pool();
+    auto              &pool         = particle_handler.get_property_pool();
     const unsigned int n_properties = particle_properties.n_properties();
     std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
-                      leaving;
+                        leaving;
     std::vector<Move>   moves;
     std::vector<double> moved_properties;
     // Per receiving rank, per point: id, x, the new cell's CellId (binary),
@@ -1155,8 +1155,8 @@ namespace fmpm
         typename Triangulation<dim>::active_cell_iterator target;
         Point<dim>                                        xi;
         {
-          auto       walk       = cell;
-          Point<dim> xi_walk    = GridTransfer<dim>::reference_point(
+          auto       walk    = cell;
+          Point<dim> xi_walk = GridTransfer<dim>::reference_point(
             transfer.cell_data(cell->active_cell_index()), x, center);
           for (unsigned int hop = 0; hop <= dim; ++hop)
             {
@@ -1176,7 +1176,8 @@ namespace fmpm
                     }
                   break;
                 }
-              if (walk->at_boundary(face) || walk->neighbor(face)->has_children())
+              if (walk->at_boundary(face) ||
+                  walk->neighbor(face)->has_children())
                 break;
               walk = walk->neighbor(face);
               if (walk->is_artificial())
@@ -1239,7 +1240,7 @@ namespace fmpm
     const std::uint64_t local_counts[3] = {need_full_sort ? 1u : 0u,
                                            points_that_left_their_cell.size(),
                                            n_sent};
-    std::uint64_t       global_counts[3] = {0, 0, 0};
+    std::uint64_t global_counts[3] = {0, 0, 0};
     Utilities::MPI::sum(make_array_view(local_counts),
                         mpi_communicator,
                         make_array_view(global_counts));

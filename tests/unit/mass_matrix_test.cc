@@ -117,7 +117,7 @@ namespace
     fmpm::CellwiseMatrix
     cellwise_matrix() const
     {
-      fmpm::CellwiseMatrix            matrix;
+      fmpm::CellwiseMatrix                  matrix;
       std::array<double, n_nodes * n_nodes> local;
       matrix.clear(n_nodes);
       for (unsigned int q = 0; q < S.size(); ++q)
@@ -332,7 +332,7 @@ TEST(MassMatrix, HeldNodesStayAtTheirValues)
       masks[d] = 0;
       for (unsigned int i = 0; i < cloud.m.size(); i += (d == 0 ? 7 : 5))
         {
-          masks[d].local_element(i)    = 1;
+          masks[d].local_element(i)   = 1;
           v.block(d).local_element(i) = d == 0 ? 0.25 : -1.;
         }
     }
@@ -393,8 +393,7 @@ namespace
   check_cellwise_products(const Cloud<dim> &cloud)
   {
     const fmpm::CellwiseMatrix cellwise = cloud.cellwise_matrix();
-    fmpm::GridVectorField      x = cloud.new_field(), y_sparse = x,
-                          y_cellwise = x;
+    fmpm::GridVectorField x = cloud.new_field(), y_sparse = x, y_cellwise = x;
     for (unsigned int d = 0; d < dim; ++d)
       for (unsigned int i = 0; i < x.block(d).locally_owned_size(); ++i)
         x.block(d).local_element(i) = std::sin(1.7 * i + 0.3 + d);

@@ -177,10 +177,10 @@ namespace
 // A spinning, translating disk in free flight: every particle update with the
 // lumped, FMPM(3) and exact full mass matrices conserves total momentum to
 // round-off (Σ_p M_p (S m̃ₖ⁻¹ q)_p = 1ᵀ m̃ m̃ₖ⁻¹ q = 1ᵀ q since the row sums of
-// m̃ are m; the CG solve restores this identity after convergence). The consistent FE mass
-// matrix does not (1ᵀ m̃ K⁻¹ q ≠ 1ᵀ q), nor do damped updates, by design.
-// FLIP-type updates with the exact full mass matrix are left out: they blow up
-// on this scene (see below).
+// m̃ are m; the CG solve restores this identity after convergence). The
+// consistent FE mass matrix does not (1ᵀ m̃ K⁻¹ q ≠ 1ᵀ q), nor do damped
+// updates, by design. FLIP-type updates with the exact full mass matrix are
+// left out: they blow up on this scene (see below).
 TEST(WholeRun, EveryUpdateConservesMomentumInFreeFlight)
 {
   for (const std::string mass : {"lumped", "fmpm", "full"})
@@ -225,9 +225,7 @@ TEST(WholeRun, EveryUpdateConservesMomentumInFreeFlight)
           std::abs(first.momentum[0]) + std::abs(first.momentum[1]);
         for (const auto &row : history)
           for (unsigned int d = 0; d < 2; ++d)
-            EXPECT_NEAR(row.momentum[d],
-                        first.momentum[d],
-                        1e-11 * scale)
+            EXPECT_NEAR(row.momentum[d], first.momentum[d], 1e-11 * scale)
               << update << " with " << mass << " at t = " << row.time;
         EXPECT_GT(history.back().strain_energy, 0) << update; // it deforms
       }

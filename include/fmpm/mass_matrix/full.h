@@ -221,10 +221,10 @@ namespace fmpm
       /** 1 on weak nodes (owned entries), else 0. */
       GridScalar weak;
       /** The diagonal K_ii of the matrix solved with (owned entries). */
-      GridScalar diagonal;
+      GridScalar                diagonal;
       mutable FullMassWorkspace workspace;
-      unsigned long long n_weak_node_steps = 0;
-      unsigned long long n_setups          = 0;
+      unsigned long long        n_weak_node_steps = 0;
+      unsigned long long        n_setups          = 0;
     };
 
 
