@@ -400,9 +400,13 @@ def main():
           "body: start / end / max | volume ratio, end | points on the "
           "piston | steps | wall (s) | / DF | particle-steps/s |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    def cell(r, key, fmt):
+        """A table cell: the value formatted, '-' where there is none."""
+        return "-" if r[key] is None else format(r[key], fmt)
+
     for r in results:
         def f(key, fmt):
-            return "-" if r[key] is None else format(r[key], fmt)
+            return cell(r, key, fmt)
         print(f"| {r['label']} | {r['status']} | "
               f"{f('final_compression_percent', '.1f')} % | "
               f"{f('final_stress_gpa', '.1f')} | "
@@ -428,7 +432,7 @@ def main():
         print("|---|---|---|---|---|---|---|---|")
         for r in results:
             def g(key, fmt):
-                return "-" if r[key] is None else format(r[key], fmt)
+                return cell(r, key, fmt)
             print(f"| {r['label']} | {g('stress_at_common_gpa', '.2f')} | "
                   f"{g('stress_at_common_over_lr', '.3f')} | "
                   f"{g('piston_at_common_gpa', '.2f')} | "
