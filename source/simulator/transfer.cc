@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
-#include <set>
 #include <sstream>
 
 namespace fmpm
@@ -1257,56 +1256,13 @@ namespace fmpm
       return;
     points_moved_since_memory_sort += global_counts[1];
 
-    // Only the points that change rank travel, to the owners of ghost cells:
-    // every neighbour sends each of its neighbours one message (empty if it
-    // has no point for it), so the receives are matched by source.
-    std::map<unsigned int, std::vector<double>> received;
-    if (global_counts[2] != 0)
-      {
-        constexpr int tag = 31511; // fmpm's point exchange
-        const std::set<types::subdomain_id> &neighbours =
-          triangulation.ghost_owners();
-        std::vector<MPI_Request> requests;
-        requests.reserve(neighbours.size());
-        for (const auto &destination : sent)
-          AssertThrow(neighbours.count(destination.first) == 1,
-                      ExcInternalError());
-        for (const types::subdomain_id rank : neighbours)
-          {
-            const std::vector<double> &buffer = sent[rank];
-            requests.emplace_back();
-            const int ierr = MPI_Isend(buffer.data(),
-                                       buffer.size(),
-                                       MPI_DOUBLE,
-                                       rank,
-                                       tag,
-                                       mpi_communicator,
-                                       &requests.back());
-            AssertThrowMPI(ierr);
-          }
-        for (const types::subdomain_id rank : neighbours)
-          {
-            MPI_Status status;
-            int        ierr = MPI_Probe(rank, tag, mpi_communicator, &status);
-            AssertThrowMPI(ierr);
-            int count = 0;
-            ierr      = MPI_Get_count(&status, MPI_DOUBLE, &count);
-            AssertThrowMPI(ierr);
-            std::vector<double> &buffer = received[rank];
-            buffer.resize(count);
-            ierr = MPI_Recv(buffer.data(),
-                            count,
-                            MPI_DOUBLE,
-                            rank,
-                            tag,
-                            mpi_communicator,
-                            MPI_STATUS_IGNORE);
-            AssertThrowMPI(ierr);
-          }
-        const int ierr =
-          MPI_Waitall(requests.size(), requests.data(), MPI_STATUSES_IGNORE);
-        AssertThrowMPI(ierr);
-      }
+    // Only the points that change rank travel, to the owners of their new
+    // cells (deal.II's some-to-some exchange; every rank takes part, a rank
+    // may receive without sending).
+    const std::map<unsigned int, std::vector<double>> received =
+      global_counts[2] != 0 ?
+        Utilities::MPI::some_to_some(mpi_communicator, sent) :
+        std::map<unsigned int, std::vector<double>>();
     // One by one, each cell's points from the last: a removal leaves the
     // places of the cell's earlier points unchanged. (remove_particles()
     // would also recount every point on this rank, collectively.)
