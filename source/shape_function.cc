@@ -424,49 +424,9 @@ namespace fmpm
                 }
               if (closed_form)
                 {
-                  // Seed 001 Eqs. gimp_shape, gimpGrad per direction, for
-                  // every node of the cells the box overlaps (each once).
-                  for (const unsigned int other : transfer.patch(cell_index))
-                    {
-                      const auto &cell    = transfer.cell_data(other);
-                      bool        overlap = true;
-                      for (unsigned int d = 0; d < dim; ++d)
-                        if (!(cell.lower[d] < hi[d] && cell.upper[d] > lo[d]))
-                          overlap = false;
-                      if (!overlap)
-                        continue;
-                      for (unsigned int i = 0; i < n; ++i)
-                        {
-                          bool seen = false;
-                          for (const auto &node : support)
-                            if (node.local_index == cell.local_index[i])
-                              seen = true;
-                          if (seen)
-                            continue;
-                          std::pair<double, double> w[dim];
-                          for (unsigned int d = 0; d < dim; ++d)
-                            w[d] = gimp_1d(x[d] - cell.vertex[i][d],
-                                           cell.upper[d] - cell.lower[d],
-                                           l[d]);
-                          double         value = 1;
-                          Tensor<1, dim> gradient;
-                          for (unsigned int d = 0; d < dim; ++d)
-                            {
-                              value *= w[d].first;
-                              double g = w[d].second;
-                              for (unsigned int e = 0; e < dim; ++e)
-                                if (e != d)
-                                  g *= w[e].first;
-                              gradient[d] = g;
-                            }
-                          if (value != 0 || gradient.norm_square() != 0)
-                            support.push_back(Node<dim>{cell.local_index[i],
-                                                        cell.dof_index[i],
-                                                        false,
-                                                        value,
-                                                        gradient});
-                        }
-                    }
+                  UniformGimpPatch<dim> patch;
+                  patch.reinit(transfer, cell_index);
+                  patch.append_support(x, l, support);
                   return Status::ok;
                 }
               GimpQuadrature<dim> quadrature(transfer,
@@ -481,6 +441,139 @@ namespace fmpm
     }
 
 
+
+    template <int dim>
+    void
+    UniformGimpPatch<dim>::reinit(const GridTransfer<dim> &transfer,
+                                  const unsigned int       cell_index)
+    {
+      const auto &own = transfer.cell_data(cell_index);
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          h[d]        = own.upper[d] - own.lower[d];
+          plane[d][0] = own.lower[d] - h[d];
+          plane[d][1] = own.lower[d];
+          plane[d][2] = own.upper[d];
+          plane[d][3] = own.upper[d] + h[d];
+        }
+      cell_exists.fill(false);
+      local_index.fill(numbers::invalid_unsigned_int);
+      for (const unsigned int other : transfer.patch(cell_index))
+        {
+          const auto  &cell   = transfer.cell_data(other);
+          unsigned int column = 0, stride = 1;
+          for (unsigned int d = 0; d < dim; ++d, stride *= 3)
+            {
+              const double center = 0.5 * (cell.lower[d] + cell.upper[d]);
+              column += stride * (center < own.lower[d] ? 0 :
+                                  center < own.upper[d] ? 1 :
+                                                          2);
+            }
+          cell_exists[column] = true;
+          // Each vertex's planes from its coordinates (any vertex order).
+          for (unsigned int i = 0; i < GridTransfer<dim>::n_nodes; ++i)
+            {
+              unsigned int slot = 0;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  const double       v = cell.vertex[i][d];
+                  const unsigned int p = v < own.lower[d] - 0.5 * h[d] ? 0 :
+                                         v < own.lower[d] + 0.5 * h[d] ? 1 :
+                                         v < own.upper[d] + 0.5 * h[d] ? 2 :
+                                                                         3;
+                  plane[d][p]          = v;
+                  slot |= p << (2 * d);
+                }
+              local_index[slot] = cell.local_index[i];
+              dof[slot]         = cell.dof_index[i];
+            }
+        }
+    }
+
+
+
+    template <int dim>
+    bool
+    UniformGimpPatch<dim>::applies(const Point<dim>     &x,
+                                   const Tensor<1, dim> &l) const
+    {
+      for (unsigned int d = 0; d < dim; ++d)
+        if (l[d] > 0.5 * h[d] || x[d] < plane[d][1] || x[d] > plane[d][2])
+          return false;
+      return true;
+    }
+
+
+
+    template <int dim>
+    void
+    UniformGimpPatch<dim>::append_support(const Point<dim>       &x,
+                                          const Tensor<1, dim>   &l,
+                                          std::vector<Node<dim>> &support) const
+    {
+      // Columns (cells between planes c and c + 1) the box overlaps, and the
+      // 1D weights of every plane.
+      bool                      overlaps[dim][3];
+      std::pair<double, double> w[dim][4];
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          for (unsigned int c = 0; c < 3; ++c)
+            overlaps[d][c] =
+              plane[d][c] < x[d] + l[d] && plane[d][c + 1] > x[d] - l[d];
+          for (unsigned int p = 0; p < 4; ++p)
+            w[d][p] = gimp_1d(x[d] - plane[d][p], h[d], l[d]);
+        }
+      // The nodes of the overlapped cells.
+      std::array<bool, n_slots> used{};
+      for (unsigned int column = 0; column < n_columns; ++column)
+        {
+          if (!cell_exists[column])
+            continue;
+          unsigned int c[dim];
+          bool         overlap = true;
+          for (unsigned int d = 0, rest = column; d < dim; ++d, rest /= 3)
+            {
+              c[d]    = rest % 3;
+              overlap = overlap && overlaps[d][c[d]];
+            }
+          if (!overlap)
+            continue;
+          for (unsigned int i = 0; i < GridTransfer<dim>::n_nodes; ++i)
+            {
+              unsigned int slot = 0;
+              for (unsigned int d = 0; d < dim; ++d)
+                slot |= (c[d] + ((i >> d) & 1)) << (2 * d);
+              used[slot] = true;
+            }
+        }
+      for (unsigned int slot = 0; slot < n_slots; ++slot)
+        {
+          if (!used[slot])
+            continue;
+          unsigned int p[dim];
+          for (unsigned int d = 0; d < dim; ++d)
+            p[d] = (slot >> (2 * d)) & 3;
+          double         value = 1;
+          Tensor<1, dim> gradient;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              value *= w[d][p[d]].first;
+              double g = w[d][p[d]].second;
+              for (unsigned int e = 0; e < dim; ++e)
+                if (e != d)
+                  g *= w[e][p[e]].first;
+              gradient[d] = g;
+            }
+          if (value != 0 || gradient.norm_square() != 0)
+            support.push_back(
+              Node<dim>{local_index[slot], dof[slot], false, value, gradient});
+        }
+    }
+
+
+
+    template class UniformGimpPatch<2>;
+    template class UniformGimpPatch<3>;
 
     template Tensor<1, 2>
     gimp_half_lengths<2>(const Type,

@@ -114,6 +114,52 @@ namespace fmpm
     std::pair<double, double>
     gimp_1d(const double r, const double h, const double l);
 
+    /**
+     * @brief GIMP's closed forms (seed 001 Eqs. gimp_shape, gimpGrad) around
+     * one locally owned cell whose patch is uniform (GridTransfer's
+     * CellData::uniform_patch): the patch's nodes lie on four planes per
+     * direction (own lower − h, lower, upper, upper + h), so a point's
+     * support is the tensor product of 1D weights, evaluated once per plane.
+     * Built once per cell, read by each of its points.
+     */
+    template <int dim>
+    class UniformGimpPatch
+    {
+    public:
+      /** @brief The planes and nodes of the patch of @p cell_index. */
+      void
+      reinit(const GridTransfer<dim> &transfer, const unsigned int cell_index);
+
+      /**
+       * @brief Whether the closed forms hold for a point at @p x with
+       * half-lengths @p l: x in the cell and l ≤ h/2.
+       */
+      bool
+      applies(const Point<dim> &x, const Tensor<1, dim> &l) const;
+
+      /**
+       * @brief Append every node of the patch cells the box x ± l overlaps
+       * (each once, lexicographic in the planes) with its S̄ and Ḡ, except
+       * those where both vanish.
+       */
+      void
+      append_support(const Point<dim>       &x,
+                     const Tensor<1, dim>   &l,
+                     std::vector<Node<dim>> &support) const;
+
+    private:
+      static constexpr unsigned int n_slots   = 1u << (2 * dim);   // 4^dim
+      static constexpr unsigned int n_columns = dim == 2 ? 9 : 27; // 3^dim
+      /** Plane coordinates per direction, and the cell size h. */
+      double plane[dim][4];
+      double h[dim];
+      /** Whether the patch cell in columns (c_0, c_1[, c_2]) exists. */
+      std::array<bool, n_columns> cell_exists;
+      /** Node on planes (p_0, p_1[, p_2]), slot Σ p_d 4^d. */
+      std::array<unsigned int, n_slots>            local_index;
+      std::array<types::global_dof_index, n_slots> dof;
+    };
+
     /** The half-lengths of the GIMP box of a point (uGIMP or cpGIMP). */
     template <int dim>
     Tensor<1, dim>

@@ -61,15 +61,22 @@ namespace fmpm
                                        SymmetricTensor<2, 3> &tau,
                                        double                &W) const
     {
-      const double                J      = determinant(F);
-      const double                J_m23  = std::pow(J, -2.0 / 3.0);
-      const SymmetricTensor<2, 3> b_bar  = J_m23 * symmetrize(F * transpose(F));
-      const double                I1_bar = trace(b_bar);
-      const SymmetricTensor<2, 3> I      = unit_symmetric_tensor<3>();
-      tau = shear_modulus * (b_bar - I1_bar / 3.0 * I) +
-            0.5 * bulk_modulus * (J * J - 1) * I;
+      const double J     = determinant(F);
+      const double log_J = std::log(J);
+      // J^{-2/3} from the ln J the energy needs (one exp instead of pow).
+      const double          J_m23 = std::exp(-2.0 / 3.0 * log_J);
+      SymmetricTensor<2, 3> b_bar; // J^{-2/3} F Fᵀ, its 6 entries
+      for (unsigned int a = 0; a < 3; ++a)
+        for (unsigned int b = a; b < 3; ++b)
+          b_bar[a][b] =
+            J_m23 * (F[a][0] * F[b][0] + F[a][1] * F[b][1] + F[a][2] * F[b][2]);
+      const double I1_bar     = trace(b_bar);
+      const double volumetric = 0.5 * bulk_modulus * (J * J - 1);
+      tau                     = shear_modulus * b_bar;
+      for (unsigned int a = 0; a < 3; ++a)
+        tau[a][a] += volumetric - shear_modulus * I1_bar / 3.0;
       W = 0.5 * shear_modulus * (I1_bar - 3) +
-          0.5 * bulk_modulus * (0.5 * (J * J - 1) - std::log(J));
+          0.5 * bulk_modulus * (0.5 * (J * J - 1) - log_J);
     }
 
 

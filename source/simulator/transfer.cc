@@ -53,60 +53,98 @@ namespace fmpm
      * ΔF with F^{n+1} = ΔF F^n for each velocity gradient L[q] over Δt,
      * ΔF ≈ exp(L Δt) for L constant over the step (seed 001,
      * computeDeformationGradientFromVelocity). The method is chosen once
-     * for the batch.
+     * for the batch. In 2D (plane strain) L and ΔF live in the 2x2 block
+     * (ΔF_33 = 1): the arithmetic is done on that block.
      */
+    template <int n>
     void
-    deformation_gradient_increments(const DeformationGradientUpdate  update,
-                                    const MethodParameters          &method,
-                                    const std::vector<Tensor<2, 3>> &L,
-                                    const double                     dt,
-                                    const unsigned int               n_points,
-                                    std::vector<Tensor<2, 3>>       &dF)
+    increments(const DeformationGradientUpdate  update,
+               const MethodParameters          &method,
+               const std::vector<Tensor<2, 3>> &L,
+               const double                     dt,
+               const unsigned int               n_points,
+               std::vector<Tensor<2, 3>>       &dF)
     {
-      const Tensor<2, 3> I = unit_symmetric_tensor<3>();
-      switch (update)
+      const Tensor<2, n> I = unit_symmetric_tensor<n>();
+      for (unsigned int q = 0; q < n_points; ++q)
         {
-          case DeformationGradientUpdate::first_order:
-            for (unsigned int q = 0; q < n_points; ++q)
-              dF[q] = I + L[q] * dt;
-            return;
-          case DeformationGradientUpdate::cayley:
-            for (unsigned int q = 0; q < n_points; ++q)
-              {
-                const Tensor<2, 3> half_L_dt = L[q] * (0.5 * dt);
-                dF[q] = invert(I - half_L_dt) * (I + half_L_dt);
-              }
-            return;
-          case DeformationGradientUpdate::taylor:
-            for (unsigned int q = 0; q < n_points; ++q)
-              {
-                const Tensor<2, 3> L_dt = L[q] * dt;
-                Tensor<2, 3>       term = I, sum = I;
-                for (unsigned int k = 1; k <= method.taylor_terms; ++k)
-                  {
-                    term = term * L_dt / static_cast<double>(k);
-                    sum += term;
-                  }
-                dF[q] = sum;
-              }
-            return;
-          case DeformationGradientUpdate::subcycle:
-            // First-order substeps with |L Δt_sub| below the bound.
-            for (unsigned int q = 0; q < n_points; ++q)
-              {
-                const Tensor<2, 3> L_dt = L[q] * dt;
-                const unsigned int n_sub =
-                  std::max(1u,
-                           static_cast<unsigned int>(std::ceil(
-                             L_dt.norm() / method.subcycle_strain_increment)));
-                const Tensor<2, 3> step = I + L_dt / static_cast<double>(n_sub);
-                Tensor<2, 3>       result = I;
-                for (unsigned int k = 0; k < n_sub; ++k)
-                  result = step * result;
-                dF[q] = result;
-              }
-            return;
+          Tensor<2, n> L_dt;
+          for (unsigned int a = 0; a < n; ++a)
+            for (unsigned int b = 0; b < n; ++b)
+              L_dt[a][b] = L[q][a][b] * dt;
+          Tensor<2, n> increment;
+          switch (update)
+            {
+              case DeformationGradientUpdate::first_order:
+                increment = I + L_dt;
+                break;
+              case DeformationGradientUpdate::cayley:
+                {
+                  const Tensor<2, n> half_L_dt = 0.5 * L_dt;
+                  increment = invert(I - half_L_dt) * (I + half_L_dt);
+                  break;
+                }
+              case DeformationGradientUpdate::taylor:
+                {
+                  Tensor<2, n> term = I;
+                  increment         = I;
+                  for (unsigned int k = 1; k <= method.taylor_terms; ++k)
+                    {
+                      term = term * L_dt / static_cast<double>(k);
+                      increment += term;
+                    }
+                  break;
+                }
+              case DeformationGradientUpdate::subcycle:
+                {
+                  // First-order substeps with |L Δt_sub| below the bound.
+                  const unsigned int n_sub =
+                    std::max(1u,
+                             static_cast<unsigned int>(
+                               std::ceil(L_dt.norm() /
+                                         method.subcycle_strain_increment)));
+                  const Tensor<2, n> step =
+                    I + L_dt / static_cast<double>(n_sub);
+                  increment = I;
+                  for (unsigned int k = 0; k < n_sub; ++k)
+                    increment = step * increment;
+                  break;
+                }
+            }
+          if constexpr (n == 3)
+            dF[q] = increment;
+          else
+            {
+              dF[q]       = Tensor<2, 3>();
+              dF[q][2][2] = 1;
+              for (unsigned int a = 0; a < n; ++a)
+                for (unsigned int b = 0; b < n; ++b)
+                  dF[q][a][b] = increment[a][b];
+            }
         }
+    }
+
+    /**
+     * F^{n+1} = ΔF F^n read from and for the stored (row-major) F^n; in 2D
+     * ΔF is the identity outside its 2x2 block.
+     */
+    template <int dim>
+    inline Tensor<2, 3>
+    updated_deformation_gradient(const Tensor<2, 3> &dF, const double *F_old)
+    {
+      Tensor<2, 3> F;
+      for (unsigned int a = 0; a < dim; ++a)
+        for (unsigned int b = 0; b < 3; ++b)
+          {
+            double sum = 0;
+            for (unsigned int c = 0; c < dim; ++c)
+              sum += dF[a][c] * F_old[3 * c + b];
+            F[a][b] = sum;
+          }
+      for (unsigned int a = dim; a < 3; ++a)
+        for (unsigned int b = 0; b < 3; ++b)
+          F[a][b] = F_old[3 * a + b];
+      return F;
     }
 
     /** Points per batch of the strain update (constitutive model calls). */
@@ -258,6 +296,9 @@ namespace fmpm
     std::array<double, n>                 S;
     std::array<Tensor<1, dim>, n>         G;
     std::vector<ShapeFunction::Node<dim>> support;
+    const bool gimp = (shape_function == ShapeFunction::Type::ugimp ||
+                       shape_function == ShapeFunction::Type::cpgimp);
+    ShapeFunction::UniformGimpPatch<dim> gimp_patch;
     // Cells in the order of their ids: the sums over points onto nodes are
     // then independent of the mesh's storage order, which a mesh loaded
     // from a checkpoint does not share (bitwise resumes).
@@ -268,6 +309,8 @@ namespace fmpm
           continue;
         const unsigned int c    = cell->active_cell_index();
         const auto        &data = transfer.cell_data(c);
+        if (gimp && data.uniform_patch)
+          gimp_patch.reinit(transfer, c);
         for (const auto &particle : particles)
           {
             supports.handle.push_back(&particle.get_location() -
@@ -308,14 +351,30 @@ namespace fmpm
                     for (unsigned int b = 0; b < dim; ++b)
                       F[a][b] = p[Index::deformation_gradient + 3 * a + b];
                   }
-                const ShapeFunction::Status status =
-                  ShapeFunction::compute_support(shape_function,
-                                                 transfer,
-                                                 c,
-                                                 particle.get_location(),
-                                                 F,
-                                                 l0,
-                                                 support);
+                // GIMP's closed forms on a uniform patch from the cell's
+                // planes (built once per cell), else the general support.
+                ShapeFunction::Status status = ShapeFunction::Status::ok;
+                const Tensor<1, dim>  l =
+                  gimp ?
+                     ShapeFunction::gimp_half_lengths(shape_function, F, l0) :
+                     l0;
+                if (gimp && data.uniform_patch &&
+                    gimp_patch.applies(particle.get_location(), l))
+                  {
+                    support.clear();
+                    gimp_patch.append_support(particle.get_location(),
+                                              l,
+                                              support);
+                  }
+                else
+                  status =
+                    ShapeFunction::compute_support(shape_function,
+                                                   transfer,
+                                                   c,
+                                                   particle.get_location(),
+                                                   F,
+                                                   l0,
+                                                   support);
                 if (status != ShapeFunction::Status::ok)
                   {
                     if (local_failure.empty())
@@ -347,13 +406,26 @@ namespace fmpm
                                                    l0,
                                                    support);
                   }
+                // compute_support() names each node once: only the masters
+                // of hanging nodes can repeat a node.
+                bool any_constrained = false;
                 for (const auto &node : support)
-                  add_node(first,
-                           node.local_index,
-                           node.dof,
-                           node.constrained,
-                           node.S,
-                           node.G);
+                  any_constrained = any_constrained || node.constrained;
+                if (!any_constrained)
+                  for (const auto &node : support)
+                    {
+                      supports.node.push_back(node.local_index);
+                      supports.S.push_back(node.S);
+                      supports.G.push_back(node.G);
+                    }
+                else
+                  for (const auto &node : support)
+                    add_node(first,
+                             node.local_index,
+                             node.dof,
+                             node.constrained,
+                             node.S,
+                             node.G);
               }
             supports.support_begin.push_back(supports.node.size());
           }
@@ -735,12 +807,13 @@ namespace fmpm
               views[contact ? supports.material[k] : 0];
             for (unsigned int field = 0; field < n_fields; ++field)
               {
-                const unsigned int f = fields[field];
-                Tensor<1, dim>     value;
+                const unsigned int f          = fields[field];
+                double             value[dim] = {}; // in registers
                 for (unsigned int j = begin; j < end; ++j)
                   for (unsigned int d = 0; d < dim; ++d)
                     value[d] += S[j] * field_values[f][d][node[j]];
-                batch.grid[f][q] = value;
+                for (unsigned int d = 0; d < dim; ++d)
+                  batch.grid[f][q][d] = value[d];
               }
           }
 
@@ -941,7 +1014,9 @@ namespace fmpm
             for (unsigned int q = 0; q < n_group; ++q)
               {
                 const unsigned int k = group_points[q];
-                Tensor<2, 3>       L;
+                // Summed in scalars (kept in registers; a Tensor summand
+                // went through memory on every entry).
+                double L_ab[dim][dim] = {};
                 for (unsigned int j = supports.support_begin[k];
                      j < supports.support_begin[k + 1];
                      ++j)
@@ -949,9 +1024,13 @@ namespace fmpm
                     {
                       const double v_ia = v_a[a][node[j]];
                       for (unsigned int b = 0; b < dim; ++b)
-                        L[a][b] += v_ia * G[j][b];
+                        L_ab[a][b] += v_ia * G[j][b];
                     }
-                inputs.velocity_gradient[q] = L;
+                Tensor<2, 3> &L = inputs.velocity_gradient[q];
+                L               = Tensor<2, 3>();
+                for (unsigned int a = 0; a < dim; ++a)
+                  for (unsigned int b = 0; b < dim; ++b)
+                    L[a][b] = L_ab[a][b];
                 double *const P =
                   pool.get_properties(supports.handle[k]).data();
                 inputs.properties[q] = ArrayView<double>(P, n_properties);
@@ -961,20 +1040,18 @@ namespace fmpm
                 for (unsigned int line = 0; line < n_properties; line += 8)
                   __builtin_prefetch(P + line, 1);
               }
-            deformation_gradient_increments(F_update,
-                                            parameters.method,
-                                            inputs.velocity_gradient,
-                                            dt,
-                                            n_group,
-                                            dF);
+            increments<dim == 2 ? 2 : 3>(F_update,
+                                         parameters.method,
+                                         inputs.velocity_gradient,
+                                         dt,
+                                         n_group,
+                                         dF);
             for (unsigned int q = 0; q < n_group; ++q)
               {
                 const double *const P = inputs.properties[q].data();
-                Tensor<2, 3>        F_old;
-                for (unsigned int a = 0; a < 3; ++a)
-                  for (unsigned int b = 0; b < 3; ++b)
-                    F_old[a][b] = P[Index::deformation_gradient + 3 * a + b];
-                inputs.deformation_gradient[q] = dF[q] * F_old;
+                inputs.deformation_gradient[q] =
+                  updated_deformation_gradient<dim>(
+                    dF[q], P + Index::deformation_gradient);
                 const double J = determinant(inputs.deformation_gradient[q]);
                 if (!(J > 0) && local_failure.empty())
                   {
