@@ -650,6 +650,26 @@ namespace fmpm
     /** Points the fast sort moved (all ranks) since deal.II's sort last
      * put the points' memory in cell order. */
     std::size_t points_moved_since_memory_sort = 0;
+    /**
+     * Work arrays of sort_particles_into_cells(), kept between steps: a
+     * step that allocated them anew touched fresh pages (page faults) for
+     * every moved point.
+     */
+    struct PointMoves
+    {
+      /** A point moved to another cell of this rank. */
+      struct Move
+      {
+        typename Triangulation<dim>::active_cell_iterator cell;
+        Point<dim>                                        x, xi;
+        types::particle_index                             id;
+      };
+      std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
+                        leaving;
+      std::vector<Move> moves;
+      /** Properties of moves[m] at [n_properties m, n_properties (m + 1)). */
+      std::vector<double> moved_properties;
+    } point_moves;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
                                                 constitutive_models;

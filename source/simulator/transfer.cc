@@ -1176,21 +1176,14 @@ namespace fmpm
         particle_handler.sort_particles_into_subdomains_and_cells();
         return;
       }
-    // A point moved to another cell of this rank; its properties are
-    // moved_properties[n_properties * (its place in moves)...].
-    struct Move
-    {
-      typename Triangulation<dim>::active_cell_iterator cell;
-      Point<dim>                                        x, xi;
-      types::particle_index                             id;
-    };
-
-    auto              &pool         = particle_handler.get_property_pool();
-    const unsigned int n_properties = particle_properties.n_properties();
-    std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
-                        leaving;
-    std::vector<Move>   moves;
-    std::vector<double> moved_properties;
+    auto              &pool             = particle_handler.get_property_pool();
+    const unsigned int n_properties     = particle_properties.n_properties();
+    auto              &leaving          = point_moves.leaving;
+    auto              &moves            = point_moves.moves;
+    auto              &moved_properties = point_moves.moved_properties;
+    leaving.clear();
+    moves.clear();
+    moved_properties.clear();
     // Per receiving rank, per point: id, x, the new cell's CellId (binary),
     // the properties.
     std::map<unsigned int, std::vector<double>> sent;
@@ -1199,17 +1192,20 @@ namespace fmpm
     Point<dim>                                  center;
     for (unsigned int d = 0; d < dim; ++d)
       center[d] = 0.5;
+    Assert(std::is_sorted(points_that_left_their_cell.begin(),
+                          points_that_left_their_cell.end()),
+           ExcInternalError());
+    unsigned int cell_with_points = 0;
     for (const unsigned int k : points_that_left_their_cell)
       {
         // The point's iterator: its place among its cell's points is its
         // place in the cache (compute_supports() walks them in that order).
         const Point<dim> *const location =
           &pool.get_location(supports.handle[k]);
-        const auto cell_with_points =
-          std::upper_bound(supports.cell_point_begin.begin(),
-                           supports.cell_point_begin.end(),
-                           k) -
-          supports.cell_point_begin.begin() - 1;
+        // The points that left are listed in cache order: the cell's place
+        // follows with a cursor.
+        while (supports.cell_point_begin[cell_with_points + 1] <= k)
+          ++cell_with_points;
         const auto cell  = supports.cell_iterator[cell_with_points];
         auto       range = particle_handler.particles_in_cell(cell);
         auto       particle =
@@ -1289,7 +1285,7 @@ namespace fmpm
             const auto p = particle->get_properties();
             if (target->is_locally_owned())
               {
-                moves.push_back(Move{target, x, xi, particle->get_id()});
+                moves.push_back({target, x, xi, particle->get_id()});
                 moved_properties.insert(moved_properties.end(),
                                         p.begin(),
                                         p.end());
