@@ -147,6 +147,81 @@ namespace fmpm
       return F;
     }
 
+    /**
+     * v_p = Σ_j S_pj v_j over one point's support entries [begin, end), and
+     * L_p = Σ_j v_j ⊗ G_pj (Eq. 2.7) below: each sum in its own scalar, so
+     * that the compiler keeps it in a register (an array or Tensor summand
+     * went through the stack on every entry).
+     */
+    template <int dim>
+    inline void
+    interpolate(const unsigned int *const  node,
+                const double *const        S,
+                const unsigned int         begin,
+                const unsigned int         end,
+                const double *const *const v,
+                Tensor<1, dim>            &value)
+    {
+      double x = 0, y = 0, z = 0;
+      for (unsigned int j = begin; j < end; ++j)
+        {
+          const double       s = S[j];
+          const unsigned int i = node[j];
+          x += s * v[0][i];
+          y += s * v[1][i];
+          if constexpr (dim == 3)
+            z += s * v[2][i];
+        }
+      value[0] = x;
+      value[1] = y;
+      if constexpr (dim == 3)
+        value[2] = z;
+    }
+
+    template <int dim>
+    inline void
+    velocity_gradient(const unsigned int *const   node,
+                      const Tensor<1, dim> *const G,
+                      const unsigned int          begin,
+                      const unsigned int          end,
+                      const double *const *const  v,
+                      Tensor<2, 3>               &L)
+    {
+      double xx = 0, xy = 0, xz = 0, yx = 0, yy = 0, yz = 0, zx = 0, zy = 0,
+             zz = 0;
+      for (unsigned int j = begin; j < end; ++j)
+        {
+          const unsigned int i  = node[j];
+          const double       vx = v[0][i], vy = v[1][i];
+          xx += vx * G[j][0];
+          xy += vx * G[j][1];
+          yx += vy * G[j][0];
+          yy += vy * G[j][1];
+          if constexpr (dim == 3)
+            {
+              const double vz = v[2][i];
+              xz += vx * G[j][2];
+              yz += vy * G[j][2];
+              zx += vz * G[j][0];
+              zy += vz * G[j][1];
+              zz += vz * G[j][2];
+            }
+        }
+      L       = Tensor<2, 3>();
+      L[0][0] = xx;
+      L[0][1] = xy;
+      L[1][0] = yx;
+      L[1][1] = yy;
+      if constexpr (dim == 3)
+        {
+          L[0][2] = xz;
+          L[1][2] = yz;
+          L[2][0] = zx;
+          L[2][1] = zy;
+          L[2][2] = zz;
+        }
+    }
+
     /** Points per batch of the strain update (constitutive model calls). */
     constexpr unsigned int stress_batch_size = 64;
   } // namespace
@@ -807,13 +882,13 @@ namespace fmpm
               views[contact ? supports.material[k] : 0];
             for (unsigned int field = 0; field < n_fields; ++field)
               {
-                const unsigned int f          = fields[field];
-                double             value[dim] = {}; // in registers
-                for (unsigned int j = begin; j < end; ++j)
-                  for (unsigned int d = 0; d < dim; ++d)
-                    value[d] += S[j] * field_values[f][d][node[j]];
-                for (unsigned int d = 0; d < dim; ++d)
-                  batch.grid[f][q][d] = value[d];
+                const unsigned int f = fields[field];
+                interpolate<dim>(node,
+                                 S,
+                                 begin,
+                                 end,
+                                 field_values[f].data(),
+                                 batch.grid[f][q]);
               }
           }
 
@@ -1014,23 +1089,12 @@ namespace fmpm
             for (unsigned int q = 0; q < n_group; ++q)
               {
                 const unsigned int k = group_points[q];
-                // Summed in scalars (kept in registers; a Tensor summand
-                // went through memory on every entry).
-                double L_ab[dim][dim] = {};
-                for (unsigned int j = supports.support_begin[k];
-                     j < supports.support_begin[k + 1];
-                     ++j)
-                  for (unsigned int a = 0; a < dim; ++a)
-                    {
-                      const double v_ia = v_a[a][node[j]];
-                      for (unsigned int b = 0; b < dim; ++b)
-                        L_ab[a][b] += v_ia * G[j][b];
-                    }
-                Tensor<2, 3> &L = inputs.velocity_gradient[q];
-                L               = Tensor<2, 3>();
-                for (unsigned int a = 0; a < dim; ++a)
-                  for (unsigned int b = 0; b < dim; ++b)
-                    L[a][b] = L_ab[a][b];
+                velocity_gradient<dim>(node,
+                                       G,
+                                       supports.support_begin[k],
+                                       supports.support_begin[k + 1],
+                                       v_a,
+                                       inputs.velocity_gradient[q]);
                 double *const P =
                   pool.get_properties(supports.handle[k]).data();
                 inputs.properties[q] = ArrayView<double>(P, n_properties);
