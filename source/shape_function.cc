@@ -31,29 +31,6 @@ namespace fmpm
 
 
 
-    std::pair<double, double>
-    gimp_1d(const double r, const double h, const double l)
-    {
-      // Seed 001 Eqs. gimp_shape (S̄) and gimpGrad (Ḡ), r = x_p − x_g.
-      if (r <= -h - l)
-        return {0., 0.};
-      if (r <= -h + l)
-        return {(h + l + r) * (h + l + r) / (4 * h * l),
-                (h + l + r) / (2 * h * l)};
-      if (r <= -l)
-        return {1 + r / h, 1 / h};
-      if (r <= l)
-        return {1 - (r * r + l * l) / (2 * h * l), -r / (h * l)};
-      if (r <= h - l)
-        return {1 - r / h, -1 / h};
-      if (r <= h + l)
-        return {(h + l - r) * (h + l - r) / (4 * h * l),
-                -(h + l - r) / (2 * h * l)};
-      return {0., 0.};
-    }
-
-
-
     template <int dim>
     Tensor<1, dim>
     gimp_half_lengths(const Type            type,
@@ -426,7 +403,15 @@ namespace fmpm
                 {
                   UniformGimpPatch<dim> patch;
                   patch.reinit(transfer, cell_index);
-                  patch.append_support(x, l, support);
+                  patch.for_each_node(x,
+                                      l,
+                                      [&](const unsigned int local_index,
+                                          const types::global_dof_index dof,
+                                          const double                  S,
+                                          const Tensor<1, dim>         &G) {
+                                        support.push_back(Node<dim>{
+                                          local_index, dof, false, S, G});
+                                      });
                   return Status::ok;
                 }
               GimpQuadrature<dim> quadrature(transfer,
@@ -501,73 +486,6 @@ namespace fmpm
         if (l[d] > 0.5 * h[d] || x[d] < plane[d][1] || x[d] > plane[d][2])
           return false;
       return true;
-    }
-
-
-
-    template <int dim>
-    void
-    UniformGimpPatch<dim>::append_support(const Point<dim>       &x,
-                                          const Tensor<1, dim>   &l,
-                                          std::vector<Node<dim>> &support) const
-    {
-      // Columns (cells between planes c and c + 1) the box overlaps, and the
-      // 1D weights of every plane.
-      bool                      overlaps[dim][3];
-      std::pair<double, double> w[dim][4];
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          for (unsigned int c = 0; c < 3; ++c)
-            overlaps[d][c] =
-              plane[d][c] < x[d] + l[d] && plane[d][c + 1] > x[d] - l[d];
-          for (unsigned int p = 0; p < 4; ++p)
-            w[d][p] = gimp_1d(x[d] - plane[d][p], h[d], l[d]);
-        }
-      // The nodes of the overlapped cells.
-      std::array<bool, n_slots> used{};
-      for (unsigned int column = 0; column < n_columns; ++column)
-        {
-          if (!cell_exists[column])
-            continue;
-          unsigned int c[dim];
-          bool         overlap = true;
-          for (unsigned int d = 0, rest = column; d < dim; ++d, rest /= 3)
-            {
-              c[d]    = rest % 3;
-              overlap = overlap && overlaps[d][c[d]];
-            }
-          if (!overlap)
-            continue;
-          for (unsigned int i = 0; i < GridTransfer<dim>::n_nodes; ++i)
-            {
-              unsigned int slot = 0;
-              for (unsigned int d = 0; d < dim; ++d)
-                slot |= (c[d] + ((i >> d) & 1)) << (2 * d);
-              used[slot] = true;
-            }
-        }
-      for (unsigned int slot = 0; slot < n_slots; ++slot)
-        {
-          if (!used[slot])
-            continue;
-          unsigned int p[dim];
-          for (unsigned int d = 0; d < dim; ++d)
-            p[d] = (slot >> (2 * d)) & 3;
-          double         value = 1;
-          Tensor<1, dim> gradient;
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              value *= w[d][p[d]].first;
-              double g = w[d][p[d]].second;
-              for (unsigned int e = 0; e < dim; ++e)
-                if (e != d)
-                  g *= w[e][p[e]].first;
-              gradient[d] = g;
-            }
-          if (value != 0 || gradient.norm_square() != 0)
-            support.push_back(
-              Node<dim>{local_index[slot], dof[slot], false, value, gradient});
-        }
     }
 
 

@@ -9,6 +9,8 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
+#include <algorithm>
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -108,11 +110,56 @@ namespace fmpm
                     const bool               allow_closed_form = true);
 
     /**
-     * @brief Seed 001 Eqs. gimp_shape and gimpGrad: the 1D GIMP weight and
-     * its derivative for r = x_p − x_g, cell size h, half-length l ≤ h/2.
+     * @brief Seed 001 Eqs. gimp_shape and gimpGrad: the 1D GIMP weight
+     * @p S and its derivative @p G for r = x_p − x_g, cell size h,
+     * half-length l ≤ h/2.
      */
-    std::pair<double, double>
-    gimp_1d(const double r, const double h, const double l);
+    inline void
+    gimp_1d(const double r,
+            const double h,
+            const double l,
+            double      &S,
+            double      &G)
+    {
+      if (r <= -h - l)
+        S = G = 0;
+      else if (r <= -h + l)
+        {
+          S = (h + l + r) * (h + l + r) / (4 * h * l);
+          G = (h + l + r) / (2 * h * l);
+        }
+      else if (r <= -l)
+        {
+          S = 1 + r / h;
+          G = 1 / h;
+        }
+      else if (r <= l)
+        {
+          S = 1 - (r * r + l * l) / (2 * h * l);
+          G = -r / (h * l);
+        }
+      else if (r <= h - l)
+        {
+          S = 1 - r / h;
+          G = -1 / h;
+        }
+      else if (r <= h + l)
+        {
+          S = (h + l - r) * (h + l - r) / (4 * h * l);
+          G = -(h + l - r) / (2 * h * l);
+        }
+      else
+        S = G = 0;
+    }
+
+    /** The same as a pair (S, G). */
+    inline std::pair<double, double>
+    gimp_1d(const double r, const double h, const double l)
+    {
+      std::pair<double, double> w;
+      gimp_1d(r, h, l, w.first, w.second);
+      return w;
+    }
 
     /**
      * @brief GIMP's closed forms (seed 001 Eqs. gimp_shape, gimpGrad) around
@@ -138,14 +185,85 @@ namespace fmpm
       applies(const Point<dim> &x, const Tensor<1, dim> &l) const;
 
       /**
-       * @brief Append every node of the patch cells the box x ± l overlaps
-       * (each once, lexicographic in the planes) with its S̄ and Ḡ, except
-       * those where both vanish.
+       * @brief Call @p sink(local index, DoF, S̄, Ḡ) for every node of the
+       * patch cells the box x ± l overlaps (each once, lexicographic in the
+       * planes), except those where both S̄ and Ḡ vanish. Inline, so that
+       * the caller's sink writes the values where they go (a Node built on
+       * the stack and copied cost a store-forwarding stall per node).
        */
+      template <typename Sink>
       void
-      append_support(const Point<dim>       &x,
-                     const Tensor<1, dim>   &l,
-                     std::vector<Node<dim>> &support) const;
+      for_each_node(const Point<dim>     &x,
+                    const Tensor<1, dim> &l,
+                    Sink                &&sink) const
+      {
+        // Columns (cells between planes c and c + 1) the box overlaps, and
+        // the 1D weights of the planes next to them.
+        bool         overlaps[dim][3];
+        unsigned int first_plane[dim], last_plane[dim];
+        double       w[dim][4], dw[dim][4];
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            first_plane[d] = 4;
+            last_plane[d]  = 0;
+            for (unsigned int c = 0; c < 3; ++c)
+              {
+                overlaps[d][c] =
+                  plane[d][c] < x[d] + l[d] && plane[d][c + 1] > x[d] - l[d];
+                if (overlaps[d][c])
+                  {
+                    first_plane[d] = std::min(first_plane[d], c);
+                    last_plane[d]  = c + 1;
+                  }
+              }
+            for (unsigned int p = first_plane[d]; p <= last_plane[d]; ++p)
+              gimp_1d(x[d] - plane[d][p], h[d], l[d], w[d][p], dw[d][p]);
+          }
+        // The nodes of the overlapped cells that exist.
+        std::array<bool, n_slots> used{};
+        for (unsigned int column = 0; column < n_columns; ++column)
+          {
+            if (!cell_exists[column])
+              continue;
+            unsigned int c[dim];
+            bool         overlap = true;
+            for (unsigned int d = 0, rest = column; d < dim; ++d, rest /= 3)
+              {
+                c[d]    = rest % 3;
+                overlap = overlap && overlaps[d][c[d]];
+              }
+            if (!overlap)
+              continue;
+            for (unsigned int i = 0; i < (1u << dim); ++i)
+              {
+                unsigned int slot = 0;
+                for (unsigned int d = 0; d < dim; ++d)
+                  slot |= (c[d] + ((i >> d) & 1)) << (2 * d);
+                used[slot] = true;
+              }
+          }
+        for (unsigned int slot = 0; slot < n_slots; ++slot)
+          {
+            if (!used[slot])
+              continue;
+            unsigned int p[dim];
+            for (unsigned int d = 0; d < dim; ++d)
+              p[d] = (slot >> (2 * d)) & 3;
+            double         value = 1;
+            Tensor<1, dim> gradient;
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                value *= w[d][p[d]];
+                double g = dw[d][p[d]];
+                for (unsigned int e = 0; e < dim; ++e)
+                  if (e != d)
+                    g *= w[e][p[e]];
+                gradient[d] = g;
+              }
+            if (value != 0 || gradient.norm_square() != 0)
+              sink(local_index[slot], dof[slot], value, gradient);
+          }
+      }
 
     private:
       static constexpr unsigned int n_slots   = 1u << (2 * dim);   // 4^dim

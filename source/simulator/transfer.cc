@@ -436,20 +436,29 @@ namespace fmpm
                 if (gimp && data.uniform_patch &&
                     gimp_patch.applies(particle.get_location(), l))
                   {
-                    support.clear();
-                    gimp_patch.append_support(particle.get_location(),
-                                              l,
-                                              support);
+                    // No hanging nodes on a uniform patch: straight into
+                    // the cache.
+                    gimp_patch.for_each_node(particle.get_location(),
+                                             l,
+                                             [&](const unsigned int local_index,
+                                                 const types::global_dof_index,
+                                                 const double          S_ip,
+                                                 const Tensor<1, dim> &G_ip) {
+                                               supports.node.push_back(
+                                                 local_index);
+                                               supports.S.push_back(S_ip);
+                                               supports.G.push_back(G_ip);
+                                             });
+                    supports.support_begin.push_back(supports.node.size());
+                    continue;
                   }
-                else
-                  status =
-                    ShapeFunction::compute_support(shape_function,
-                                                   transfer,
-                                                   c,
-                                                   particle.get_location(),
-                                                   F,
-                                                   l0,
-                                                   support);
+                status = ShapeFunction::compute_support(shape_function,
+                                                        transfer,
+                                                        c,
+                                                        particle.get_location(),
+                                                        F,
+                                                        l0,
+                                                        support);
                 if (status != ShapeFunction::Status::ok)
                   {
                     if (local_failure.empty())
