@@ -241,6 +241,88 @@ namespace
   // gimp_shape, gimpGrad) equal the quadrature split at the cell faces,
   // node by node, for uGIMP and cpGIMP; the closed-form path is the one
   // taken inside the mesh.
+  // UniformGimpPatch (the closed forms the support cache uses) against a
+  // brute force over every node of the mesh: a node is in the support when
+  // a cell of the mesh that has it as a vertex overlaps the box x ± l, with
+  // S̄ = Π_d S̄_d and Ḡ_d = Ḡ_d Π_{e≠d} S̄_e. (Cells at the boundary have no
+  // uniform patch: they take the quadrature.)
+  TYPED_TEST(ShapeFunctionTest, GimpPatchEqualsBruteForce)
+  {
+    constexpr int dim = TypeParam::value;
+    Setup<dim>    setup(MeshKind::uniform, dim == 2 ? 6 : 4);
+    const double  h = setup.h;
+    std::mt19937  generator(11 + dim);
+    std::uniform_real_distribution<double> anywhere(1e-9, 1 - 1e-9),
+      size(0.05, 0.5);
+    unsigned int n_tested = 0;
+    for (unsigned int p = 0; p < 200; ++p)
+      {
+        Point<dim>     x;
+        Tensor<1, dim> l;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            x[d] = anywhere(generator);
+            l[d] = size(generator) * h;
+          }
+        const unsigned int cell = setup.cell_of(x);
+        if (!setup.transfer.cell_data(cell).uniform_patch)
+          continue;
+        ++n_tested;
+        fmpm::ShapeFunction::UniformGimpPatch<dim> patch;
+        patch.reinit(setup.transfer, cell);
+        ASSERT_TRUE(patch.applies(x, l));
+        std::map<types::global_dof_index, std::pair<double, Tensor<1, dim>>>
+          found;
+        patch.for_each_node(x,
+                            l,
+                            [&](const unsigned int,
+                                const types::global_dof_index dof,
+                                const double                  S,
+                                const Tensor<1, dim>         &G) {
+                              EXPECT_EQ(found.count(dof), 0u); // once each
+                              found[dof] = {S, G};
+                            });
+        unsigned int n_expected = 0;
+        for (const auto &[dof, X] : setup.support_points)
+          {
+            bool   in_support = true;
+            double S          = 1;
+            double w[dim], dw[dim];
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                bool overlapped = false;
+                for (const double lower : {X[d] - h, X[d]})
+                  if (lower > -1e-12 && lower + h < 1 + 1e-12 &&
+                      lower < x[d] + l[d] && lower + h > x[d] - l[d])
+                    overlapped = true;
+                in_support = in_support && overlapped;
+                fmpm::ShapeFunction::gimp_1d(x[d] - X[d], h, l[d], w[d], dw[d]);
+                S *= w[d];
+              }
+            Tensor<1, dim> G;
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                G[d] = dw[d];
+                for (unsigned int e = 0; e < dim; ++e)
+                  if (e != d)
+                    G[d] *= w[e];
+              }
+            if (!in_support || (S == 0 && G.norm_square() == 0))
+              {
+                EXPECT_EQ(found.count(dof), 0u) << "node at " << X;
+                continue;
+              }
+            ++n_expected;
+            ASSERT_EQ(found.count(dof), 1u) << "node at " << X << ", x " << x;
+            EXPECT_NEAR(found[dof].first, S, 1e-14) << X;
+            EXPECT_NEAR((found[dof].second - G).norm() * h, 0, 1e-13) << X;
+          }
+        EXPECT_EQ(found.size(), n_expected);
+      }
+    // (6 - 2)² of 6² cells (2³ of 4³ in 3D) have a uniform patch.
+    EXPECT_GT(n_tested, dim == 2 ? 60u : 10u);
+  }
+
   TYPED_TEST(ShapeFunctionTest, GimpClosedFormsEqualQuadratureOnUniformCells)
   {
     constexpr int dim = TypeParam::value;
