@@ -4,6 +4,7 @@
 #include <fmpm/shape_function.h>
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
 
 #include <algorithm>
 #include <cmath>
@@ -389,20 +390,18 @@ namespace fmpm
               const Tensor<1, dim> l  = gimp_half_lengths<dim>(type, F, l0);
               Point<dim>           lo = x, hi = x;
               double               volume = 1;
-              bool closed_form = allow_closed_form && own.uniform_patch;
               for (unsigned int d = 0; d < dim; ++d)
                 {
                   lo[d] -= l[d];
                   hi[d] += l[d];
                   volume *= 2 * l[d];
-                  if (l[d] > 0.5 * (own.upper[d] - own.lower[d]) ||
-                      x[d] < own.lower[d] || x[d] > own.upper[d])
-                    closed_form = false;
                 }
+              const bool closed_form = allow_closed_form && own.uniform_patch;
+              UniformGimpPatch<dim> patch;
               if (closed_form)
+                patch.reinit(transfer, cell_index);
+              if (closed_form && patch.applies(x, l))
                 {
-                  UniformGimpPatch<dim> patch;
-                  patch.reinit(transfer, cell_index);
                   patch.for_each_node(x,
                                       l,
                                       [&](const unsigned int local_index,
@@ -441,20 +440,14 @@ namespace fmpm
           plane[d][2] = own.upper[d];
           plane[d][3] = own.upper[d] + h[d];
         }
-      cell_exists.fill(false);
       local_index.fill(numbers::invalid_unsigned_int);
+      Assert(own.uniform_patch &&
+               transfer.patch(cell_index).size() == Utilities::pow(3, dim),
+             ExcMessage("UniformGimpPatch needs a uniform patch of 3^dim "
+                        "cells."));
       for (const unsigned int other : transfer.patch(cell_index))
         {
-          const auto  &cell   = transfer.cell_data(other);
-          unsigned int column = 0, stride = 1;
-          for (unsigned int d = 0; d < dim; ++d, stride *= 3)
-            {
-              const double center = 0.5 * (cell.lower[d] + cell.upper[d]);
-              column += stride * (center < own.lower[d] ? 0 :
-                                  center < own.upper[d] ? 1 :
-                                                          2);
-            }
-          cell_exists[column] = true;
+          const auto &cell = transfer.cell_data(other);
           // Each vertex's planes from its coordinates (any vertex order).
           for (unsigned int i = 0; i < GridTransfer<dim>::n_nodes; ++i)
             {

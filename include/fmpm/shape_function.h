@@ -197,9 +197,10 @@ namespace fmpm
                     const Tensor<1, dim> &l,
                     Sink                &&sink) const
       {
-        // Columns (cells between planes c and c + 1) the box overlaps, and
-        // the 1D weights of the planes next to them.
-        bool         overlaps[dim][3];
+        // The planes next to the columns (cells between planes c and c + 1)
+        // the box overlaps, and their 1D weights. The patch holds all 3^dim
+        // cells: the nodes of the overlapped cells are the slots whose planes
+        // all lie in these ranges.
         unsigned int first_plane[dim], last_plane[dim];
         double       w[dim][4], dw[dim][4];
         for (unsigned int d = 0; d < dim; ++d)
@@ -207,48 +208,25 @@ namespace fmpm
             first_plane[d] = 4;
             last_plane[d]  = 0;
             for (unsigned int c = 0; c < 3; ++c)
-              {
-                overlaps[d][c] =
-                  plane[d][c] < x[d] + l[d] && plane[d][c + 1] > x[d] - l[d];
-                if (overlaps[d][c])
-                  {
-                    first_plane[d] = std::min(first_plane[d], c);
-                    last_plane[d]  = c + 1;
-                  }
-              }
+              if (plane[d][c] < x[d] + l[d] && plane[d][c + 1] > x[d] - l[d])
+                {
+                  first_plane[d] = std::min(first_plane[d], c);
+                  last_plane[d]  = c + 1;
+                }
             for (unsigned int p = first_plane[d]; p <= last_plane[d]; ++p)
               gimp_1d(x[d] - plane[d][p], h[d], l[d], w[d][p], dw[d][p]);
           }
-        // The nodes of the overlapped cells that exist.
-        std::array<bool, n_slots> used{};
-        for (unsigned int column = 0; column < n_columns; ++column)
-          {
-            if (!cell_exists[column])
-              continue;
-            unsigned int c[dim];
-            bool         overlap = true;
-            for (unsigned int d = 0, rest = column; d < dim; ++d, rest /= 3)
-              {
-                c[d]    = rest % 3;
-                overlap = overlap && overlaps[d][c[d]];
-              }
-            if (!overlap)
-              continue;
-            for (unsigned int i = 0; i < (1u << dim); ++i)
-              {
-                unsigned int slot = 0;
-                for (unsigned int d = 0; d < dim; ++d)
-                  slot |= (c[d] + ((i >> d) & 1)) << (2 * d);
-                used[slot] = true;
-              }
-          }
         for (unsigned int slot = 0; slot < n_slots; ++slot)
           {
-            if (!used[slot])
-              continue;
             unsigned int p[dim];
+            bool         used = true;
             for (unsigned int d = 0; d < dim; ++d)
-              p[d] = (slot >> (2 * d)) & 3;
+              {
+                p[d] = (slot >> (2 * d)) & 3;
+                used = used && p[d] >= first_plane[d] && p[d] <= last_plane[d];
+              }
+            if (!used)
+              continue;
             double         value = 1;
             Tensor<1, dim> gradient;
             for (unsigned int d = 0; d < dim; ++d)
@@ -266,13 +244,10 @@ namespace fmpm
       }
 
     private:
-      static constexpr unsigned int n_slots   = 1u << (2 * dim);   // 4^dim
-      static constexpr unsigned int n_columns = dim == 2 ? 9 : 27; // 3^dim
+      static constexpr unsigned int n_slots = 1u << (2 * dim); // 4^dim
       /** Plane coordinates per direction, and the cell size h. */
       double plane[dim][4];
       double h[dim];
-      /** Whether the patch cell in columns (c_0, c_1[, c_2]) exists. */
-      std::array<bool, n_columns> cell_exists;
       /** Node on planes (p_0, p_1[, p_2]), slot Σ p_d 4^d. */
       std::array<unsigned int, n_slots>            local_index;
       std::array<types::global_dof_index, n_slots> dof;
