@@ -1450,12 +1450,16 @@ namespace fmpm
               ArrayView<const double>(entry + 1 + dim + 4, n_properties));
           }
       }
-    // The handler's counts (points per rank, next free id) change only when
-    // points change rank (one pass over all points, and collective); its
-    // largest number of points per cell, which fmpm does not read, is
-    // refreshed by the next deal.II sort.
-    if (global_counts[2] != 0)
-      particle_handler.update_cached_numbers();
+    // The handler's cached numbers need no refresh (update_cached_numbers()
+    // is a pass over all points and two collectives): insert_particle() and
+    // remove_particle() keep each rank's count, no point was lost (else the
+    // full sort ran above), so the global count and the next free id are
+    // unchanged; the largest number of points per cell, which fmpm does not
+    // read, is refreshed by the next deal.II sort.
+    Assert(particle_handler.n_locally_owned_particles() ==
+             static_cast<types::particle_index>(
+               std::distance(particle_handler.begin(), particle_handler.end())),
+           ExcInternalError());
   }
 
   template class Simulator<2>;
