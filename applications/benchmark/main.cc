@@ -47,6 +47,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <stdexcept>
 
 #include <boost/property_tree/json_parser.hpp>
 #include <boost/property_tree/ptree.hpp>
@@ -514,130 +515,197 @@ namespace
   }
 } // namespace
 
+namespace
+{
+  const char usage[] =
+    "Usage: fmpm-benchmark [mode] [scene.prm ...] [-- overrides.prm ...]\n"
+    "\n"
+    "Runs benchmark scenes and prints particle-steps per second, the time\n"
+    "per phase and point-step, the memory bandwidth used and the resident\n"
+    "memory per point. A benchmark, not a test: it asserts nothing.\n"
+    "Without a scene: benchmark_2d, benchmark_gimp_2d and benchmark_3d\n"
+    "from parameters/, then issue 12's targets beside the measured figures.\n"
+    "Files after '--' are read after every scene (later 'set' lines win).\n"
+    "\n"
+    "Modes (one scene, or the default named in brackets):\n"
+    "  -h, --help                 show this text\n"
+    "  --methods [rounds]         every particle update and mass matrix,\n"
+    "                             cost relative to FLIP, lumped mass\n"
+    "                             [benchmark_2d]\n"
+    "  --contact [rounds]         one velocity field against contact with\n"
+    "                             each normal method [benchmark_contact_2d]\n"
+    "  --contact-orders [rounds]  FMPM(k)/XPIC(k), k = 1, 2, 5, and the\n"
+    "                             exact solve, with and without contact\n"
+    "                             [benchmark_contact_2d]\n"
+    "  --sizes                    about 1e4, 1e5 and 1e6 points: time per\n"
+    "                             point-step and memory per point\n"
+    "                             [benchmark_2d]\n";
+
+  int
+  benchmark_main(int argc, char **argv);
+} // namespace
+
+
+
 int
 main(int argc, char **argv)
 {
   using namespace dealii;
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-  const bool is_root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
-
-  std::vector<std::string> scenes, overrides;
-  bool                     after_separator = false;
-  unsigned int             method_rounds   = 0;
-  bool                     contact_mode    = false;
-  bool                     orders_mode     = false;
-  bool                     sizes_mode      = false;
-  for (int i = 1; i < argc; ++i)
+  // Bad input (a missing scene, an unknown parameter) stops every rank
+  // with the message, not an abort.
+  try
     {
-      const std::string arg = argv[i];
-      if (arg == "--")
-        after_separator = true;
-      else if (arg == "--sizes" && !after_separator)
-        sizes_mode = true;
-      else if ((arg == "--methods" || arg == "--contact" ||
-                arg == "--contact-orders") &&
-               !after_separator)
-        {
-          method_rounds = 3;
-          contact_mode  = arg == "--contact";
-          orders_mode   = arg == "--contact-orders";
-          if (i + 1 < argc &&
-              std::string(argv[i + 1]).find_first_not_of("0123456789") ==
-                std::string::npos)
-            method_rounds = std::max(1, std::atoi(argv[++i]));
-        }
-      else
-        (after_separator ? overrides : scenes).push_back(arg);
+      return benchmark_main(argc, argv);
     }
-  if (sizes_mode)
+  catch (const std::exception &e)
     {
-      compare_sizes(scenes.empty() ? FMPM_SOURCE_DIR
-                      "/parameters/benchmark_2d.prm" :
-                                     scenes.front(),
-                    overrides);
-      return 0;
-    }
-  if (orders_mode)
-    {
-      compare_contact_orders(scenes.empty() ? FMPM_SOURCE_DIR
-                               "/parameters/benchmark_contact_2d.prm" :
-                                              scenes.front(),
-                             overrides,
-                             method_rounds);
-      return 0;
-    }
-  if (contact_mode)
-    {
-      compare_contact(scenes.empty() ? FMPM_SOURCE_DIR
-                        "/parameters/benchmark_contact_2d.prm" :
-                                       scenes.front(),
-                      overrides,
-                      method_rounds);
-      return 0;
-    }
-  if (method_rounds > 0)
-    {
-      compare_methods(scenes.empty() ? FMPM_SOURCE_DIR
-                        "/parameters/benchmark_2d.prm" :
-                                       scenes.front(),
-                      overrides,
-                      method_rounds);
-      return 0;
-    }
-  const bool default_scenes = scenes.empty();
-  if (default_scenes)
-    scenes = {FMPM_SOURCE_DIR "/parameters/benchmark_2d.prm",
-              FMPM_SOURCE_DIR "/parameters/benchmark_gimp_2d.prm",
-              FMPM_SOURCE_DIR "/parameters/benchmark_3d.prm"};
-  std::vector<double> rates;
-
-  // The scenes first, then the bandwidth (its arrays would otherwise set
-  // the runs' resident-memory high-water mark), then the report.
-  std::vector<boost::property_tree::ptree> summaries;
-  for (const auto &scene : scenes)
-    {
-      std::vector<std::string> files = {scene};
-      files.insert(files.end(), overrides.begin(), overrides.end());
-      summaries.push_back(run_scene(fmpm::load_scene_sources(files)));
-    }
-  const double bandwidth = is_root ? stream_bandwidth() : 0.;
-  for (unsigned int s = 0; s < scenes.size() && is_root; ++s)
-    {
-      const auto  &scene   = scenes[s];
-      const auto  &summary = summaries[s];
-      const double n_steps = summary.get<double>("n_steps");
-      std::cout << "\n=== benchmark " << scene << "\n"
-                << "    " << summary.get<std::string>("status") << ", "
-                << summary.get<int>("dimension") << "D, "
-                << summary.get<int>("n_mpi_ranks") << " rank(s), "
-                << summary.get<long>("n_particles") << " points, "
-                << summary.get<long>("n_cells") << " cells, "
-                << static_cast<long>(n_steps) << " steps\n"
-                << "    particle-steps per second (whole run): "
-                << std::scientific << std::setprecision(3)
-                << summary.get<double>("particle_steps_per_second") << "\n";
-      const double rate =
-        summary.get<long>("n_particles") / seconds_per_step(summary);
-      rates.push_back(rate);
-      std::cout << "    particle-steps per second (time steps only): " << rate
-                << "\n";
-      print_phases(summary, bandwidth);
-    }
-  if (default_scenes && is_root)
-    {
-      // Issue 12's targets (one core) beside the measured figures.
-      const char  *labels[3]  = {"2D classic FLIP (benchmark_2d)",
-                                 "2D uGIMP FLIP USAVG+ (benchmark_gimp_2d)",
-                                 "3D classic (benchmark_3d)"};
-      const double targets[3] = {1e7, 5e6, 4e6};
-      std::cout << "\n=== targets (issue 12, one core)\n"
-                << "| scene | target particle-steps/s | measured | "
-                   "measured / target |\n|---|---|---|---|\n";
-      for (unsigned int k = 0; k < 3; ++k)
-        std::cout << "| " << labels[k] << " | " << std::scientific
-                  << std::setprecision(1) << targets[k] << " | "
-                  << std::setprecision(2) << rates[k] << " | " << std::fixed
-                  << std::setprecision(2) << rates[k] / targets[k] << " |\n";
-      std::cout << std::flush;
+      if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+        std::cerr << "fmpm-benchmark: " << fmpm::error_message(e) << std::endl;
+      return 1;
     }
 }
+
+
+
+namespace
+{
+  int
+  benchmark_main(int argc, char **argv)
+  {
+    using namespace dealii;
+    const bool is_root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+
+    std::vector<std::string> scenes, overrides;
+    bool                     after_separator = false;
+    unsigned int             method_rounds   = 0;
+    bool                     contact_mode    = false;
+    bool                     orders_mode     = false;
+    bool                     sizes_mode      = false;
+    for (int i = 1; i < argc; ++i)
+      {
+        const std::string arg = argv[i];
+        if (arg == "--")
+          after_separator = true;
+        else if ((arg == "-h" || arg == "--help") && !after_separator)
+          {
+            if (is_root)
+              std::cout << usage;
+            return 0;
+          }
+        else if (arg == "--sizes" && !after_separator)
+          sizes_mode = true;
+        else if ((arg == "--methods" || arg == "--contact" ||
+                  arg == "--contact-orders") &&
+                 !after_separator)
+          {
+            method_rounds = 3;
+            contact_mode  = arg == "--contact";
+            orders_mode   = arg == "--contact-orders";
+            if (i + 1 < argc &&
+                std::string(argv[i + 1]).find_first_not_of("0123456789") ==
+                  std::string::npos)
+              method_rounds = std::max(1, std::atoi(argv[++i]));
+          }
+        else if (arg.size() > 1 && arg[0] == '-' && !after_separator)
+          throw std::invalid_argument(
+            "unknown option " + arg +
+            " (allowed: --help, --methods, --contact, --contact-orders, "
+            "--sizes, --)");
+        else
+          (after_separator ? overrides : scenes).push_back(arg);
+      }
+    if (sizes_mode)
+      {
+        compare_sizes(scenes.empty() ? FMPM_SOURCE_DIR
+                        "/parameters/benchmark_2d.prm" :
+                                       scenes.front(),
+                      overrides);
+        return 0;
+      }
+    if (orders_mode)
+      {
+        compare_contact_orders(scenes.empty() ? FMPM_SOURCE_DIR
+                                 "/parameters/benchmark_contact_2d.prm" :
+                                                scenes.front(),
+                               overrides,
+                               method_rounds);
+        return 0;
+      }
+    if (contact_mode)
+      {
+        compare_contact(scenes.empty() ? FMPM_SOURCE_DIR
+                          "/parameters/benchmark_contact_2d.prm" :
+                                         scenes.front(),
+                        overrides,
+                        method_rounds);
+        return 0;
+      }
+    if (method_rounds > 0)
+      {
+        compare_methods(scenes.empty() ? FMPM_SOURCE_DIR
+                          "/parameters/benchmark_2d.prm" :
+                                         scenes.front(),
+                        overrides,
+                        method_rounds);
+        return 0;
+      }
+    const bool default_scenes = scenes.empty();
+    if (default_scenes)
+      scenes = {FMPM_SOURCE_DIR "/parameters/benchmark_2d.prm",
+                FMPM_SOURCE_DIR "/parameters/benchmark_gimp_2d.prm",
+                FMPM_SOURCE_DIR "/parameters/benchmark_3d.prm"};
+    std::vector<double> rates;
+
+    // The scenes first, then the bandwidth (its arrays would otherwise set
+    // the runs' resident-memory high-water mark), then the report.
+    std::vector<boost::property_tree::ptree> summaries;
+    for (const auto &scene : scenes)
+      {
+        std::vector<std::string> files = {scene};
+        files.insert(files.end(), overrides.begin(), overrides.end());
+        summaries.push_back(run_scene(fmpm::load_scene_sources(files)));
+      }
+    const double bandwidth = is_root ? stream_bandwidth() : 0.;
+    for (unsigned int s = 0; s < scenes.size() && is_root; ++s)
+      {
+        const auto  &scene   = scenes[s];
+        const auto  &summary = summaries[s];
+        const double n_steps = summary.get<double>("n_steps");
+        std::cout << "\n=== benchmark " << scene << "\n"
+                  << "    " << summary.get<std::string>("status") << ", "
+                  << summary.get<int>("dimension") << "D, "
+                  << summary.get<int>("n_mpi_ranks") << " rank(s), "
+                  << summary.get<long>("n_particles") << " points, "
+                  << summary.get<long>("n_cells") << " cells, "
+                  << static_cast<long>(n_steps) << " steps\n"
+                  << "    particle-steps per second (whole run): "
+                  << std::scientific << std::setprecision(3)
+                  << summary.get<double>("particle_steps_per_second") << "\n";
+        const double rate =
+          summary.get<long>("n_particles") / seconds_per_step(summary);
+        rates.push_back(rate);
+        std::cout << "    particle-steps per second (time steps only): " << rate
+                  << "\n";
+        print_phases(summary, bandwidth);
+      }
+    if (default_scenes && is_root)
+      {
+        // Issue 12's targets (one core) beside the measured figures.
+        const char  *labels[3]  = {"2D classic FLIP (benchmark_2d)",
+                                   "2D uGIMP FLIP USAVG+ (benchmark_gimp_2d)",
+                                   "3D classic (benchmark_3d)"};
+        const double targets[3] = {1e7, 5e6, 4e6};
+        std::cout << "\n=== targets (issue 12, one core)\n"
+                  << "| scene | target particle-steps/s | measured | "
+                     "measured / target |\n|---|---|---|---|\n";
+        for (unsigned int k = 0; k < 3; ++k)
+          std::cout << "| " << labels[k] << " | " << std::scientific
+                    << std::setprecision(1) << targets[k] << " | "
+                    << std::setprecision(2) << rates[k] << " | " << std::fixed
+                    << std::setprecision(2) << rates[k] / targets[k] << " |\n";
+        std::cout << std::flush;
+      }
+    return 0;
+  }
+} // namespace
