@@ -390,31 +390,64 @@ namespace fmpm
     const bool gimp = (shape_function == ShapeFunction::Type::ugimp ||
                        shape_function == ShapeFunction::Type::cpgimp);
     ShapeFunction::UniformGimpPatch<dim> gimp_patch;
-    // Cells in the order of their ids: the sums over points onto nodes are
-    // then independent of the mesh's storage order, which a mesh loaded
-    // from a checkpoint does not share (bitwise resumes).
+    // The points, cell by cell: cells in the order of their ids (the sums
+    // over points onto nodes are then independent of the mesh's storage
+    // order, which a mesh loaded from a checkpoint does not share: bitwise
+    // resumes), each cell's points in the handler's order. A point's handle
+    // is its location's place in the pool (no point data is read here).
     for (const auto &cell : owned_cells_in_id_order)
       {
         const auto particles = particle_handler.particles_in_cell(cell);
         if (particles.begin() == particles.end())
           continue;
-        const unsigned int c    = cell->active_cell_index();
-        const auto        &data = transfer.cell_data(c);
-        if (gimp && data.uniform_patch)
-          gimp_patch.reinit(transfer, c);
+        const unsigned int c = cell->active_cell_index();
         for (const auto &particle : particles)
           {
             supports.handle.push_back(&particle.get_location() -
                                       first_location);
             supports.cell.push_back(c);
+          }
+        supports.cell_index.push_back(c);
+        supports.cell_iterator.push_back(cell);
+        supports.cell_point_begin.push_back(supports.n_points());
+      }
+
+    // The supports, reading each point's data from the pool by its handle
+    // (the data of the point prefetch_distance ahead fetched meanwhile:
+    // points the fast sort moved sit away from their cell's others).
+    const unsigned int n_supported_points = supports.n_points();
+    for (unsigned int cell_number = 0; cell_number < supports.n_cells();
+         ++cell_number)
+      {
+        const unsigned int c    = supports.cell_index[cell_number];
+        const auto        &data = transfer.cell_data(c);
+        if (gimp && data.uniform_patch)
+          gimp_patch.reinit(transfer, c);
+        for (unsigned int k = supports.cell_point_begin[cell_number];
+             k < supports.cell_point_begin[cell_number + 1];
+             ++k)
+          {
+            if (k + prefetch_distance < n_supported_points)
+              {
+                const auto ahead = supports.handle[k + prefetch_distance];
+                if (classic)
+                  prefetch(&pool.get_reference_location(ahead)[0], dim);
+                else
+                  prefetch(&pool.get_location(ahead)[0], dim);
+                if (!classic || multiple_materials)
+                  prefetch(pool.get_properties(ahead).data(),
+                           Index::n_core_properties);
+              }
+            const auto        h        = supports.handle[k];
+            const Point<dim> &location = pool.get_location(h);
             if (multiple_materials)
               supports.material.push_back(static_cast<unsigned char>(
-                particle.get_properties()[Index::material_id]));
+                pool.get_properties(h)[Index::material_id]));
             const unsigned int first = supports.node.size();
             if (classic)
               {
                 GridTransfer<dim>::values_and_gradients(
-                  data, particle.get_reference_location(), S, G);
+                  data, pool.get_reference_location(h), S, G);
                 if (!data.has_constraints)
                   for (unsigned int i = 0; i < n; ++i)
                     {
@@ -433,7 +466,7 @@ namespace fmpm
               }
             else
               {
-                const auto     p = particle.get_properties();
+                const auto     p = pool.get_properties(h);
                 Tensor<2, dim> F;
                 Tensor<1, dim> l0;
                 for (unsigned int a = 0; a < dim; ++a)
@@ -450,11 +483,11 @@ namespace fmpm
                      ShapeFunction::gimp_half_lengths(shape_function, F, l0) :
                      l0;
                 if (gimp && data.uniform_patch &&
-                    gimp_patch.applies(particle.get_location(), l))
+                    gimp_patch.applies(location, l))
                   {
                     // No hanging nodes on a uniform patch: straight into
                     // the cache.
-                    gimp_patch.for_each_node(particle.get_location(),
+                    gimp_patch.for_each_node(location,
                                              l,
                                              [&](const unsigned int local_index,
                                                  const types::global_dof_index,
@@ -468,22 +501,16 @@ namespace fmpm
                     supports.support_begin.push_back(supports.node.size());
                     continue;
                   }
-                status = ShapeFunction::compute_support(shape_function,
-                                                        transfer,
-                                                        c,
-                                                        particle.get_location(),
-                                                        F,
-                                                        l0,
-                                                        support);
+                status = ShapeFunction::compute_support(
+                  shape_function, transfer, c, location, F, l0, support);
                 if (status != ShapeFunction::Status::ok)
                   {
                     if (local_failure.empty())
                       {
                         std::ostringstream message;
                         message
-                          << "the domain of material point "
-                          << particle.get_id() << " at ("
-                          << particle.get_location() << ") "
+                          << "the domain of material point " << pool.get_id(h)
+                          << " at (" << location << ") "
                           << (status == ShapeFunction::Status::outside_mesh ?
                                 "reaches outside the mesh by more than half a "
                                 "cell" :
@@ -501,7 +528,7 @@ namespace fmpm
                     ShapeFunction::compute_support(ShapeFunction::Type::classic,
                                                    transfer,
                                                    c,
-                                                   particle.get_location(),
+                                                   location,
                                                    F,
                                                    l0,
                                                    support);
@@ -529,9 +556,6 @@ namespace fmpm
               }
             supports.support_begin.push_back(supports.node.size());
           }
-        supports.cell_index.push_back(c);
-        supports.cell_iterator.push_back(cell);
-        supports.cell_point_begin.push_back(supports.n_points());
       }
   }
 
