@@ -86,12 +86,50 @@ namespace fmpm
     NeoHookean<dim>::update_stress(const StressUpdateInputs &inputs,
                                    StressUpdateOutputs      &outputs) const
     {
-      SymmetricTensor<2, 3> tau;
-      for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
+      const unsigned int n_points = inputs.deformation_gradient.size();
+      if constexpr (dim == 2)
         {
-          const Tensor<2, 3> &F = inputs.deformation_gradient[q];
-          stress_and_energy(F, tau, outputs.strain_energy_density[q]);
-          outputs.cauchy_stress[q] = tau / determinant(F);
+          // Plane strain (F₃₃ = 1, no out-of-plane shear): J is the 2x2
+          // block's determinant and b̄ = J^{-2/3} F Fᵀ has four entries;
+          // otherwise the same Eq. 18 as stress_and_energy().
+          const double K = bulk_modulus, G = shear_modulus;
+          for (unsigned int q = 0; q < n_points; ++q)
+            {
+              const Tensor<2, 3> &F      = inputs.deformation_gradient[q];
+              const double        F_xx   = F[0][0];
+              const double        F_xy   = F[0][1];
+              const double        F_yx   = F[1][0];
+              const double        F_yy   = F[1][1];
+              const double        J      = F_xx * F_yy - F_xy * F_yx;
+              const double        log_J  = std::log(J);
+              const double        J_m23  = std::exp(-2.0 / 3.0 * log_J);
+              const double        b_xx   = J_m23 * (F_xx * F_xx + F_xy * F_xy);
+              const double        b_yy   = J_m23 * (F_yx * F_yx + F_yy * F_yy);
+              const double        b_xy   = J_m23 * (F_xx * F_yx + F_xy * F_yy);
+              const double        b_zz   = J_m23;
+              const double        I1_bar = b_xx + b_yy + b_zz;
+              // τ = G b̄ + (K (J² − 1)/2 − G Ī₁/3) I, σ = τ/J.
+              const double pressure_part =
+                0.5 * K * (J * J - 1) - G * I1_bar / 3.0;
+              SymmetricTensor<2, 3> &sigma = outputs.cauchy_stress[q];
+              sigma                        = SymmetricTensor<2, 3>();
+              sigma[0][0]                  = (G * b_xx + pressure_part) / J;
+              sigma[1][1]                  = (G * b_yy + pressure_part) / J;
+              sigma[2][2]                  = (G * b_zz + pressure_part) / J;
+              sigma[0][1]                  = G * b_xy / J;
+              outputs.strain_energy_density[q] =
+                0.5 * G * (I1_bar - 3) + 0.5 * K * (0.5 * (J * J - 1) - log_J);
+            }
+        }
+      else
+        {
+          SymmetricTensor<2, 3> tau;
+          for (unsigned int q = 0; q < n_points; ++q)
+            {
+              const Tensor<2, 3> &F = inputs.deformation_gradient[q];
+              stress_and_energy(F, tau, outputs.strain_energy_density[q]);
+              outputs.cauchy_stress[q] = tau / determinant(F);
+            }
         }
     }
 
@@ -124,6 +162,11 @@ namespace fmpm
     }
 
 
+
+    // Every member for both dimensions (stress_and_energy() is called by
+    // the 3D update only, and by tests in 2D).
+    template class NeoHookean<2>;
+    template class NeoHookean<3>;
 
     FMPM_REGISTER_CONSTITUTIVE_MODEL(
       NeoHookean,
