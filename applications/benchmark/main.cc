@@ -615,39 +615,34 @@ namespace
         else
           (after_separator ? overrides : scenes).push_back(arg);
       }
+    // The modes run one scene: the first given, else their default.
+    const auto scene_or = [&scenes](const std::string &default_scene) {
+      return scenes.empty() ?
+               std::string(FMPM_SOURCE_DIR "/parameters/") + default_scene :
+               scenes.front();
+    };
     if (sizes_mode)
       {
-        compare_sizes(scenes.empty() ? FMPM_SOURCE_DIR
-                        "/parameters/benchmark_2d.prm" :
-                                       scenes.front(),
-                      overrides);
+        compare_sizes(scene_or("benchmark_2d.prm"), overrides);
         return 0;
       }
     if (orders_mode)
       {
-        compare_contact_orders(scenes.empty() ? FMPM_SOURCE_DIR
-                                 "/parameters/benchmark_contact_2d.prm" :
-                                                scenes.front(),
+        compare_contact_orders(scene_or("benchmark_contact_2d.prm"),
                                overrides,
                                method_rounds);
         return 0;
       }
     if (contact_mode)
       {
-        compare_contact(scenes.empty() ? FMPM_SOURCE_DIR
-                          "/parameters/benchmark_contact_2d.prm" :
-                                         scenes.front(),
+        compare_contact(scene_or("benchmark_contact_2d.prm"),
                         overrides,
                         method_rounds);
         return 0;
       }
     if (method_rounds > 0)
       {
-        compare_methods(scenes.empty() ? FMPM_SOURCE_DIR
-                          "/parameters/benchmark_2d.prm" :
-                                         scenes.front(),
-                        overrides,
-                        method_rounds);
+        compare_methods(scene_or("benchmark_2d.prm"), overrides, method_rounds);
         return 0;
       }
     const bool default_scenes = scenes.empty();
