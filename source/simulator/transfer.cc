@@ -1170,8 +1170,7 @@ namespace fmpm
                 // The record is read below and by the model: fetch its
                 // cache lines now (points moved by the sort sit away from
                 // their cell's others in memory).
-                for (unsigned int line = 0; line < n_properties; line += 8)
-                  __builtin_prefetch(P + line, 1);
+                prefetch<true>(P, n_properties);
               }
             increments<dim == 2 ? 2 : 3>(F_update,
                                          parameters.method,
