@@ -344,8 +344,10 @@ namespace
   // A piston at 1000 m/s drives a shock into a confined nickel bar
   // (parameters/shock_nickel.prm, 25 x 0.5 mm): the front speed, the axial
   // stress and the internal energy behind it against the jump conditions
-  // for the particle speed the points behind the front have (the moving
-  // wall's nodes give them about 1 % less than the wall's speed).
+  // for the particle speed the points behind the front have, and that
+  // speed against the piston's: the piston drives the node inside the bar's
+  // end too, so the bar keeps up with it (with only the nodes past the face
+  // the points were about 1 % slower than the piston).
   TEST(MieGruneisen, PistonShockFollowsTheHugoniot)
   {
     const double     piston_speed = 1000, right = 0.025, end_time = 3e-6;
@@ -395,7 +397,7 @@ namespace
         energy /= count;
         up /= count;
       }
-    EXPECT_NEAR(up, piston_speed, 0.02 * piston_speed);
+    EXPECT_NEAR(up, piston_speed, 0.005 * piston_speed);
     double       sigma_rh;
     const double Us_rh = shock_speed(nickel(), up, sigma_rh);
     const double Us    = (front[0] - front[2]) / 2e-6;
@@ -403,8 +405,13 @@ namespace
     EXPECT_NEAR(Us, Us_rh, 0.01 * Us_rh);
     EXPECT_NEAR(sigma, sigma_rh, 0.01 * std::abs(sigma_rh));
     EXPECT_NEAR(energy, 0.5 * up * up, 0.02 * 0.5 * up * up);
-    std::cout << "u_p " << up << ", U_s " << Us << " (RH " << Us_rh
-              << "), sigma_xx " << sigma << " (RH " << sigma_rh << "), U "
-              << energy << " (RH " << 0.5 * up * up << ")" << std::endl;
+    auto percent = [](const double value, const double exact) {
+      return 100 * (value / exact - 1);
+    };
+    std::cout << "u_p " << percent(up, piston_speed) << " % of the piston, U_s "
+              << percent(Us, Us_rh) << " %, sigma_xx "
+              << percent(sigma, sigma_rh) << " %, U "
+              << percent(energy, 0.5 * up * up) << " % (against the jump)"
+              << std::endl;
   }
 } // namespace
