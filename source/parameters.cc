@@ -455,7 +455,10 @@ namespace fmpm
             "Or the wall as the nodes where this FunctionParser "
             "expression in x, y, z, t is positive (e.g. "
             "'0.2 + 0.1*t - x' for a plane moving along x); "
-            "re-evaluated every step. Units: m.");
+            "re-evaluated every step. A piston that drives a body should "
+            "also take the node less than one cell inside the body's face "
+            "(every node whose shape functions reach the piston), else the "
+            "body lags behind it (parameters/shock_nickel.prm). Units: m.");
           prm.declare_entry("Direction",
                             join(wall.direction, dim),
                             point_pattern(dim),
