@@ -691,7 +691,7 @@ namespace fmpm
                                static_cast<double>(n_lost_points),
                                local_max_wave_speed,
                                local_max_point_speed};
-      double       global_flags[4];
+      double global_flags[4];
       Utilities::MPI::max(make_array_view(flags),
                           mpi_communicator,
                           make_array_view(global_flags));

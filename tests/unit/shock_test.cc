@@ -401,7 +401,7 @@ namespace
     double       sigma_rh;
     const double Us_rh = shock_speed(nickel(), up, sigma_rh);
     const double Us    = (front[0] - front[2]) / 2e-6;
-    // Measured: U_s -0.33 %, sigma_xx +0.04 %, U -1.0 %.
+    // Measured: u_p -0.31 %, U_s +0.42 %, sigma_xx -0.03 %, U +0.48 %.
     EXPECT_NEAR(Us, Us_rh, 0.01 * Us_rh);
     EXPECT_NEAR(sigma, sigma_rh, 0.01 * std::abs(sigma_rh));
     EXPECT_NEAR(energy, 0.5 * up * up, 0.02 * 0.5 * up * up);
