@@ -598,6 +598,18 @@ namespace fmpm
         "quadrature split at cell faces. A point's domain must stay within "
         "the cells sharing a vertex with its cell (the run stops otherwise). "
         "Units: none.");
+      prm.declare_entry(
+        "CPDI critical radius",
+        "0",
+        Patterns::Double(0),
+        "CPDI only: each half-diagonal of a point's domain longer than this "
+        "many times the smallest extent of the point's cell is shortened to "
+        "it, and the domain rebuilt from its diagonals (NairnMPM's "
+        "CPDIrcrit). Keeps long, thin domains of large deformations within "
+        "the neighbour cells (a value of at most 1 guarantees it) while their "
+        "short directions stay as F gives them. The point's volume and "
+        "deformation gradient are not changed, only the reach of its shape "
+        "functions. 0: no limit. Units: cells.");
     }
     prm.leave_subsection();
 
@@ -1106,7 +1118,8 @@ namespace fmpm
     prm.leave_subsection();
 
     prm.enter_subsection("Shape function");
-    method.shape_function = prm.get("Type");
+    method.shape_function       = prm.get("Type");
+    method.cpdi_critical_radius = prm.get_double("CPDI critical radius");
     prm.leave_subsection();
 
     prm.enter_subsection("Deformation gradient");

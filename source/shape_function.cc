@@ -7,7 +7,9 @@
 #include <deal.II/base/utilities.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 
 namespace fmpm
 {
@@ -314,6 +316,48 @@ namespace fmpm
 
 
     template <int dim>
+    bool
+    limit_cpdi_domain(Tensor<2, dim> &s, const double r_max)
+    {
+      constexpr unsigned int n_diagonals = 1u << (dim - 1);
+      std::array<Tensor<1, dim>, n_diagonals> r, d;
+      bool                                    limited = false;
+      for (unsigned int k = 0; k < n_diagonals; ++k)
+        {
+          for (unsigned int j = 0; j + 1 < dim; ++j)
+            r[k][j] = ((k >> j) & 1) ? -1. : 1.;
+          r[k][dim - 1] = 1.;
+          d[k]          = s * r[k];
+          const double length = d[k].norm();
+          if (length > r_max)
+            {
+              d[k] *= r_max / length;
+              limited = true;
+            }
+        }
+      if (!limited)
+        return false;
+      for (unsigned int j = 0; j < dim; ++j)
+        {
+          Tensor<1, dim> column;
+          for (unsigned int k = 0; k < n_diagonals; ++k)
+            column += r[k][j] * d[k];
+          column /= n_diagonals;
+          for (unsigned int c = 0; c < dim; ++c)
+            s[c][j] = column[c];
+        }
+      // In 3D the fit can leave a diagonal a little long: scale s as a whole.
+      double longest = 0;
+      for (unsigned int k = 0; k < n_diagonals; ++k)
+        longest = std::max(longest, (s * r[k]).norm());
+      if (longest > r_max)
+        s *= r_max / longest;
+      return true;
+    }
+
+
+
+    template <int dim>
     Status
     compute_support(const Type               type,
                     const GridTransfer<dim> &transfer,
@@ -322,7 +366,8 @@ namespace fmpm
                     const Tensor<2, dim>    &F,
                     const Tensor<1, dim>    &l0,
                     std::vector<Node<dim>>  &support,
-                    const bool               allow_closed_form)
+                    const bool               allow_closed_form,
+                    const double             cpdi_critical_radius)
     {
       using Transfer             = GridTransfer<dim>;
       constexpr unsigned int n   = Transfer::n_nodes;
@@ -361,6 +406,13 @@ namespace fmpm
               for (unsigned int c = 0; c < dim; ++c)
                 for (unsigned int j = 0; j < dim; ++j)
                   s[c][j] = F[c][j] * l0[j];
+              if (cpdi_critical_radius > 0)
+                {
+                  double h = std::numeric_limits<double>::max();
+                  for (unsigned int d = 0; d < dim; ++d)
+                    h = std::min(h, own.upper[d] - own.lower[d]);
+                  limit_cpdi_domain(s, cpdi_critical_radius * h);
+                }
               const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
               const double         weight              = 1.0 / n; // 2^-dim
               unsigned int         hint                = cell_index;
@@ -502,7 +554,10 @@ namespace fmpm
                        const Tensor<2, 2> &,
                        const Tensor<1, 2> &,
                        std::vector<Node<2>> &,
-                       const bool);
+                       const bool,
+                       const double);
+    template bool
+    limit_cpdi_domain<2>(Tensor<2, 2> &, const double);
     template Status
     compute_support<3>(const Type,
                        const GridTransfer<3> &,
@@ -511,6 +566,9 @@ namespace fmpm
                        const Tensor<2, 3> &,
                        const Tensor<1, 3> &,
                        std::vector<Node<3>> &,
-                       const bool);
+                       const bool,
+                       const double);
+    template bool
+    limit_cpdi_domain<3>(Tensor<2, 3> &, const double);
   } // namespace ShapeFunction
 } // namespace fmpm

@@ -163,6 +163,8 @@ namespace fmpm
     std::string strain_update_mass_matrix = "same";
     /** classic, ugimp, cpgimp or cpdi (ShapeFunction::Type) */
     std::string shape_function = "classic";
+    /** CPDI: half-diagonal limit in cells (0: none; limit_cpdi_domain()). */
+    double cpdi_critical_radius = 0;
     /** first order, taylor, subcycle or cayley */
     std::string  deformation_gradient_update = "cayley";
     unsigned int taylor_terms                = 3;

@@ -97,6 +97,11 @@ namespace fmpm
      * @param l0 the initial half-lengths
      * @param allow_closed_form use GIMP's closed forms where they hold
      *        (false: always the quadrature, for tests)
+     * @param cpdi_critical_radius CPDI only: if positive, each half-diagonal
+     *        s r of the domain longer than this many times the smallest
+     *        extent of the point's cell is shortened to it and s rebuilt
+     *        from the diagonals (limit_cpdi_domain()); 0: the domain as F
+     *        gives it
      */
     template <int dim>
     Status
@@ -107,7 +112,26 @@ namespace fmpm
                     const Tensor<2, dim>    &F,
                     const Tensor<1, dim>    &l0,
                     std::vector<Node<dim>>  &support,
-                    const bool               allow_closed_form = true);
+                    const bool               allow_closed_form    = true,
+                    const double             cpdi_critical_radius = 0);
+
+    /**
+     * @brief Shortens the half-diagonals of a CPDI domain s = F diag(l⁰)
+     * to at most @p r_max and rebuilds s from them.
+     *
+     * The 2^(dim-1) half-diagonals d_k = s r_k (r_k ∈ {±1}^dim with last
+     * entry +1) longer than @p r_max are scaled to length r_max; column j of
+     * s becomes 2^(1-dim) Σ_k r_k[j] d_k, the least-squares fit (exact in 2D;
+     * in 3D s is then scaled as a whole if a diagonal is still longer than
+     * r_max; s is unchanged when no diagonal is too long). A long, thin domain
+     * keeps its short directions and its corners stay within r_max of the
+     * point, so a limit of one cell keeps them in the neighbour cells.
+     *
+     * @return whether s was changed
+     */
+    template <int dim>
+    bool
+    limit_cpdi_domain(Tensor<2, dim> &s, const double r_max);
 
     /**
      * @brief Seed 001 Eqs. gimp_shape and gimpGrad: the 1D GIMP weight

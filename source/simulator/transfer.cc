@@ -502,7 +502,15 @@ namespace fmpm
                     continue;
                   }
                 status = ShapeFunction::compute_support(
-                  shape_function, transfer, c, location, F, l0, support);
+                  shape_function,
+                  transfer,
+                  c,
+                  location,
+                  F,
+                  l0,
+                  support,
+                  true,
+                  parameters.method.cpdi_critical_radius);
                 if (status != ShapeFunction::Status::ok)
                   {
                     if (local_failure.empty())
@@ -520,8 +528,9 @@ namespace fmpm
                           << " (Shape function/Type = "
                           << parameters.method.shape_function
                           << "): use smaller points (more Points per cell), "
-                             "a coarser mesh there, or classic shape "
-                             "functions";
+                             "a coarser mesh there, classic shape "
+                             "functions, or for CPDI a Shape function/CPDI "
+                             "critical radius of at most 1";
                         local_failure = message.str();
                       }
                     // Carry on with the classic weights; the step fails.

@@ -588,6 +588,124 @@ namespace
                 fmpm::ShapeFunction::Status::outside_mesh)
         << name(type);
   }
+
+
+
+  // limit_cpdi_domain(): every half-diagonal s r ends at most r_max long; a
+  // domain within the limit is unchanged; in 2D a diagonal within the limit
+  // keeps its length and direction (only the long one is shortened).
+  TYPED_TEST(ShapeFunctionTest, CriticalRadiusShortensOnlyLongDiagonals)
+  {
+    constexpr int dim = TypeParam::value;
+    std::mt19937  generator(5 + dim);
+    auto          diagonals = [](const Tensor<2, dim> &s) {
+      std::vector<Tensor<1, dim>> d;
+      for (unsigned int k = 0; k < (1u << (dim - 1)); ++k)
+        {
+          Tensor<1, dim> r;
+          for (unsigned int j = 0; j + 1 < dim; ++j)
+            r[j] = ((k >> j) & 1) ? -1. : 1.;
+          r[dim - 1] = 1.;
+          d.push_back(s * r);
+        }
+      return d;
+    };
+    unsigned int n_checked = 0;
+    for (unsigned int trial = 0; trial < 20; ++trial)
+      {
+        const Tensor<2, dim> s0 =
+          0.25 * random_deformation_gradient<dim>(generator, 1.5);
+        if (determinant(s0) <= 0)
+          continue;
+        ++n_checked;
+        double longest = 0;
+        for (const auto &d : diagonals(s0))
+          longest = std::max(longest, d.norm());
+        Tensor<2, dim> s = s0;
+        EXPECT_FALSE(fmpm::ShapeFunction::limit_cpdi_domain(s, longest * 1.01));
+        EXPECT_EQ(s, s0);
+        const double r_max = 0.7 * longest;
+        ASSERT_TRUE(fmpm::ShapeFunction::limit_cpdi_domain(s, r_max));
+        const auto before = diagonals(s0), after = diagonals(s);
+        for (unsigned int k = 0; k < after.size(); ++k)
+          {
+            EXPECT_LE(after[k].norm(), r_max * (1 + 1e-12)) << trial;
+            if (dim == 2 && before[k].norm() <= r_max)
+              EXPECT_NEAR((after[k] - before[k]).norm(), 0, 1e-14) << trial;
+            if (dim == 2 && before[k].norm() > r_max)
+              EXPECT_NEAR((after[k] - before[k] * (r_max / before[k].norm()))
+                            .norm(),
+                          0,
+                          1e-14)
+                << trial;
+          }
+        EXPECT_GT(determinant(s), 0) << trial;
+      }
+    EXPECT_GE(n_checked, 5u);
+  }
+
+
+
+  // A CPDI domain stretched beyond the neighbour cells is reported without
+  // a critical radius; with a radius of one cell its support stays in the
+  // patch and still reproduces linear fields (Σ S̄ = 1, Σ S̄ x_g = x_p,
+  // Σ x_g ⊗ Ḡ = I), and a radius larger than the domain changes nothing.
+  TYPED_TEST(ShapeFunctionTest, CriticalRadiusKeepsStretchedCpdiDomainsInPatch)
+  {
+    constexpr int dim = TypeParam::value;
+    Setup<dim>    setup(MeshKind::uniform, 8);
+    Point<dim>    x;
+    for (unsigned int d = 0; d < dim; ++d)
+      x[d] = 0.45;
+    const unsigned int cell = setup.cell_of(x);
+    Tensor<2, dim>     F;
+    Tensor<1, dim>     l0;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        F[d][d] = d == 0 ? 8.0 : 1.0 / 8; // stretched along x, thin in y
+        l0[d]   = 0.25 * setup.h;
+      }
+    F[0][1] = 0.5;
+    std::vector<fmpm::ShapeFunction::Node<dim>> support, reference;
+    EXPECT_EQ(fmpm::ShapeFunction::compute_support(
+                Type::cpdi, setup.transfer, cell, x, F, l0, support),
+              fmpm::ShapeFunction::Status::beyond_neighbors);
+    ASSERT_EQ(fmpm::ShapeFunction::compute_support(
+                Type::cpdi, setup.transfer, cell, x, F, l0, support, true, 1.0),
+              fmpm::ShapeFunction::Status::ok);
+    double         sum_S = 0;
+    Tensor<1, dim> centroid;
+    Tensor<2, dim> gradient;
+    for (const auto &node : support)
+      {
+        const Point<dim> x_g = setup.position(node);
+        sum_S += node.S;
+        centroid += node.S * x_g;
+        gradient += outer_product(x_g, node.G);
+        for (unsigned int d = 0; d < dim; ++d)
+          EXPECT_LE(std::abs(x_g[d] - x[d]), 2 * setup.h + 1e-12);
+      }
+    EXPECT_NEAR(sum_S, 1, 1e-12);
+    EXPECT_NEAR((centroid - x).norm(), 0, 1e-12);
+    EXPECT_NEAR((gradient - Tensor<2, dim>(unit_symmetric_tensor<dim>())).norm(),
+                0,
+                1e-10);
+
+    // A domain inside the limit: the same support with and without it.
+    F = Tensor<2, dim>(unit_symmetric_tensor<dim>());
+    ASSERT_EQ(fmpm::ShapeFunction::compute_support(
+                Type::cpdi, setup.transfer, cell, x, F, l0, reference),
+              fmpm::ShapeFunction::Status::ok);
+    ASSERT_EQ(fmpm::ShapeFunction::compute_support(
+                Type::cpdi, setup.transfer, cell, x, F, l0, support, true, 1.0),
+              fmpm::ShapeFunction::Status::ok);
+    ASSERT_EQ(support.size(), reference.size());
+    for (unsigned int i = 0; i < support.size(); ++i)
+      {
+        EXPECT_EQ(support[i].S, reference[i].S);
+        EXPECT_EQ(support[i].G, reference[i].G);
+      }
+  }
 } // namespace
 
 
