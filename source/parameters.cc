@@ -847,7 +847,9 @@ namespace fmpm
                         Patterns::Double(1),
                         "The run fails when the total energy exceeds this "
                         "factor times the largest of the initial total "
-                        "energy and the energy put in by body forces. "
+                        "energy, the energy put in by body forces, walls "
+                        "and tractions, and the kinetic energy of all "
+                        "material at the fastest moving wall's speed. "
                         "Units: none.");
       prm.declare_entry(
         "Kinetic energy limit",

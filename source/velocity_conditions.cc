@@ -148,6 +148,21 @@ namespace fmpm
 
   template <int dim>
   double
+  VelocityConditions<dim>::fastest_wall_speed(const double t) const
+  {
+    double fastest = 0;
+    for (const auto &velocity : wall_velocity)
+      {
+        velocity->set_time(t);
+        fastest = std::max(fastest, std::abs(velocity->value(Point<1>())));
+      }
+    return fastest;
+  }
+
+
+
+  template <int dim>
+  double
   VelocityConditions<dim>::wall_work(
     const std::vector<Tensor<1, dim>> &reactions,
     const double                       t,

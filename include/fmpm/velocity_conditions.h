@@ -112,6 +112,10 @@ namespace fmpm
               const double                       t,
               const double                       dt) const;
 
+    /** @brief The largest |v_w(t)| of the moving walls (0 without). */
+    double
+    fastest_wall_speed(const double t) const;
+
     /** @brief Whether the method needs m̃ = SᵀMS assembled. */
     bool
     needs_full_mass_matrix() const

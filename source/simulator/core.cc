@@ -1030,10 +1030,15 @@ namespace fmpm
     // Energies are measured from the initial state; gravity's potential
     // energy makes the reference the initial total, which may be of any
     // sign, so the bound is on the growth relative to the initial kinetic +
-    // strain energy scale.
-    const double scale = std::max({std::abs(initial_total_energy),
-                                   initial_energy_scale,
-                                   external_work_scale});
+    // strain energy scale. A moving wall that starts to drive material at
+    // rest gives it of order ½ M v_w² in the first steps, when its work so
+    // far is still small: that is a scale too.
+    const double wall_speed = velocity_conditions.fastest_wall_speed(time);
+    const double scale      = std::max(
+      {std::abs(initial_total_energy),
+            initial_energy_scale,
+            external_work_scale,
+            0.5 * statistics.mass * wall_speed * wall_speed});
     if (!std::isfinite(E))
       throw SimulationFailure("total energy is not finite (NaN or Inf)",
                               timestep_number,

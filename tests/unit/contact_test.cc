@@ -11,6 +11,7 @@
 #include <fmpm/contact.h>
 #include <fmpm/particle_properties.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
@@ -1107,6 +1108,147 @@ namespace
         // contact_nodes (last extra column): the blocks collide.
         EXPECT_GT(max_contact_nodes, 0) << method;
       }
+  }
+
+
+
+  /** Indices of the points with at least 6 of their 8 nearest other
+   * points in one single other body (contrib/studies/ellipse_compaction.py's
+   * "inside another body"). */
+  std::vector<unsigned int>
+  points_inside_another_body(const std::vector<Point<2>>     &x,
+                             const std::vector<unsigned int> &body)
+  {
+    std::vector<unsigned int> inside;
+    std::vector<std::pair<double, unsigned int>> distance(x.size());
+    for (unsigned int i = 0; i < x.size(); ++i)
+      {
+        for (unsigned int j = 0; j < x.size(); ++j)
+          distance[j] = {j == i ? std::numeric_limits<double>::max() :
+                                  x[i].distance_square(x[j]),
+                         j};
+        std::partial_sort(distance.begin(),
+                          distance.begin() + 8,
+                          distance.end());
+        std::map<unsigned int, unsigned int> votes;
+        for (unsigned int k = 0; k < 8; ++k)
+          if (body[distance[k].second] != body[i])
+            ++votes[body[distance[k].second]];
+        for (const auto &[other, count] : votes)
+          if (count >= 6)
+            {
+              inside.push_back(i);
+              break;
+            }
+      }
+    return inside;
+  }
+
+  // The neighbour test counts a point placed among another body's points
+  // and none on a clean interface.
+  TEST(ContactCompaction, InsideAnotherBodyTest)
+  {
+    std::vector<Point<2>>     x;
+    std::vector<unsigned int> body;
+    for (unsigned int i = 0; i < 10; ++i)
+      for (unsigned int j = 0; j < 10; ++j)
+        {
+          x.emplace_back(i, j);
+          body.push_back(i < 5 ? 0 : 1);
+        }
+    EXPECT_TRUE(points_inside_another_body(x, body).empty());
+    body[7 * 10 + 4] = 0; // a point of body 0 deep in body 1
+    const auto inside = points_inside_another_body(x, body);
+    ASSERT_EQ(inside.size(), 1u);
+    EXPECT_EQ(inside[0], 74u);
+  }
+
+  // A small seed 004 Fig. 6: the four lowest ellipses of
+  // parameters/ellipse_compaction.prm in a 1 x 0.8 mm box (same cells,
+  // points, materials, CPDI with a critical radius of 1, multimaterial
+  // XPIC(5), frictionless LR, lumped 3+ nodes, the piston driving the node
+  // below its face), compressed by 65 % at 100 m/s to about 45 GPa. LR keeps
+  // every point out of the other bodies (DF: 22 points inside, 2026-11-26);
+  // no point piles up on the piston face (a box wall that pushes points
+  // back onto its face: 158); the points' volumes fit in the box.
+  TEST(ContactCompaction, LogisticRegressionKeepsCompactedEllipsesApart)
+  {
+    const double top = 0.0008, speed = 100, end_time = 0.65 * top / speed;
+    std::string  scene =
+      "set Dimension = 2\nset Number of bodies = 4\n"
+      "set Number of materials = 4\nset Number of moving walls = 1\n"
+      "subsection Mesh\n set Upper corner = 0.001, 0.0008\n"
+      " set Subdivisions = 35, 28\nend\n"
+      "subsection Shape function\n set Type = cpdi\n"
+      " set CPDI critical radius = 1\nend\n"
+      "subsection Boundary conditions\n set Fixed boundary ids = 2\n"
+      " set Roller boundary ids = 0, 1\n subsection Moving wall 0\n"
+      "  set Region = y - (top - v*t) + h - 1e-7\n  set Direction = 0, 1\n"
+      "  set Velocity = -v\n"
+      "  set Function constants = v=100, top=0.0008, h=2.857142857e-5\n"
+      " end\nend\n"
+      "subsection Time\n set End time = 5.2e-6"
+      "\n set Courant number = 0.4\n set Strain update = usavg+\nend\n"
+      "subsection Particle update\n set Model name = xpic\n"
+      " subsection Xpic\n  set Position update psi = 0\n end\nend\n"
+      "subsection Mass matrix\n set Model name = fmpm\n"
+      " subsection Fmpm\n  set Order = 5\n end\nend\n"
+      "subsection Contact\n set Model name = multimaterial\n"
+      " set Normals = logistic regression\n set Law = frictionless\n"
+      " set Three or more materials = lumped\nend\n";
+    const std::array<std::array<double, 4>, 4> ellipses = {
+      {{{0.2424, 0.1395, 0.2110, 0.1074}},
+       {{0.7264, 0.1454, 0.2420, 0.1134}},
+       {{0.4711, 0.3858, 0.2557, 0.1260}},
+       {{0.8609, 0.4962, 0.1055, 0.2197}}}};
+    for (unsigned int b = 0; b < 4; ++b)
+      {
+        const auto &e = ellipses[b];
+        std::ostringstream body;
+        body << "subsection Body " << b << "\n set Shape = ellipsoid\n"
+             << " set Center = " << 1e-3 * e[0] << ", " << 1e-3 * e[1]
+             << "\n set Half lengths = " << 1e-3 * e[2] << ", " << 1e-3 * e[3]
+             << "\n set Material = " << b << "\nend\n"
+             << "subsection Material " << b
+             << "\n set Model name = neo hookean\n set Density = 2780\n"
+             << " subsection Neo hookean\n  set Bulk modulus = 7.809e10\n"
+             << "  set Shear modulus = 2.76e10\n end\nend\n";
+        scene += body.str();
+      }
+    ParameterHandler prm;
+    auto             simulator = make_simulator<2>(
+      {}, scene + output_overrides("output-ellipse-compaction-small"), prm);
+    simulator->run();
+    ASSERT_NEAR(simulator->get_history().back().time, end_time, 1e-12);
+
+    std::vector<Point<2>>     x;
+    std::vector<unsigned int> body;
+    double                    volume = 0;
+    for (const auto &particle : simulator->get_particle_handler())
+      {
+        const auto p = particle.get_properties();
+        x.push_back(particle.get_location());
+        body.push_back(
+          static_cast<unsigned int>(p[fmpm::PropertyIndex<2>::body_id]));
+        volume += p[fmpm::PropertyIndex<2>::volume];
+      }
+    ASSERT_GT(x.size(), 1500u);
+    const auto inside = points_inside_another_body(x, body);
+    EXPECT_TRUE(inside.empty()) << inside.size() << " points, the first at "
+                                << (inside.empty() ? Point<2>() :
+                                                     x[inside[0]]);
+    const double face    = top - speed * end_time;
+    const double spacing = 0.001 / 70; // 2 x 2 points per cell
+    unsigned int on_face = 0;
+    for (const auto &point : x)
+      on_face += point[1] > face - 0.1 * spacing;
+    EXPECT_EQ(on_face, 0u);
+    EXPECT_LT(volume / (0.001 * face), 1.0);
+    // Compacted: the piston (the last reaction, after the boundary ids 2, 0
+    // and 1) presses with about 40 GPa over the box width.
+    const auto &reactions = simulator->get_history().back().reactions;
+    ASSERT_EQ(reactions.size(), 4u);
+    EXPECT_GT(-reactions.back()[1] / 0.001, 30e9);
   }
 
 
