@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -1240,6 +1241,11 @@ namespace fmpm
       if (file == "-")
         return std::string(std::istreambuf_iterator<char>(std::cin),
                            std::istreambuf_iterator<char>());
+      AssertThrow(!std::filesystem::is_directory(file),
+                  ExcMessage("The scene file <" + file +
+                             "> is a directory, not a parameter file. Give "
+                             "a text .prm file (see fmpm "
+                             "--print-default-scene)."));
       std::ifstream in(file);
       AssertThrow(in,
                   ExcMessage("Cannot open the scene file <" + file +
@@ -1321,6 +1327,164 @@ namespace fmpm
 
 
 
+  namespace
+  {
+    /** Where a scene writes a subsection or sets a parameter. */
+    struct SceneLine
+    {
+      std::string  path; // "Boundary conditions/Moving wall 1"
+      std::string  source;
+      unsigned int line;
+    };
+
+    /**
+     * The subsections a scene writes and the parameters it sets, each with
+     * its full path, following deal.II's syntax ('subsection', 'end',
+     * 'set', '#' comments, 'include' of another file).
+     */
+    void
+    scan_scene_text(const std::string      &text,
+                    const std::string      &source,
+                    std::vector<SceneLine> &subsections,
+                    std::vector<SceneLine> &settings,
+                    const unsigned int      depth = 0)
+    {
+      std::vector<std::string> path;
+      std::istringstream       in(text);
+      std::string              line;
+      unsigned int             number = 0;
+      const auto               joined = [&path](const std::string &last) {
+        std::string result;
+        for (const auto &name : path)
+          result += name + "/";
+        return result + last;
+      };
+      while (std::getline(in, line))
+        {
+          ++number;
+          line = Utilities::trim(line.substr(0, line.find('#')));
+          if (line.rfind("subsection ", 0) == 0)
+            {
+              const std::string name = Utilities::trim(line.substr(11));
+              subsections.push_back({joined(name), source, number});
+              path.push_back(name);
+            }
+          else if (line == "end")
+            {
+              if (!path.empty())
+                path.pop_back();
+            }
+          else if (line.rfind("set ", 0) == 0)
+            {
+              const std::string entry = line.substr(4);
+              settings.push_back(
+                {joined(Utilities::trim(entry.substr(0, entry.find('=')))),
+                 source,
+                 number});
+            }
+          else if (line.rfind("include ", 0) == 0 && depth < 10)
+            {
+              const std::string file = Utilities::trim(line.substr(8));
+              std::ifstream     included(file);
+              if (included)
+                scan_scene_text(std::string(std::istreambuf_iterator<char>(
+                                              included),
+                                            std::istreambuf_iterator<char>()),
+                                file,
+                                subsections,
+                                settings,
+                                depth + 1);
+            }
+        }
+    }
+
+    /**
+     * Every numbered subsection a scene announces with 'Number of ...' must
+     * be written (deal.II would give an unwritten one its default values: a
+     * silent default body), and every one written must be announced.
+     */
+    void
+    check_numbered_subsections(
+      const std::vector<std::pair<std::string, std::string>> &sources,
+      const SceneSize                                        &size)
+    {
+      std::vector<SceneLine> subsections, settings;
+      for (const auto &source : sources)
+        scan_scene_text(source.second, source.first, subsections, settings);
+
+      struct Family
+      {
+        std::string  count_parameter; // "Number of bodies"
+        std::string  parent;          // "" or "Boundary conditions/"
+        std::string  name;            // "Body"
+        unsigned int count;
+      };
+      const std::vector<Family> families = {
+        {"Number of bodies", "", "Body", size.n_bodies},
+        {"Number of materials", "", "Material", size.n_materials},
+        {"Number of moving walls",
+         "Boundary conditions/",
+         "Moving wall",
+         size.n_moving_walls},
+        {"Number of tractions",
+         "Boundary conditions/",
+         "Traction",
+         size.n_tractions}};
+      for (const Family &family : families)
+        {
+          const std::string prefix = family.parent + family.name + " ";
+          std::vector<bool> written(family.count, false);
+          for (const SceneLine &subsection : subsections)
+            {
+              if (subsection.path.rfind(prefix, 0) != 0)
+                continue;
+              const std::string index = subsection.path.substr(prefix.size());
+              if (index.empty() ||
+                  index.find_first_not_of("0123456789") != std::string::npos)
+                continue;
+              const unsigned long n = std::stoul(index);
+              AssertThrow(n < family.count,
+                          ExcMessage(
+                            "Line <" + std::to_string(subsection.line) +
+                            "> of <" + subsection.source +
+                            "> opens 'subsection " + family.name + " " + index +
+                            "', but '" + family.count_parameter + " = " +
+                            std::to_string(family.count) + "' declares only " +
+                            (family.count == 0 ?
+                               std::string("none") :
+                               family.name + " 0 to " + family.name + " " +
+                                 std::to_string(family.count - 1)) +
+                            ". Set '" + family.count_parameter + " = " +
+                            std::to_string(n + 1) +
+                            "' (at the top level of the scene) or remove the "
+                            "subsection."));
+              written[n] = true;
+            }
+          // A count the scene leaves at its default announces nothing.
+          const SceneLine *announced = nullptr;
+          for (const SceneLine &setting : settings)
+            if (setting.path == family.count_parameter)
+              announced = &setting;
+          if (announced == nullptr)
+            continue;
+          for (unsigned int n = 0; n < family.count; ++n)
+            AssertThrow(
+              written[n],
+              ExcMessage("Line <" + std::to_string(announced->line) + "> of <" +
+                         announced->source + "> sets '" +
+                         family.count_parameter + " = " +
+                         std::to_string(family.count) +
+                         "' but the scene has no 'subsection " + family.parent +
+                         family.name + " " + std::to_string(n) +
+                         "': write that subsection (an unwritten one would "
+                         "silently take every default value) or lower '" +
+                         family.count_parameter + "'."));
+        }
+    }
+  } // namespace
+
+
+
   SceneSize
   read_scene_size(
     const std::vector<std::pair<std::string, std::string>> &sources)
@@ -1343,6 +1507,7 @@ namespace fmpm
   {
     // Pass 1: how many bodies and materials, and which dimension.
     const SceneSize size = read_scene_size(sources);
+    check_numbered_subsections(sources, size);
 
     // Pass 2: everything, strictly.
     Parameters::declare_parameters(prm, size);

@@ -157,6 +157,8 @@ namespace fmpm
                               "(3/4)^j) of this particle mass matrix";
               }
           }
+        limit.warning_only_with_free_surfaces =
+          method.flip_type && (full || method.order > 10);
         if (method.flip_type && (full || method.order > 10))
           limit.warning =
             "FLIP-type updates (V += S m~^-1 f dt) with the exact full "
@@ -174,9 +176,10 @@ namespace fmpm
           limit.note =
             "for large compression (tens of percent strain) set 'Position "
             "update psi = 0' in 'Particle update/Fmpm' (or '/Xpic'): with "
-            "psi > 0 this method blows up there at every measured Courant "
-            "number (doc/studies/stability.md, \"Large compression\"); "
-            "psi = 1 is more accurate for displacements elsewhere.";
+            "psi > 0 this method blew up in the quasi-static compression "
+            "of doc/studies/stability.md (\"Large compression\") at every "
+            "measured Courant number; psi = 1 is more accurate for "
+            "displacements elsewhere.";
         return limit;
       }
 

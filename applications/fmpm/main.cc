@@ -14,6 +14,8 @@
 #include <iostream>
 #include <sstream>
 
+#include <unistd.h>
+
 namespace
 {
   const char *usage =
@@ -59,6 +61,91 @@ namespace
         return 2;
       }
     return simulator.stopped_by_signal() ? 3 : 0;
+  }
+
+  /** The scene set up (mesh, plugins, points), not run: its point count. */
+  template <int dim>
+  unsigned long long
+  set_up_only(const fmpm::Parameters &parameters, dealii::ParameterHandler &prm)
+  {
+    fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD, false);
+    simulator.disable_timing_summary();
+    return simulator.n_material_points();
+  }
+
+  /** The files and folders a run writes into Output/Directory. */
+  bool
+  is_run_output(const std::filesystem::path &path)
+  {
+    const std::string name = path.filename().string();
+    for (const char *file : {"parameters.prm",
+                             "parameters.json",
+                             "history.csv",
+                             "summary.json",
+                             "particles.pvd",
+                             "grid.pvd",
+                             "checkpoint"})
+      if (name == file)
+        return true;
+    // particles_NNNNN.pvtu/.vtu/.csv, particles_NNNNN.R.vtu, grid_NNNNN...
+    for (const std::string prefix : {"particles_", "grid_"})
+      if (name.rfind(prefix, 0) == 0 && name.size() > prefix.size() + 6 &&
+          name.find_first_not_of("0123456789", prefix.size()) ==
+            prefix.size() + 5 &&
+          name[prefix.size() + 5] == '.')
+        return true;
+    return false;
+  }
+
+  /**
+   * A fresh run must not leave the files of an earlier run in its output
+   * directory (ParaView would group an old particles_00042.vtu with the new
+   * series, --resume would find the old checkpoints): they are moved into
+   * <directory>/previous_run/, which replaces an older one.
+   */
+  void
+  set_aside_earlier_run(const std::string &directory)
+  {
+    namespace fs = std::filesystem;
+    if (!fs::is_directory(directory))
+      return;
+    std::vector<fs::path> earlier;
+    for (const auto &entry : fs::directory_iterator(directory))
+      if (is_run_output(entry.path()))
+        earlier.push_back(entry.path());
+    if (earlier.empty())
+      return;
+    const fs::path previous = fs::path(directory) / "previous_run";
+    fs::remove_all(previous);
+    fs::create_directory(previous);
+    for (const auto &path : earlier)
+      fs::rename(path, previous / path.filename());
+    std::cout << "fmpm: moved the " << earlier.size()
+              << " files of an earlier run in <" << directory << "> to <"
+              << previous.string() << ">" << std::endl;
+  }
+
+  /** Output/Directory must be a directory that can be made or written. */
+  void
+  check_output_directory(const std::string &directory)
+  {
+    namespace fs      = std::filesystem;
+    fs::path existing = fs::absolute(directory);
+    while (!fs::exists(existing) && existing.has_parent_path() &&
+           existing != existing.parent_path())
+      existing = existing.parent_path();
+    AssertThrow(fs::is_directory(existing),
+                dealii::ExcMessage(
+                  "Output/Directory = <" + directory + ">: <" +
+                  existing.string() +
+                  "> is a file, not a directory. Choose another "
+                  "'subsection Output / set Directory'."));
+    AssertThrow(access(existing.c_str(), W_OK | X_OK) == 0,
+                dealii::ExcMessage(
+                  "Output/Directory = <" + directory + ">: the directory <" +
+                  existing.string() +
+                  "> is not writable. Choose another 'subsection Output / "
+                  "set Directory'."));
   }
 
   /**
@@ -171,6 +258,7 @@ main(int argc, char **argv)
         {
           sources = fmpm::load_scene_sources(files);
           fmpm::read_scene(sources, prm, parameters);
+          check_output_directory(parameters.output.directory);
         }
       catch (const std::exception &e)
         {
@@ -190,17 +278,36 @@ main(int argc, char **argv)
 
   if (validate_only)
     {
-      if (is_root)
-        std::cout << "fmpm: the scene is valid (" << parameters.size.dimension
-                  << "D, " << parameters.size.n_bodies << " bodies, "
-                  << parameters.size.n_materials << " materials)." << std::endl;
-      return 0;
+      // The checks that need the mesh and the points (a body outside the
+      // mesh or without points, a mesh file, ...): set the scene up, run
+      // nothing, write nothing.
+      try
+        {
+          const auto n_points = parameters.size.dimension == 2 ?
+                                  set_up_only<2>(parameters, prm) :
+                                  set_up_only<3>(parameters, prm);
+          if (is_root)
+            std::cout << "fmpm: the scene is valid ("
+                      << parameters.size.dimension << "D, "
+                      << parameters.size.n_bodies << " bodies, "
+                      << parameters.size.n_materials << " materials, "
+                      << n_points << " material points)." << std::endl;
+          return 0;
+        }
+      catch (const std::exception &e)
+        {
+          if (is_root)
+            std::cerr << "fmpm: " << fmpm::error_message(e) << std::endl;
+          return 1;
+        }
     }
 
   try
     {
       if (is_root)
         {
+          if (!resume)
+            set_aside_earlier_run(parameters.output.directory);
           std::filesystem::create_directories(parameters.output.directory);
           std::ofstream prm_out(parameters.output.directory +
                                 "/parameters.prm");

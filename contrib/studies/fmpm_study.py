@@ -638,6 +638,7 @@ def read_json(path):
 def is_final_status(status):
     """True for a status that ends a run: completed or failed."""
     return isinstance(status, str) and (status.startswith("completed")
+                                        or status.startswith("stopped: step limit")
                                         or status.startswith("failed"))
 
 

@@ -32,6 +32,7 @@
 #include <deal.II/particles/particle_handler.h>
 
 #include <array>
+#include <limits>
 #include <memory>
 #include <set>
 #include <string>
@@ -135,6 +136,20 @@ namespace fmpm
     stopped_by_signal() const
     {
       return stopped_on_signal;
+    }
+
+    /** @brief The number of material points on all ranks. */
+    unsigned long long
+    n_material_points() const
+    {
+      return particle_handler.n_global_particles();
+    }
+
+    /** @brief No timing table at destruction (a scene set up, not run). */
+    void
+    disable_timing_summary()
+    {
+      computing_timer.disable_output();
     }
 
     /** @brief Rows of history.csv written so far (for tests). */
@@ -684,12 +699,14 @@ namespace fmpm
     /** The method's stability factor of the automatic time step (set-up,
      * from Time/Stability factor or stability_limit()). */
     StabilityLimit stability;
-    double         time_step         = 0;
-    unsigned int   timestep_number   = 0;
-    double         next_output_time  = 0;
-    unsigned int   n_output          = 0;
-    double         mass_floor_value  = 0;
-    double         minimum_cell_size = 0;
+    double         time_step        = 0;
+    unsigned int   timestep_number  = 0;
+    double         next_output_time = 0;
+    unsigned int   n_output         = 0;
+    /** The step of the newest output (the last step is always written). */
+    unsigned int last_output_step  = std::numeric_limits<unsigned int>::max();
+    double       mass_floor_value  = 0;
+    double       minimum_cell_size = 0;
     /** Largest wave speed + point speed over all points. Units: m/s. */
     double max_signal_speed = 0;
     /** First numerical failure this rank saw in the current step. */
@@ -728,6 +745,9 @@ namespace fmpm
      * (written again when run() opens history.csv). */
     std::string                  resumed_checkpoint;
     std::vector<HistoryRow<dim>> restored_history_rows;
+    /** The newest complete checkpoint of this run (or the one it resumed
+     * from); summary.json names it. */
+    std::string latest_checkpoint;
     /** MPI_Wtime() of the start or the last checkpoint. */
     double last_checkpoint_wall = 0;
     /** A signal asked to checkpoint and stop; the run stopped so. */

@@ -49,8 +49,11 @@ namespace fmpm
     /** Why no time step makes this method stable, and what to choose
      * instead; empty when it is not known to fail. */
     std::string warning;
-    /** A setting to consider for some scenes (printed at start-up, not a
-     * warning); empty when there is none. */
+    /** The warning is about free surfaces: a scene whose bodies fill every
+     * cell of the mesh has none. */
+    bool warning_only_with_free_surfaces = false;
+    /** A setting to consider for some scenes, printed with a numerical
+     * failure as its likely remedy; empty when there is none. */
     std::string note;
   };
 

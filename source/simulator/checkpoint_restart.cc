@@ -59,7 +59,7 @@ namespace fmpm
 {
   namespace
   {
-    /** Set by SIGTERM/SIGINT; read once per step. */
+    /** Set by SIGTERM/SIGINT/SIGUSR1; read once per step. */
     volatile std::sig_atomic_t checkpoint_signal_received = 0;
 
     extern "C" void
@@ -152,6 +152,9 @@ namespace fmpm
     checkpoint_signal_received = 0;
     std::signal(SIGTERM, request_checkpoint_and_stop);
     std::signal(SIGINT, request_checkpoint_and_stop);
+    // Open MPI's mpirun forwards SIGUSR1 to every rank and returns their
+    // exit code; on SIGINT/SIGTERM it kills the ranks a second later.
+    std::signal(SIGUSR1, request_checkpoint_and_stop);
   }
 
 
@@ -312,6 +315,7 @@ namespace fmpm
           fs::remove_all(checkpoints[i].second);
       }
     last_checkpoint_wall = MPI_Wtime();
+    latest_checkpoint    = complete.string();
     pcout << "*** Checkpoint " << complete.string() << " ("
           << std::setprecision(3) << bytes / 1e6 << " MB, "
           << last_checkpoint_wall - wall_begin << " s)" << std::endl;
@@ -369,6 +373,7 @@ namespace fmpm
     state      = Utilities::MPI::broadcast(mpi_communicator, state, 0);
     checkpoint = Utilities::MPI::broadcast(mpi_communicator, checkpoint, 0);
     resumed_checkpoint           = checkpoint;
+    latest_checkpoint            = checkpoint;
     const std::string state_file = checkpoint + "/state.bin";
 
     // 1. The scalar state: check that it is fmpm's and fits this scene.

@@ -274,8 +274,23 @@ namespace fmpm
             << format_number(parameters.time.courant_number)
             << " x stability factor " << format_number(stability.factor, 3)
             << " (" << stability.basis << ")" << std::endl;
-    if (!stability.note.empty())
-      pcout << "      note: " << stability.note << std::endl;
+    // Bodies that fill every cell of the mesh (a confined bar) have no free
+    // surface to warn about.
+    if (stability.warning_only_with_free_surfaces)
+      {
+        bool every_cell_filled = true;
+        for (const auto &cell : triangulation.active_cell_iterators())
+          if (cell->is_locally_owned() &&
+              particle_handler.n_particles_in_cell(cell) == 0)
+            every_cell_filled = false;
+        // Keep what check_scene() added (" Also: ...").
+        const auto also = stability.warning.find(" Also: ");
+        if (Utilities::MPI::min(every_cell_filled ? 1 : 0, mpi_communicator) ==
+            1)
+          stability.warning =
+            also == std::string::npos ? "" : stability.warning.substr(also + 7);
+      }
+
     if (!stability.warning.empty() && is_root && !parameters.test_mode)
       std::cerr << "fmpm: warning: " << stability.warning << std::endl;
 
@@ -357,22 +372,40 @@ namespace fmpm
               }
             if (checkpoint_due())
               {
-                write_checkpoint();
                 if (stop_requested)
                   {
+                    // Message and summary first: under mpirun, SIGINT and
+                    // SIGTERM kill the ranks a second after they arrive.
                     stopped_on_signal = true;
-                    break;
+                    pcout << "*** Stopped by a signal at step "
+                          << timestep_number << ", t = " << time
+                          << "; writing a checkpoint" << std::endl;
+                    statistics = compute_statistics();
+                    write_summary("stopped: signal", nullptr, statistics);
                   }
+                write_checkpoint();
+                if (stop_requested)
+                  break;
               }
           }
         statistics = compute_statistics();
+        // The last step a run takes is always written.
+        if (last_output_step != timestep_number)
+          output_results(statistics);
         print_progress(statistics, true);
+        const bool reached_end = time >= end * (1 - 1e-12);
+        if (!stopped_on_signal && !reached_end)
+          pcout << "*** Stopped by Time/Maximum number of steps = "
+                << parameters.time.max_steps << " at t = " << time
+                << " (End time " << end << ")" << std::endl;
         if (stopped_on_signal)
           pcout << "*** Stopped by a signal at step " << timestep_number
                 << " after writing a checkpoint; continue with fmpm --resume"
                 << std::endl;
         print_test_particles();
-        write_summary(stopped_on_signal ? "stopped: signal" : "completed",
+        write_summary(stopped_on_signal ? "stopped: signal" :
+                      reached_end       ? "completed" :
+                                          "stopped: step limit",
                       nullptr,
                       statistics);
       }
@@ -1034,11 +1067,11 @@ namespace fmpm
     // rest gives it of order ½ M v_w² in the first steps, when its work so
     // far is still small: that is a scale too.
     const double wall_speed = velocity_conditions.fastest_wall_speed(time);
-    const double scale      = std::max(
-      {std::abs(initial_total_energy),
-            initial_energy_scale,
-            external_work_scale,
-            0.5 * statistics.mass * wall_speed * wall_speed});
+    const double scale =
+      std::max({std::abs(initial_total_energy),
+                initial_energy_scale,
+                external_work_scale,
+                0.5 * statistics.mass * wall_speed * wall_speed});
     if (!std::isfinite(E))
       throw SimulationFailure("total energy is not finite (NaN or Inf)",
                               timestep_number,

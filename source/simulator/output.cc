@@ -168,6 +168,7 @@ namespace fmpm
     error_sums[2] += statistics.displacement_error_squared;
     error_sums[3] += statistics.displacement_reference_squared;
 
+    last_output_step = timestep_number;
     HistoryRow<dim> row;
     row.step              = timestep_number;
     row.time              = time;
@@ -490,6 +491,8 @@ namespace fmpm
     std::ofstream out(parameters.output.directory + "/summary.json");
     out << "{\n";
     out << "  \"status\": " << quoted(status) << ",\n";
+    if (!latest_checkpoint.empty())
+      out << "  \"latest_checkpoint\": " << quoted(latest_checkpoint) << ",\n";
     out << "  \"dimension\": " << dim << ",\n";
     out << "  \"n_mpi_ranks\": "
         << Utilities::MPI::n_mpi_processes(mpi_communicator) << ",\n";
@@ -551,8 +554,11 @@ namespace fmpm
         << ",\n";
     out << "  \"initial_total_energy\": " << number(initial_total_energy)
         << ",\n";
+    // The balance E - E0 - W of the run-time energy check, with W the work
+    // of walls and tractions.
     out << "  \"energy_error\": "
-        << number((statistics.total_energy() - initial_total_energy) /
+        << number((statistics.total_energy() - initial_total_energy -
+                   external_work) /
                   std::max({std::abs(initial_total_energy),
                             initial_energy_scale,
                             external_work_scale}))

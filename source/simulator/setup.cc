@@ -362,27 +362,59 @@ namespace fmpm
         }
 
     // Globally unique ids, the same on any number of ranks. On a mesh
-    // that is not adapted, the locally owned cells of the ranks follow each
-    // other in the order of the active cells: an exclusive prefix sum of the
-    // local counts. An adapted mesh has no such order; there every rank
-    // learns the number of points of every cell (by CellId) and numbers the
-    // cells in the order of their CellId strings, the points of a cell in
+    // that is not adapted, the ids count the points in the order of the
+    // active cells of a serial run: coarse cell by coarse cell, and within
+    // a coarse cell in the order of its children. p4est partitions each
+    // coarse cell's children in that order, rank after rank, but orders
+    // the coarse cells its own way (in 3D not as deal.II does): so every
+    // coarse cell's first id is the sum of the points of the coarse cells
+    // before it (on all ranks) and of its own points on the ranks before
+    // this one. An adapted mesh has no such order; there every rank learns
+    // the number of points of every cell (by CellId) and numbers the cells
+    // in the order of their CellId strings, the points of a cell in
     // creation order.
     std::vector<unsigned long long> ids(new_points.size());
     if (parameters.refinement.strategy == "none")
       {
-        unsigned long long n_local = new_points.size(), first_id = 0;
-        const int          ierr = MPI_Exscan(&n_local,
-                                    &first_id,
-                                    1,
+        const unsigned int              n_coarse = triangulation.n_cells(0);
+        std::vector<unsigned long long> local_count(n_coarse, 0);
+        std::vector<unsigned int>       coarse_index(new_points.size());
+        for (unsigned int i = 0; i < new_points.size(); ++i)
+          {
+            if (i > 0 && new_points[i].cell == new_points[i - 1].cell)
+              coarse_index[i] = coarse_index[i - 1];
+            else
+              {
+                typename Triangulation<dim>::cell_iterator coarse =
+                  new_points[i].cell;
+                while (coarse->level() > 0)
+                  coarse = coarse->parent();
+                coarse_index[i] = coarse->index();
+              }
+            ++local_count[coarse_index[i]];
+          }
+        std::vector<unsigned long long> on_earlier_ranks(n_coarse, 0);
+        const int                       ierr = MPI_Exscan(local_count.data(),
+                                    on_earlier_ranks.data(),
+                                    n_coarse,
                                     MPI_UNSIGNED_LONG_LONG,
                                     MPI_SUM,
                                     mpi_communicator);
         AssertThrowMPI(ierr);
+        // MPI_Exscan leaves rank 0's result undefined.
         if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
-          first_id = 0;
+          std::fill(on_earlier_ranks.begin(), on_earlier_ranks.end(), 0);
+        std::vector<unsigned long long> total(n_coarse);
+        Utilities::MPI::sum(local_count, mpi_communicator, total);
+        std::vector<unsigned long long> next_id(n_coarse);
+        unsigned long long              before = 0;
+        for (unsigned int c = 0; c < n_coarse; ++c)
+          {
+            next_id[c] = before + on_earlier_ranks[c];
+            before += total[c];
+          }
         for (unsigned int i = 0; i < new_points.size(); ++i)
-          ids[i] = first_id + i;
+          ids[i] = next_id[coarse_index[i]]++;
       }
     else
       {

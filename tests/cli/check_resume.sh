@@ -74,7 +74,7 @@ grep -q '"status": "completed"' resumed/summary.json || fail "resumed run not co
 # The physics of summary.json: without wall times, memory and (other rank counts)
 # the partition.
 physics() {
-  sed '/"phase_wall_seconds"/,$d' "$1" | grep -v -e wall_seconds -e particle_steps_per_second -e resident_bytes -e support_cache_bytes \
+  sed '/"phase_wall_seconds"/,$d' "$1" | grep -v -e wall_seconds -e particle_steps_per_second -e resident_bytes -e support_cache_bytes -e latest_checkpoint \
     | if [ "$full_ranks" = "$resume_ranks" ]; then cat; else grep -v -e n_mpi_ranks -e point_imbalance; fi
 }
 physics full/summary.json > full.summary

@@ -265,10 +265,21 @@ namespace
                               "end\n"),
                  {"Body 1/Material", "1"});
 
-    // With two materials it is fine.
+    // Two materials announced, the second not written: an error naming
+    // the missing subsection, not a silent default material.
+    expect_error(default_plus("material.prm",
+                              "set Number of materials = 2\n"
+                              "subsection Body 1\n"
+                              "  set Material = 1\n"
+                              "end\n"),
+                 {"Number of materials = 2", "'subsection Material 1'"});
+
+    // With two materials written it is fine.
     const fmpm::Parameters two =
       read(default_plus("material.prm",
                         "set Number of materials = 2\n"
+                        "subsection Material 1\n"
+                        "end\n"
                         "subsection Body 1\n"
                         "  set Material = 1\n"
                         "end\n"));
