@@ -17,6 +17,7 @@
 #include <iomanip>
 #include <iostream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 
 namespace fmpm
@@ -530,27 +531,28 @@ namespace fmpm
       prm.declare_entry("Courant number",
                         format_number(time.courant_number),
                         Patterns::Double(0, 10),
-                        "Time step as a fraction of the method's stable "
-                        "limit, 'Stability factor' x h_min / (largest wave "
-                        "speed + largest point speed), used when 'Time step' "
-                        "is 0. Values above 1 exceed the stable limit of "
-                        "lumped-mass MPM and are only accepted with "
-                        "'Check stability limit = false' (stability "
+                        "The automatic time step (used when 'Time step' is "
+                        "0) as a fraction of the cell-crossing time: dt = C "
+                        "h_min / (largest wave speed + largest point "
+                        "speed), as in the MPM literature, capped at the "
+                        "method's measured critical Courant number ('Courant "
+                        "number limit'). Values above 1 exceed the stable "
+                        "limit of lumped-mass MPM and are only accepted "
+                        "with 'Check stability limit = false' (stability "
                         "studies). Units: none.");
       prm.declare_entry(
-        "Stability factor",
+        "Courant number limit",
         "auto",
         Patterns::Anything(),
-        "The automatic time step is Courant number x this factor x h_min / "
-        "(largest wave speed + largest point speed). 'auto': the factor "
-        "of the chosen mass matrix, its order, particle update, strain "
-        "update and strain-update mass matrix, from fmpm's stability "
-        "measurements (doc/studies/stability.md; 1 for the lumped mass "
-        "matrix, 0.5 to 0.9 for FMPM(k), 1/3 for the exact full mass "
-        "matrix with full-mass strain velocities), printed at start-up, so "
-        "that the Courant number is the fraction of the method's own "
-        "limit; or a number in (0, 1] (1: the lumped limit, as stability "
-        "studies that measure the limits need). Units: none.");
+        "The largest Courant number the automatic time step uses. 'auto': "
+        "the measured critical Courant number of the chosen mass matrix, "
+        "its order, particle update, strain update and strain-update mass "
+        "matrix (doc/studies/stability.md: none for the lumped mass "
+        "matrix, 0.5 to 0.9 for FMPM(k) of k = 2 to 10, 0.12 for the exact "
+        "full mass matrix with full-mass strain velocities); the run says "
+        "so when it caps 'Courant number'. 'none': no cap (stability "
+        "studies that measure the limits). Or a number > 0, a cap of your "
+        "own. Units: none.");
       prm.declare_entry("Check stability limit",
                         "true",
                         Patterns::Bool(),
@@ -1078,19 +1080,23 @@ namespace fmpm
     time.max_steps       = prm.get_integer("Maximum number of steps");
     method.strain_update = prm.get("Strain update");
     time.check_stability = prm.get_bool("Check stability limit");
-    const std::string stability_factor = prm.get("Stability factor");
+    const std::string courant_limit = prm.get("Courant number limit");
     prm.leave_subsection();
-    if (stability_factor == "auto")
-      time.stability_factor = 0;
+    if (courant_limit == "auto")
+      time.courant_limit = 0;
+    else if (courant_limit == "none")
+      time.courant_limit = std::numeric_limits<double>::infinity();
     else
       {
-        char *end             = nullptr;
-        time.stability_factor = std::strtod(stability_factor.c_str(), &end);
-        AssertThrow(end != stability_factor.c_str() && *end == '\0' &&
-                      time.stability_factor > 0 && time.stability_factor <= 1,
-                    ExcMessage("Time/Stability factor = <" + stability_factor +
+        char *end          = nullptr;
+        time.courant_limit = std::strtod(courant_limit.c_str(), &end);
+        AssertThrow(end != courant_limit.c_str() && *end == '\0' &&
+                      time.courant_limit > 0 &&
+                      std::isfinite(time.courant_limit),
+                    ExcMessage("Time/Courant number limit = <" + courant_limit +
                                "> is not allowed. Allowed: 'auto' (the "
-                               "method's factor) or a number in (0, 1]."));
+                               "method's measured limit), 'none' or a "
+                               "number > 0."));
       }
     AssertThrow(!time.check_stability || time.courant_number <= 1,
                 ExcMessage("Time/Courant number = " +

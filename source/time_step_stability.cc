@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
-// The stability factors of the automatic time step. Every number here is a
+// The Courant number limits of the automatic time step. Every number here is a
 // measurement of doc/studies/stability.md (vibrating bar, 1D, and the
-// shipped 2D scenes of its section "The stability factor of the automatic
-// time step"); change them only together with that document.
+// shipped 2D scenes of its section "The Courant number limit of each
+// method"); change them only together with that document.
 
 #include <fmpm/time_step_stability.h>
 
@@ -16,37 +16,44 @@ namespace fmpm
   namespace
   {
     /**
-     * FMPM(k) with the FMPM update and full-mass strain velocities: measured
-     * critical Courant numbers of the vibrating bar (lower end of each
-     * bracket) over the lumped one with the same strain update. USAVG+:
-     * lumped > 1.2 (so 1, the cap), k = 2: 0.9, 3: 0.75, 5: 0.6, 10: 0.5.
-     * USL-: lumped 0.75, k = 2: 0.6, 3: 0.55, 5 and 10: 0.5.
+     * FMPM(k) with the FMPM update and full-mass strain velocities: the
+     * measured critical Courant numbers of the vibrating bar (lower end of
+     * each bracket). USAVG+: k = 2: 0.9, 3: 0.75, 5: 0.6, 10: 0.5 (lumped
+     * > 1.2); USL-: k = 2: 0.6, 3: 0.55, 5 and 10: 0.5 (lumped 0.75).
      */
     double
-    fmpm_order_factor(const unsigned int k, const bool averaged_strain_update)
+    fmpm_order_limit(const unsigned int k, const bool averaged_strain_update)
     {
       struct Entry
       {
         unsigned int order;
         double       usavg, usl;
       };
-      static const Entry table[] = {{1, 1, 1},
-                                    {2, 0.9, 0.6 / 0.75},
-                                    {3, 0.75, 0.55 / 0.75},
-                                    {5, 0.6, 0.5 / 0.75},
-                                    {10, 0.5, 0.5 / 0.75}};
+      static const Entry table[] = {{2, 0.9, 0.6},
+                                    {3, 0.75, 0.55},
+                                    {5, 0.6, 0.5},
+                                    {10, 0.5, 0.5}};
       for (const Entry &entry : table)
         if (k <= entry.order)
           return averaged_strain_update ? entry.usavg : entry.usl;
       return -1; // above 10: the full matrix
     }
 
+    /** The lumped mass matrix's critical Courant number on the bar: above
+     * 1.2 with USAVG/USAVG+ (1, the nominal limit, counts), 0.75 with the
+     * other strain updates. */
+    double
+    lumped_limit(const bool averaged_strain_update)
+    {
+      return averaged_strain_update ? 1 : 0.75;
+    }
+
     /**
      * The leapfrog limit of FMPM(k) with this particle mass matrix (2
      * points per cell: S^T M S is 1/4 of the lumped mass for the shortest
-     * wave): 1 / sqrt(sum_{j<k} (3/4)^j), item 1 of doc/studies/
-     * stability.md. FLIP-type updates lack the damping of the FMPM update
-     * that lets it exceed this limit.
+     * wave): 1 / sqrt(sum_{j<k} (3/4)^j) of the lumped limit, item 1 of
+     * doc/studies/stability.md. FLIP-type updates lack the damping of the
+     * FMPM update that lets it exceed this limit.
      */
     double
     leapfrog_factor(const unsigned int k)
@@ -58,19 +65,19 @@ namespace fmpm
     }
 
     /** Exact full mass matrix, full-mass strain velocities: the rigid
-     * rotation fails at C = 0.15 and completes at 0.12 (0.1 with 1/3 of
-     * its 0.3), the colliding disks fail at 0.23 and 0.3, complete at 0.15
-     * and 0.2, the bar (USL-) completes at 0.4. */
-    constexpr double full_factor = 1. / 3.;
+     * rotation completes at C = 0.08, 0.1 and 0.12 and fails at 0.15, the
+     * colliding disks complete at 0.15, 0.2 and 0.25 and fail at 0.23 and
+     * 0.3, the bar (USL-) completes at 0.4. */
+    constexpr double full_limit = 0.12;
 
     /** Exact full (or FMPM(k)) matrix with lumped strain velocities: the
-     * colliding disks complete at C = 0.4 and fail at 0.5 (lumped: stable
-     * at 1), the rigid rotation completes at 0.6, the bar at 0.8. */
-    constexpr double lumped_strain_factor = 0.75;
+     * colliding disks complete at C = 0.4 and fail at 0.5, the rigid
+     * rotation completes at 0.6, the bar at 0.8. */
+    constexpr double lumped_strain_limit = 0.4;
 
     /** The consistent matrix with FLIP and USAVG+: 0.45-0.5 (0.4 in a run
      * with another build). */
-    constexpr double consistent_factor = 0.4;
+    constexpr double consistent_limit = 0.4;
 
     /** FMPM(k) of high order with full-mass strain velocities on the
      * colliding disks: the truncated series amplifies the near-null modes
@@ -78,8 +85,8 @@ namespace fmpm
      * remedy has no counterpart in the series), so the limit falls as 1/k:
      * k = 32 stable at C = 0.1, fails at 0.133 and 0.2; k = 64 stable at
      * 0.05, fails at 0.1 and 0.2; k = 16, 20, 24 stable at 0.133. The
-     * factor is this constant over k where that is below the full
-     * matrix's 1/3 (k > 9). */
+     * limit is this constant over k where that is below the full matrix's
+     * (k > 26). */
     constexpr double high_order_constant = 3.2;
   } // namespace
 
@@ -102,36 +109,35 @@ namespace fmpm
     if (method.mass_matrix == "lumped" ||
         (method.mass_matrix == "fmpm" && method.order <= 1))
       {
-        limit.factor = 1;
-        limit.basis  = "lumped mass matrix";
+        limit.basis = "lumped mass matrix";
         return limit;
       }
 
     if (method.mass_matrix == "fmpm" || method.mass_matrix == "full")
       {
         const bool   full = method.mass_matrix == "full";
-        const double k_factor =
-          full ? -1 : fmpm_order_factor(method.order, averaged);
+        const double k_limit =
+          full ? -1 : fmpm_order_limit(method.order, averaged);
         const std::string name = full ?
                                    std::string("full mass matrix") :
                                    "FMPM(" + std::to_string(method.order) + ")";
-        if (k_factor > 0)
+        if (k_limit > 0)
           {
-            limit.factor = k_factor;
-            limit.basis  = name + ", " + strain_text +
-                          ": measured critical Courant number of the "
-                          "vibrating bar over the lumped one";
+            limit.max_courant = k_limit;
+            limit.basis       = name + ", " + strain_text +
+                          ": the vibrating bar's measured critical Courant "
+                          "number";
           }
         else
           {
-            limit.factor = full_factor;
-            limit.basis  = name + ", " + strain_text +
-                          ": free-surface scenes (rigid rotation, colliding "
-                          "disks) need a third of the lumped Courant number";
+            limit.max_courant = full_limit;
+            limit.basis       = name + ", " + strain_text +
+                          ": the rigid rotation is stable at C = 0.12, "
+                          "unstable at 0.15";
             if (!full && full_mass_strain_velocities &&
-                high_order_constant / method.order < limit.factor)
+                high_order_constant / method.order < limit.max_courant)
               {
-                limit.factor = high_order_constant / method.order;
+                limit.max_courant = high_order_constant / method.order;
                 limit.basis =
                   name + ", " + strain_text +
                   ": the series amplifies near-null modes by up to k; "
@@ -139,22 +145,25 @@ namespace fmpm
               }
           }
         // Lumped strain velocities are at least as stable as full-mass ones.
-        if (!full_mass_strain_velocities && limit.factor < lumped_strain_factor)
+        if (!full_mass_strain_velocities &&
+            limit.max_courant < lumped_strain_limit)
           {
-            limit.factor = lumped_strain_factor;
-            limit.basis  = name + ", " + strain_text +
+            limit.max_courant = lumped_strain_limit;
+            limit.basis       = name + ", " + strain_text +
                           ": colliding disks stable at C = 0.4, unstable "
                           "at 0.5";
           }
         if (method.flip_type && method.order > 1)
           {
-            const double leapfrog = leapfrog_factor(method.order);
-            if (leapfrog < limit.factor)
+            const double leapfrog =
+              leapfrog_factor(method.order) * lumped_limit(averaged);
+            if (leapfrog < limit.max_courant)
               {
-                limit.factor = leapfrog;
-                limit.basis  = name + " with " + update_text +
+                limit.max_courant = leapfrog;
+                limit.basis       = name + " with " + update_text +
                               ": the leapfrog limit 1/sqrt(sum_{j<k} "
-                              "(3/4)^j) of this particle mass matrix";
+                              "(3/4)^j) of the lumped one for this particle "
+                              "mass matrix";
               }
           }
         limit.warning_only_with_free_surfaces =
@@ -185,8 +194,8 @@ namespace fmpm
 
     if (method.mass_matrix == "consistent")
       {
-        limit.factor = consistent_factor;
-        limit.basis  = "consistent mass matrix, " + strain_text +
+        limit.max_courant = consistent_limit;
+        limit.basis       = "consistent mass matrix, " + strain_text +
                       ": FLIP on the vibrating bar stable up to C = 0.4";
         limit.warning =
           "the consistent finite element mass matrix amplifies a mode at "
@@ -202,10 +211,9 @@ namespace fmpm
         return limit;
       }
 
-    // A mass matrix without a measurement: no factor.
-    limit.factor = 1;
+    // A mass matrix without a measurement: no limit.
     limit.basis =
-      "mass matrix '" + method.mass_matrix + "' (not measured: no factor)";
+      "mass matrix '" + method.mass_matrix + "' (not measured: no limit)";
     return limit;
   }
 } // namespace fmpm

@@ -104,7 +104,7 @@ namespace
    * <directory>/previous_run/, which replaces an older one.
    */
   void
-  set_aside_earlier_run(const std::string &directory)
+  set_aside_earlier_run(const std::string &directory, const bool quiet)
   {
     namespace fs = std::filesystem;
     if (!fs::is_directory(directory))
@@ -120,9 +120,10 @@ namespace
     fs::create_directory(previous);
     for (const auto &path : earlier)
       fs::rename(path, previous / path.filename());
-    std::cout << "fmpm: moved the " << earlier.size()
-              << " files of an earlier run in <" << directory << "> to <"
-              << previous.string() << ">" << std::endl;
+    if (!quiet)
+      std::cout << "fmpm: moved the " << earlier.size()
+                << " files of an earlier run in <" << directory << "> to <"
+                << previous.string() << ">" << std::endl;
   }
 
   /** Output/Directory must be a directory that can be made or written. */
@@ -307,7 +308,8 @@ main(int argc, char **argv)
       if (is_root)
         {
           if (!resume)
-            set_aside_earlier_run(parameters.output.directory);
+            set_aside_earlier_run(parameters.output.directory,
+                                  parameters.test_mode);
           std::filesystem::create_directories(parameters.output.directory);
           std::ofstream prm_out(parameters.output.directory +
                                 "/parameters.prm");

@@ -136,10 +136,10 @@ namespace fmpm
     double       courant_number  = 0.5;
     unsigned int max_steps       = 1000000000;
     bool         check_stability = true;
-    /** The factor of the method's stability limit the automatic time step
-     * multiplies the Courant number with; 0: from the method
-     * (stability_limit(), 'auto'). */
-    double stability_factor = 0;
+    /** The largest Courant number of the automatic time step; 0: the
+     * method's measured limit (stability_limit(), 'auto'); infinity:
+     * none. */
+    double courant_limit = 0;
   };
 
   /** @brief How F^(n+1) follows from F^n and L (Deformation gradient/Update).

@@ -4,6 +4,7 @@
 #ifndef fmpm_time_step_stability_h
 #define fmpm_time_step_stability_h
 
+#include <limits>
 #include <string>
 
 namespace fmpm
@@ -33,18 +34,21 @@ namespace fmpm
   };
 
   /**
-   * @brief The stability factor of a method and what it rests on.
+   * @brief The largest Courant number at which a method was measured
+   * stable, and what that rests on.
    */
   struct StabilityLimit
   {
     /**
-     * The factor the automatic time step multiplies the Courant number
-     * with: dt = C f h_min / (c + |v|max), so that 'Time/Courant number'
-     * stays the fraction of the method's own limit. 1 for the lumped mass
-     * matrix with any particle and strain update.
+     * The measured critical Courant number of the method (the lower end of
+     * the measured bracket), which caps 'Time/Courant number': the
+     * automatic time step is dt = min(C, max_courant) h_min / (c + |v|max).
+     * Infinity for the lumped mass matrix, whose limit is the user's
+     * Courant number itself (at most 1).
      */
-    double factor = 1;
-    /** Where the factor comes from (printed at start-up). */
+    double max_courant = std::numeric_limits<double>::infinity();
+    /** Where the limit comes from (printed when it caps the Courant
+     * number). */
     std::string basis;
     /** Why no time step makes this method stable, and what to choose
      * instead; empty when it is not known to fail. */
@@ -58,17 +62,11 @@ namespace fmpm
   };
 
   /**
-   * @brief The stability factor of @p method from fmpm's own measurements
-   * (doc/studies/stability.md and its section "The stability factor of the
-   * automatic time step").
-   *
-   * The factor is the measured critical Courant number of the method over
-   * that of the lumped mass matrix with the same strain update (capped at
-   * 1, the nominal limit h_min / (c + |v|max)), from the lower end of each
-   * measured bracket: a Courant number that is stable with the lumped mass
-   * matrix stays stable with the method. Orders of FMPM(k) between the
-   * measured ones (2, 3, 5, 10) take the next larger measured order (the
-   * limit falls with k), orders above 10 the full matrix's.
+   * @brief The critical Courant number of @p method from fmpm's own
+   * measurements (doc/studies/stability.md, "The Courant number limit of
+   * each method"): the lower end of each measured bracket. Orders of
+   * FMPM(k) between the measured ones (2, 3, 5, 10) take the next larger
+   * measured order (the limit falls with k).
    */
   StabilityLimit
   stability_limit(const StabilityMethod &method);

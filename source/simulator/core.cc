@@ -230,7 +230,7 @@ namespace fmpm
   {
     double dt = parameters.time.time_step;
     if (dt == 0)
-      dt = parameters.time.courant_number * stability.factor *
+      dt = std::min(parameters.time.courant_number, stability.max_courant) *
            minimum_cell_size / max_signal_speed;
     // Do not step past the end time (avoid a tiny last step by splitting the
     // rest evenly when it is less than two steps).
@@ -270,10 +270,15 @@ namespace fmpm
           << std::endl
           << "      output in " << parameters.output.directory << std::endl;
     if (parameters.time.time_step == 0)
-      pcout << "      time step: Courant number "
-            << format_number(parameters.time.courant_number)
-            << " x stability factor " << format_number(stability.factor, 3)
-            << " (" << stability.basis << ")" << std::endl;
+      {
+        pcout << "      time step: Courant number "
+              << format_number(parameters.time.courant_number);
+        if (parameters.time.courant_number > stability.max_courant)
+          pcout << " capped at the method's limit "
+                << format_number(stability.max_courant, 3) << " ("
+                << stability.basis << ")";
+        pcout << std::endl;
+      }
     // Bodies that fill every cell of the mesh (a confined bar) have no free
     // surface to warn about.
     if (stability.warning_only_with_free_surfaces)
@@ -422,9 +427,9 @@ namespace fmpm
           pcout << "    The stresses are updated with velocities from the "
                 << "mass matrix '" << parameters.method.mass_matrix
                 << "', which needs a smaller time step than the lumped one "
-                << "(this run's stability factor: "
-                << format_number(stability.factor, 3) << ", " << stability.basis
-                << "): lower Time/Courant number or "
+                << "(this run's Courant number limit: "
+                << format_number(stability.max_courant, 3) << ", "
+                << stability.basis << "): lower Time/Courant number or "
                 << "Time step, or set Time/Strain update mass matrix = "
                 << "lumped." << std::endl;
         if (!stability.note.empty())

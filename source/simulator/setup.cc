@@ -17,6 +17,7 @@
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 
@@ -637,8 +638,8 @@ namespace fmpm
           }
       }
 
-    // The method's stability factor: the automatic time step multiplies the
-    // Courant number with it (doc/studies/stability.md).
+    // The method's measured critical Courant number caps the automatic time
+    // step's (doc/studies/stability.md).
     {
       StabilityMethod method;
       method.mass_matrix = parameters.method.mass_matrix;
@@ -652,11 +653,15 @@ namespace fmpm
         parameters.method.strain_update_mass_matrix;
       method.position_update_psi = particle_update->position_update_psi();
       stability                  = stability_limit(method);
-      if (parameters.time.stability_factor > 0)
+      if (parameters.time.courant_limit > 0)
         {
-          stability.basis = "Time/Stability factor (the method's: " +
-                            format_number(stability.factor, 3) + ")";
-          stability.factor = parameters.time.stability_factor;
+          stability.basis = "Time/Courant number limit (the method's: " +
+                            (std::isfinite(stability.max_courant) ?
+                               format_number(stability.max_courant, 3) + ", " +
+                                 stability.basis :
+                               std::string("none")) +
+                            ")";
+          stability.max_courant = parameters.time.courant_limit;
         }
     }
 
@@ -741,13 +746,15 @@ namespace fmpm
         " s of this scene. Choose a smaller time step, or "
         "set it to 0 and use Time/Courant number (or set Time/Check "
         "stability limit = false for a stability study)."));
-    if (parameters.time.time_step > stability.factor * stable)
+    if (parameters.time.time_step > stability.max_courant * stable)
       stability.warning +=
         std::string(stability.warning.empty() ? "" : " Also: ") +
         "Time/Time step = " + format_number(parameters.time.time_step) +
-        " s is above this method's stable limit, stability factor x h_min "
-        "/ (wave speed + point speed) = " +
-        format_number(stability.factor * stable, 6) +
+        " s is above this method's stable limit, its critical Courant "
+        "number " +
+        format_number(stability.max_courant, 3) +
+        " x h_min / (wave speed + point speed) = " +
+        format_number(stability.max_courant * stable, 6) +
         " s; set Time step = 0 to use Time/Courant number.";
   }
 

@@ -338,10 +338,14 @@ namespace
     for (const std::string update : {"xpic", "fmpm"})
       for (const unsigned int k : {2u, 5u})
         {
+          // The time steps of the former stability factors 0.9 (k = 2)
+          // and 0.6 (k = 5) x 0.4.
           const std::string method =
             "subsection Mass matrix\n set Model name = fmpm\n"
             " subsection Fmpm\n  set Order = " +
-            std::to_string(k) + "\n end\nend\n";
+            std::to_string(k) +
+            "\n end\nend\nsubsection Time\n set Courant number = " +
+            (k == 2 ? "0.36" : "0.24") + "\nend\n";
           const auto        one     = run(method +
                                  "subsection Particle update\n set Model "
                                             "name = " +
@@ -399,7 +403,9 @@ namespace
     const std::string full =
       "subsection Mass matrix\n set Model name = full\n"
       " subsection Full\n  set Tolerance = 1e-12\n end\nend\n"
-      "subsection Time\n set Strain update mass matrix = lumped\nend\n";
+      // The time step of the former stability factor 0.75 x 0.4.
+      "subsection Time\n set Strain update mass matrix = lumped\n"
+      " set Courant number = 0.3\nend\n";
     auto run = [&](const std::string &settings, const std::string &directory) {
       ParameterHandler prm;
       auto             simulator =
@@ -1188,7 +1194,8 @@ namespace
       "  set Function constants = v=100, top=0.0008, h=2.857142857e-5\n"
       " end\nend\n"
       "subsection Time\n set End time = 5.2e-6"
-      "\n set Courant number = 0.4\n set Strain update = usavg+\nend\n"
+      // The time step of the former stability factor 0.6 x 0.4.
+      "\n set Courant number = 0.24\n set Strain update = usavg+\nend\n"
       "subsection Particle update\n set Model name = xpic\n"
       " subsection Xpic\n  set Position update psi = 0\n end\nend\n"
       "subsection Mass matrix\n set Model name = fmpm\n"

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
-// Checks fmpm::stability_limit, the stability factors of the automatic time
-// step: 1 for the lumped mass matrix with every update and strain update
-// (so lumped-mass runs keep their time steps); FMPM(k)'s factor falls with
-// k from 1 to the full matrix's and never rises; lumped strain velocities
-// are at least as stable as full-mass ones; FLIP-type updates get at most
-// the leapfrog limit; FLIP with the full matrix and the consistent matrix
-// carry a warning naming the alternative; Time/Stability factor is checked.
+// Checks fmpm::stability_limit, the measured critical Courant numbers that
+// cap the automatic time step's: none for the lumped mass matrix with every
+// update and strain update (so lumped-mass runs keep their time steps);
+// FMPM(k)'s limit falls with k to the full matrix's and never rises; lumped
+// strain velocities are at least as stable as full-mass ones; FLIP-type
+// updates get at most the leapfrog limit; FLIP with the full matrix and the
+// consistent matrix carry a warning naming the alternative; Time/Courant
+// number limit is checked.
 
 #include <fmpm/parameters.h>
 #include <fmpm/time_step_stability.h>
@@ -44,15 +45,15 @@ namespace
 
 
 
-  TEST(StabilityLimit, LumpedIsOne)
+  TEST(StabilityLimit, LumpedHasNone)
   {
     for (const auto &su : strain_updates)
       for (const bool flip : {false, true})
         {
-          EXPECT_EQ(fmpm::stability_limit(method("lumped", 1, flip, su)).factor,
-                    1.0);
-          EXPECT_EQ(fmpm::stability_limit(method("fmpm", 1, flip, su)).factor,
-                    1.0);
+          EXPECT_TRUE(std::isinf(
+            fmpm::stability_limit(method("lumped", 1, flip, su)).max_courant));
+          EXPECT_TRUE(std::isinf(
+            fmpm::stability_limit(method("fmpm", 1, flip, su)).max_courant));
           EXPECT_TRUE(fmpm::stability_limit(method("lumped", 1, flip, su))
                         .warning.empty());
         }
@@ -67,21 +68,21 @@ namespace
         for (const std::string strain_mass : {"same", "lumped"})
           {
             double previous = 1, order_10 = 1;
-            for (unsigned int k = 1; k <= 100; ++k)
+            for (unsigned int k = 2; k <= 100; ++k)
               {
-                const double f = fmpm::stability_limit(
+                const double c = fmpm::stability_limit(
                                    method("fmpm", k, flip, su, strain_mass))
-                                   .factor;
-                EXPECT_LE(f, previous) << su << " k = " << k;
-                EXPECT_GT(f, 0);
-                previous = f;
+                                   .max_courant;
+                EXPECT_LE(c, previous) << su << " k = " << k;
+                EXPECT_GT(c, 0);
+                previous = c;
                 if (k == 10)
-                  order_10 = f;
+                  order_10 = c;
               }
             const double full =
               fmpm::stability_limit(
                 method("full", 1000000, flip, su, strain_mass))
-                .factor;
+                .max_courant;
             EXPECT_LE(full, order_10 + 1e-12) << su;
             // Lumped strain velocities: at least as stable.
             if (strain_mass == "lumped")
@@ -89,21 +90,38 @@ namespace
                 EXPECT_GE(full,
                           fmpm::stability_limit(
                             method("full", 1000000, flip, su, "same"))
-                            .factor);
+                            .max_courant);
               }
           }
-    // The measured values (doc/studies/stability.md).
+    // The measured values (doc/studies/stability.md): the bar's critical
+    // Courant numbers, and the rigid rotation's for the full matrix.
     EXPECT_DOUBLE_EQ(
-      fmpm::stability_limit(method("fmpm", 2, false, "usavg+")).factor, 0.9);
+      fmpm::stability_limit(method("fmpm", 2, false, "usavg+")).max_courant,
+      0.9);
     EXPECT_DOUBLE_EQ(
-      fmpm::stability_limit(method("fmpm", 5, false, "usavg+")).factor, 0.6);
+      fmpm::stability_limit(method("fmpm", 5, false, "usavg+")).max_courant,
+      0.6);
     EXPECT_DOUBLE_EQ(
-      fmpm::stability_limit(method("full", 1000000, false, "usavg+")).factor,
-      1. / 3);
-    // FLIP-type updates: the leapfrog limit 1/sqrt(1 + 3/4) for k = 2.
-    EXPECT_NEAR(fmpm::stability_limit(method("fmpm", 2, true, "usavg+")).factor,
-                1 / std::sqrt(1.75),
-                1e-12);
+      fmpm::stability_limit(method("fmpm", 5, false, "usl")).max_courant, 0.5);
+    EXPECT_DOUBLE_EQ(fmpm::stability_limit(
+                       method("full", 1000000, false, "usavg+"))
+                       .max_courant,
+                     0.12);
+    // NairnMPM's bar runs FMPM(5) at Courant 0.5 (USAVG+): below the limit,
+    // so at the requested time step.
+    EXPECT_GT(
+      fmpm::stability_limit(method("fmpm", 5, false, "usavg+")).max_courant,
+      0.5);
+    // FLIP-type updates: the leapfrog limit 1/sqrt(1 + 3/4) for k = 2 of
+    // the lumped limit (1 with USAVG+, 0.75 with USL-).
+    EXPECT_NEAR(
+      fmpm::stability_limit(method("fmpm", 2, true, "usavg+")).max_courant,
+      1 / std::sqrt(1.75),
+      1e-12);
+    EXPECT_NEAR(
+      fmpm::stability_limit(method("fmpm", 2, true, "usl")).max_courant,
+      0.75 / std::sqrt(1.75),
+      1e-12);
   }
 
 
@@ -120,27 +138,30 @@ namespace
     const auto consistent =
       fmpm::stability_limit(method("consistent", 1, false, "usl"));
     EXPECT_NE(consistent.warning.find("free surfaces"), std::string::npos);
-    EXPECT_LT(consistent.factor, 1);
+    EXPECT_LT(consistent.max_courant, 1);
   }
 
 
 
   // High orders with full-mass strain velocities: the colliding disks fail
   // at C = 0.133 for k = 32 and at 0.1 for k = 64 (stable at 0.1 and 0.05),
-  // so the factor must fall below those; k = 24 is stable at the full
-  // matrix's 1/3 x 0.4.
+  // so the limit must lie below those; k = 24 is stable at 0.133.
   TEST(StabilityLimit, HighOrdersFallAsOneOverK)
   {
     for (const auto &su : {"usavg+", "usl"})
       {
-        EXPECT_LE(0.4 *
-                    fmpm::stability_limit(method("fmpm", 32, false, su)).factor,
-                  0.1 + 1e-12);
-        EXPECT_LE(0.4 *
-                    fmpm::stability_limit(method("fmpm", 64, false, su)).factor,
-                  0.05 + 1e-12);
-        EXPECT_GE(fmpm::stability_limit(method("fmpm", 64, false, su)).factor,
-                  0.04);
+        EXPECT_LE(
+          fmpm::stability_limit(method("fmpm", 32, false, su)).max_courant,
+          0.1 + 1e-12);
+        EXPECT_LE(
+          fmpm::stability_limit(method("fmpm", 64, false, su)).max_courant,
+          0.05 + 1e-12);
+        EXPECT_GE(
+          fmpm::stability_limit(method("fmpm", 64, false, su)).max_courant,
+          0.04);
+        EXPECT_LE(
+          fmpm::stability_limit(method("fmpm", 24, false, su)).max_courant,
+          0.133);
       }
   }
 
@@ -176,35 +197,34 @@ namespace
 
   TEST(StabilityLimit, ParameterIsChecked)
   {
-    for (const std::string value : {"0", "1.5", "fast", "0.5x"})
+    const auto read = [](const std::string &value) {
+      dealii::ParameterHandler prm;
+      fmpm::Parameters         parameters;
+      fmpm::read_scene({{"default scene", fmpm::default_scene()},
+                        {"limit.prm",
+                         "subsection Time\n set Courant number limit = " +
+                           value + "\nend\n"}},
+                       prm,
+                       parameters);
+      return parameters.time.courant_limit;
+    };
+    for (const std::string value : {"0", "-1", "fast", "0.5x", "inf"})
       {
-        dealii::ParameterHandler prm;
-        fmpm::Parameters         parameters;
         try
           {
-            fmpm::read_scene({{"default scene", fmpm::default_scene()},
-                              {"factor.prm",
-                               "subsection Time\n set Stability factor = " +
-                                 value + "\nend\n"}},
-                             prm,
-                             parameters);
+            read(value);
             ADD_FAILURE() << value << " was accepted";
           }
         catch (const std::exception &e)
           {
-            EXPECT_NE(fmpm::error_message(e).find("Time/Stability factor = <" +
-                                                  value + ">"),
+            EXPECT_NE(fmpm::error_message(e).find(
+                        "Time/Courant number limit = <" + value + ">"),
                       std::string::npos)
               << fmpm::error_message(e);
           }
       }
-    dealii::ParameterHandler prm;
-    fmpm::Parameters         parameters;
-    fmpm::read_scene({{"default scene", fmpm::default_scene()},
-                      {"factor.prm",
-                       "subsection Time\n set Stability factor = 0.5\nend\n"}},
-                     prm,
-                     parameters);
-    EXPECT_EQ(parameters.time.stability_factor, 0.5);
+    EXPECT_EQ(read("0.5"), 0.5);
+    EXPECT_EQ(read("auto"), 0);
+    EXPECT_TRUE(std::isinf(read("none")));
   }
 } // namespace
