@@ -482,6 +482,10 @@ namespace fmpm
      * friction_work and contact_nodes). */
     std::vector<std::string>
     material_history_columns() const;
+    /** The extra history.csv columns: the materials', then the mass
+     * matrix's (MassMatrix::Interface::history_columns()). */
+    std::vector<std::string>
+    history_extra_columns() const;
     void
     print_test_particles() const;
     /** particles_NNNNN.csv of output @p n_output (Output/Write particle

@@ -10,7 +10,7 @@ namespace fmpm
   namespace MassMatrix
   {
     template <typename MatrixType>
-    void
+    unsigned int
     apply_fmpm_inverse(const MatrixType              &m_tilde,
                        const GridScalar              &m,
                        const GridVectorField         &p,
@@ -18,7 +18,8 @@ namespace fmpm
                        const unsigned int             k,
                        const double                   mass_floor,
                        const std::vector<GridScalar> *zero_mask,
-                       const std::vector<GridScalar> *known_values)
+                       const std::vector<GridScalar> *known_values,
+                       const double                   tolerance)
     {
       // v_1 = m⁻¹ p; known components hold their values in every sweep.
       apply_lumped_inverse(m, p, v, mass_floor);
@@ -29,28 +30,41 @@ namespace fmpm
               v.block(b).local_element(i) =
                 known_values ? (*known_values)[b].local_element(i) : 0.;
       if (k == 1)
-        return;
+        return 1;
+      // ‖v_1‖² for the adaptive order's test.
+      const double v1_squared = tolerance > 0 ? v.norm_sqr() : 0;
       GridVectorField    m_tilde_v(v);
       const unsigned int n_owned = m.locally_owned_size();
       for (unsigned int j = 1; j < k; ++j)
         {
           // v_{j+1} = v_j + m⁻¹ (p − m̃ v_j), all components in one product
           apply_full_mass(m_tilde, m_tilde_v, v);
+          double increment_squared = 0;
           for (unsigned int b = 0; b < p.n_blocks(); ++b)
             for (unsigned int i = 0; i < n_owned; ++i)
               {
                 const double m_i = m.local_element(i);
                 if (m_i > mass_floor &&
                     !(zero_mask && (*zero_mask)[b].local_element(i) != 0))
-                  v.block(b).local_element(i) +=
-                    (p.block(b).local_element(i) -
-                     m_tilde_v.block(b).local_element(i)) /
-                    m_i;
+                  {
+                    const double dv = (p.block(b).local_element(i) -
+                                       m_tilde_v.block(b).local_element(i)) /
+                                      m_i;
+                    v.block(b).local_element(i) += dv;
+                    if (tolerance > 0)
+                      increment_squared += dv * dv;
+                  }
               }
+          if (tolerance > 0 &&
+              Utilities::MPI::sum(increment_squared,
+                                  m.get_mpi_communicator()) <=
+                tolerance * tolerance * v1_squared)
+            return j + 1;
         }
+      return k;
     }
 
-    template void
+    template unsigned int
     apply_fmpm_inverse(const TrilinosWrappers::SparseMatrix &,
                        const GridScalar &,
                        const GridVectorField &,
@@ -58,8 +72,9 @@ namespace fmpm
                        const unsigned int,
                        const double,
                        const std::vector<GridScalar> *,
-                       const std::vector<GridScalar> *);
-    template void
+                       const std::vector<GridScalar> *,
+                       const double);
+    template unsigned int
     apply_fmpm_inverse(const CellwiseMatrix &,
                        const GridScalar &,
                        const GridVectorField &,
@@ -67,7 +82,8 @@ namespace fmpm
                        const unsigned int,
                        const double,
                        const std::vector<GridScalar> *,
-                       const std::vector<GridScalar> *);
+                       const std::vector<GridScalar> *,
+                       const double);
 
 
 
@@ -82,6 +98,18 @@ namespace fmpm
                         "1.23): 1 is the lumped mass matrix, larger k "
                         "approaches the full mass matrix m~ = S^T M S. "
                         "Units: none.");
+      prm.declare_entry(
+        "Increment tolerance",
+        "0",
+        Patterns::Double(0, 1),
+        "Adaptive order: the series ends after the sweep whose increment "
+        "Delta v(l) = v(l+1) - v(l) has an l2 norm over all nodes and "
+        "components of at most this fraction of that of v(1) = m^-1 p, "
+        "and at the latest after 'Order' terms. 0: always 'Order' terms "
+        "(FMPM(k)). history.csv then reports the order used "
+        "(fmpm_order_mean, fmpm_order_max over the solves since the "
+        "previous output). Not with multimaterial contact (its series "
+        "keeps the full order). Units: none.");
     }
 
 
@@ -90,7 +118,64 @@ namespace fmpm
     void
     Fmpm<dim>::parse_parameters(ParameterHandler &prm)
     {
-      k = prm.get_integer("Order");
+      k         = prm.get_integer("Order");
+      tolerance = prm.get_double("Increment tolerance");
+    }
+
+
+
+    template <int dim>
+    void
+    Fmpm<dim>::count(const unsigned int order_used) const
+    {
+      ++solves_since_output;
+      ++solves;
+      orders_since_output += order_used;
+      orders += order_used;
+      max_order_since_output = std::max(max_order_since_output, order_used);
+      max_order              = std::max(max_order, order_used);
+    }
+
+
+
+    template <int dim>
+    std::vector<std::string>
+    Fmpm<dim>::history_columns() const
+    {
+      if (tolerance == 0)
+        return {};
+      return {"fmpm_order_mean", "fmpm_order_max"};
+    }
+
+
+
+    template <int dim>
+    std::vector<double>
+    Fmpm<dim>::history_values()
+    {
+      if (tolerance == 0)
+        return {};
+      const std::vector<double> values = {
+        solves_since_output > 0 ?
+          static_cast<double>(orders_since_output) / solves_since_output :
+          0.,
+        static_cast<double>(max_order_since_output)};
+      solves_since_output = orders_since_output = 0;
+      max_order_since_output                    = 0;
+      return values;
+    }
+
+
+
+    template <int dim>
+    std::map<std::string, double>
+    Fmpm<dim>::statistics() const
+    {
+      if (tolerance == 0)
+        return {};
+      return {{"fmpm_order_mean",
+               solves > 0 ? static_cast<double>(orders) / solves : 0.},
+              {"fmpm_order_max", static_cast<double>(max_order)}};
     }
 
 
@@ -102,24 +187,26 @@ namespace fmpm
       if (const CellwiseMatrix *cellwise =
             this->get_simulator().get_cellwise_full_mass_matrix())
         {
-          apply_fmpm_inverse(*cellwise,
-                             this->get_lumped_mass(),
-                             p,
-                             v,
-                             k,
-                             this->get_simulator().mass_floor(),
-                             &this->get_known_velocity_mask(),
-                             &this->get_known_velocity_values());
+          count(apply_fmpm_inverse(*cellwise,
+                                   this->get_lumped_mass(),
+                                   p,
+                                   v,
+                                   k,
+                                   this->get_simulator().mass_floor(),
+                                   &this->get_known_velocity_mask(),
+                                   &this->get_known_velocity_values(),
+                                   tolerance));
           return;
         }
-      apply_fmpm_inverse(this->get_full_mass_matrix(),
-                         this->get_lumped_mass(),
-                         p,
-                         v,
-                         k,
-                         this->get_simulator().mass_floor(),
-                         &this->get_known_velocity_mask(),
-                         &this->get_known_velocity_values());
+      count(apply_fmpm_inverse(this->get_full_mass_matrix(),
+                               this->get_lumped_mass(),
+                               p,
+                               v,
+                               k,
+                               this->get_simulator().mass_floor(),
+                               &this->get_known_velocity_mask(),
+                               &this->get_known_velocity_values(),
+                               tolerance));
     }
 
 

@@ -257,7 +257,7 @@ namespace fmpm
                  parameters.reference.enable,
                  parameters.output.track_dissipation,
                  velocity_conditions.labels(),
-                 material_history_columns());
+                 history_extra_columns());
 
     pcout << "fmpm: " << dim << "D, "
           << Utilities::MPI::n_mpi_processes(mpi_communicator)

@@ -205,6 +205,8 @@ namespace fmpm
         row.extra.push_back(static_cast<double>(
           Utilities::MPI::sum(local_contact_nodes, mpi_communicator)));
       }
+    for (const double value : mass_matrix->history_values())
+      row.extra.push_back(value);
     row.error_velocity_l2 =
       statistics.velocity_reference_squared > 0 ?
         std::sqrt(statistics.velocity_error_squared /
@@ -623,6 +625,18 @@ namespace fmpm
       }
     out << "\n  }\n}\n";
   }
+
+  template <int dim>
+  std::vector<std::string>
+  Simulator<dim>::history_extra_columns() const
+  {
+    std::vector<std::string> columns = material_history_columns();
+    for (const auto &column : mass_matrix->history_columns())
+      columns.push_back(column);
+    return columns;
+  }
+
+
 
   template <int dim>
   std::vector<std::string>

@@ -728,6 +728,12 @@ namespace fmpm
                       "momenta, seed 000 Eq. 3.22). Set it to 'net "
                       "incremental', or use 'Mass matrix/Model name = fmpm' "
                       "with a finite Order."));
+        AssertThrow(mass_matrix->increment_tolerance() == 0,
+                    ExcMessage("Mass matrix/Fmpm/Increment tolerance (the "
+                               "adaptive order) is not available with "
+                               "Contact/Model name = multimaterial: set it "
+                               "to 0 (the series of every material then has "
+                               "'Order' terms)."));
         AssertThrow(!velocity_conditions.needs_full_mass_matrix(),
                     ExcMessage("Contact/Model name = multimaterial needs a "
                                "'Boundary conditions/Method' without the full "

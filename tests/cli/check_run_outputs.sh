@@ -9,6 +9,8 @@
 #     (history.csv) and says so in summary.json ("stopped: step limit").
 #  3. A new run in the directory of an earlier, longer one leaves none of
 #     the earlier run's files next to its own: they move to previous_run/.
+#  4. FMPM(16) with an increment tolerance (adaptive order) reports the
+#     order it used in history.csv and summary.json.
 #
 #   check_run_outputs.sh FMPM SOURCE_DIR
 set -u
@@ -49,4 +51,17 @@ present=$(ls reused/particles_*.pvtu | wc -l)
 [ "$listed" = "$present" ] || fail "particles.pvd lists $listed outputs, the directory holds $present"
 [ "$(ls reused/previous_run/particles_*.pvtu | wc -l)" -gt "$present" ] || fail "the earlier run's files are not in previous_run/"
 grep -q "moved the .* files of an earlier run" short.log || fail "no message about the earlier run's files"
+# 4. The adaptive order reports the order it used.
+printf "subsection Output\n set Directory = adaptive\n set Write vtu = false\nend\nsubsection Time\n set End time = 0.5\nend\nsubsection Particle update\n set Model name = fmpm\nend\nsubsection Mass matrix\n set Model name = fmpm\n subsection Fmpm\n  set Order = 16\n  set Increment tolerance = 1e-3\n end\nend\n$common" > adaptive.prm
+"$fmpm" "$root/parameters/colliding_disks.prm" adaptive.prm > adaptive.log 2>&1 || { tail adaptive.log; fail "adaptive-order run"; }
+python3 - adaptive/history.csv adaptive/summary.json <<'PY' || fail "the adaptive order's history columns"
+import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+means = [float(r["fmpm_order_mean"]) for r in rows[1:]]
+maxima = [float(r["fmpm_order_max"]) for r in rows[1:]]
+summary = json.load(open(sys.argv[2]))
+print(f"order mean {min(means):.3g}-{max(means):.3g}, max {max(maxima):g}, run mean {summary['fmpm_order_mean']:.3g}")
+ok = all(1 < m <= x <= 16 for m, x in zip(means, maxima)) and summary["fmpm_order_max"] == max(maxima)
+sys.exit(0 if ok else 1)
+PY
 echo PASS

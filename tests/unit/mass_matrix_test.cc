@@ -433,3 +433,44 @@ TEST(MassMatrix, CellwiseMatrixEqualsAssembledMatrix)
         << "k = " << k;
     }
 }
+
+
+
+// Adaptive order: with a tolerance the series stops after the first sweep
+// whose increment ‖v_ℓ − v_{ℓ−1}‖ is at most the tolerance times ‖v_1‖,
+// and its result is FMPM(ℓ) bit for bit; every earlier increment is above
+// the tolerance; tolerance 0 runs all k terms.
+TEST(MassMatrix, AdaptiveOrderStopsAtTheTolerance)
+{
+  Cloud<2>   cloud(3, 5);
+  const auto fmpm = [&](const unsigned int k, const double tolerance,
+                        unsigned int *used = nullptr) {
+    fmpm::GridVectorField v     = cloud.new_field();
+    const unsigned int    order = fmpm::MassMatrix::apply_fmpm_inverse(
+      cloud.m_tilde, cloud.m, cloud.p, v, k, 0, nullptr, nullptr, tolerance);
+    if (used)
+      *used = order;
+    return v;
+  };
+  const double v1 = fmpm(1, 0).l2_norm();
+  unsigned int previous_order = 1;
+  for (const double tolerance : {1e-1, 1e-2, 1e-3, 1e-4})
+    {
+      unsigned int                order = 0;
+      const fmpm::GridVectorField v     = fmpm(200, tolerance, &order);
+      EXPECT_GT(order, 1u) << tolerance;
+      EXPECT_LT(order, 200u) << tolerance;
+      EXPECT_GE(order, previous_order) << tolerance;
+      previous_order = order;
+      EXPECT_EQ(difference(v, fmpm(order, 0)), 0.) << tolerance;
+      EXPECT_LE(difference(fmpm(order, 0), fmpm(order - 1, 0)),
+                tolerance * v1 * (1 + 1e-12))
+        << tolerance;
+      for (unsigned int l = 2; l < order; ++l)
+        EXPECT_GT(difference(fmpm(l, 0), fmpm(l - 1, 0)), tolerance * v1)
+          << tolerance << " l = " << l;
+    }
+  unsigned int order = 0;
+  fmpm(7, 0, &order);
+  EXPECT_EQ(order, 7u);
+}

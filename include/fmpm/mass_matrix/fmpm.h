@@ -32,9 +32,14 @@ namespace fmpm
      * known by a grid condition (kept in every sweep), or nullptr
      * @param[in] known_values per component, the known values (zero if
      * nullptr)
+     * @param[in] tolerance adaptive order: the series ends after the sweep
+     * ℓ < k whose increment Δv_ℓ = v_{ℓ+1} − v_ℓ has ‖Δv_ℓ‖₂ ≤ tolerance
+     * ‖v_1‖₂ (all nodes and components; one reduction per sweep); 0 runs
+     * all k sweeps, as FMPM(k)
+     * @return the order used (k without a tolerance)
      */
     template <typename MatrixType>
-    void
+    unsigned int
     apply_fmpm_inverse(const MatrixType              &full_mass,
                        const GridScalar              &lumped_mass,
                        const GridVectorField         &p,
@@ -42,7 +47,8 @@ namespace fmpm
                        const unsigned int             k,
                        const double                   mass_floor,
                        const std::vector<GridScalar> *zero_mask    = nullptr,
-                       const std::vector<GridScalar> *known_values = nullptr);
+                       const std::vector<GridScalar> *known_values = nullptr,
+                       const double                   tolerance    = 0);
 
     /**
      * @brief FMPM(k): the approximate full-mass-matrix inverse m̃ₖ⁻¹.
@@ -86,8 +92,35 @@ namespace fmpm
         return k;
       }
 
+      double
+      increment_tolerance() const override
+      {
+        return tolerance;
+      }
+
+      std::vector<std::string>
+      history_columns() const override;
+
+      std::vector<double>
+      history_values() override;
+
+      std::map<std::string, double>
+      statistics() const override;
+
       /** The order k >= 1. */
       unsigned int k = 2;
+      /** Adaptive order: the relative increment that ends the series
+       * early ('Increment tolerance'); 0: always k. */
+      double tolerance = 0;
+
+    private:
+      /** Orders used by solve() since the last output and in the run. */
+      mutable unsigned long long solves_since_output = 0, orders_since_output = 0,
+                                 solves = 0, orders = 0;
+      mutable unsigned int max_order_since_output = 0, max_order = 0;
+
+      void
+      count(const unsigned int order_used) const;
     };
   } // namespace MassMatrix
 } // namespace fmpm

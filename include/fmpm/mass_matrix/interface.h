@@ -10,6 +10,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 namespace fmpm
 {
@@ -106,6 +107,31 @@ namespace fmpm
       statistics() const
       {
         return {};
+      }
+
+      /**
+       * @brief Extra history.csv columns of this mass matrix (e.g. the
+       * order an adaptive series used), and their values over the steps
+       * since the previous output (called once per output, on every rank).
+       */
+      virtual std::vector<std::string>
+      history_columns() const
+      {
+        return {};
+      }
+
+      virtual std::vector<double>
+      history_values()
+      {
+        return {};
+      }
+
+      /** @brief The adaptive order's relative increment tolerance (0:
+       * none, the series always has order() terms). */
+      virtual double
+      increment_tolerance() const
+      {
+        return 0;
       }
 
       /** @brief The order k of the approximation m̃ₖ (1 for lumped). */
