@@ -9,6 +9,9 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
 
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
+
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -150,6 +153,54 @@ namespace
   }
 
   /**
+   * deal.II's PRM listing with an 'Allowed:' comment line above every
+   * 'set' line (the pattern of the entry, from the JSON listing).
+   */
+  void
+  print_parameters_with_allowed_values(const dealii::ParameterHandler &prm,
+                                       std::ostream                   &out)
+  {
+    using Tree = boost::property_tree::ptree;
+    std::stringstream json, text;
+    prm.print_parameters(json, dealii::ParameterHandler::JSON);
+    prm.print_parameters(text, dealii::ParameterHandler::PRM);
+    Tree tree;
+    boost::property_tree::read_json(json, tree);
+    const char               separator = '\x1f';
+    std::vector<std::string> path;
+    std::string              line;
+    while (std::getline(text, line))
+      {
+        const std::string trimmed = dealii::Utilities::trim(line);
+        if (trimmed.rfind("subsection ", 0) == 0)
+          path.push_back(dealii::Utilities::trim(trimmed.substr(11)));
+        else if (trimmed == "end" && !path.empty())
+          path.pop_back();
+        else if (trimmed.rfind("set ", 0) == 0)
+          {
+            std::string key;
+            for (const auto &name : path)
+              key += name + separator;
+            key += dealii::Utilities::trim(
+              trimmed.substr(4, trimmed.find('=') - 4));
+            const auto pattern = tree.get_optional<std::string>(
+              Tree::path_type(key + separator + "pattern_description",
+                              separator));
+            if (pattern)
+              {
+                std::string allowed = *pattern;
+                if (allowed.size() > 1 && allowed.front() == '[' &&
+                    allowed.back() == ']')
+                  allowed = allowed.substr(1, allowed.size() - 2);
+                out << line.substr(0, line.find("set ")) << "# Allowed: "
+                    << dealii::Utilities::trim(allowed) << '\n';
+              }
+          }
+        out << line << '\n';
+      }
+  }
+
+  /**
    * --print-parameters: every parameter, declared for the scene given by
    * @p files (its dimension and its numbers of bodies, materials, moving
    * walls and tractions, each with its numbered subsection) and set to the
@@ -185,7 +236,10 @@ namespace
         std::cerr << "fmpm: " << fmpm::error_message(e) << std::endl;
         return 1;
       }
-    prm.print_parameters(std::cout, format);
+    if (format == ParameterHandler::PRM)
+      print_parameters_with_allowed_values(prm, std::cout);
+    else
+      prm.print_parameters(std::cout, format);
     return 0;
   }
 } // namespace
