@@ -696,6 +696,10 @@ namespace fmpm
     /** The scene's extra body acceleration b(x, t), or nullptr. */
     std::unique_ptr<Function<dim>>                  body_acceleration;
     std::unique_ptr<ParticleUpdate::Interface<dim>> particle_update;
+    /** FLIP for the lumped steps of a periodic FMPM(k) (null otherwise),
+     * and whether the current step uses the mass matrix's series. */
+    std::unique_ptr<ParticleUpdate::Interface<dim>> lumped_step_update;
+    bool                                            series_step = true;
 
     History<dim> history;
 

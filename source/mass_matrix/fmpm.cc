@@ -4,6 +4,8 @@
 #include <fmpm/mass_matrix/fmpm.h>
 #include <fmpm/simulator.h>
 
+#include <cmath>
+
 
 namespace fmpm
 {
@@ -110,6 +112,22 @@ namespace fmpm
         "(fmpm_order_mean, fmpm_order_max over the solves since the "
         "previous output). Not with multimaterial contact (its series "
         "keeps the full order). Units: none.");
+      prm.declare_entry(
+        "Period",
+        "1",
+        Patterns::Integer(1),
+        "Periodic FMPM(k) (NairnMPM's periodic XPIC, Nairn 2026): the "
+        "series and the configured particle update every 'Period' steps "
+        "(the steps whose number is a multiple of it), FLIP with the "
+        "lumped mass matrix in the steps between. 1: every step (FMPM(k)). "
+        "Not with multimaterial contact. Units: steps.");
+      prm.declare_entry(
+        "Period time",
+        "0",
+        Patterns::Double(0),
+        "As 'Period', in simulated time: the series in the step that "
+        "crosses each multiple of this time (and the first step); 0: use "
+        "'Period'. Units: s.");
     }
 
 
@@ -118,8 +136,29 @@ namespace fmpm
     void
     Fmpm<dim>::parse_parameters(ParameterHandler &prm)
     {
-      k         = prm.get_integer("Order");
-      tolerance = prm.get_double("Increment tolerance");
+      k           = prm.get_integer("Order");
+      tolerance   = prm.get_double("Increment tolerance");
+      period      = prm.get_integer("Period");
+      period_time = prm.get_double("Period time");
+    }
+
+
+
+    template <int dim>
+    bool
+    Fmpm<dim>::begin_step(const unsigned int step,
+                          const double       time,
+                          const double       time_step)
+    {
+      if (period_time > 0)
+        series_this_step =
+          step == 0 || std::floor((time + time_step) / period_time) >
+                         std::floor(time / period_time);
+      else
+        series_this_step = (step + 1) % period == 0;
+      if (series_this_step)
+        ++series_steps;
+      return series_this_step;
     }
 
 
@@ -171,11 +210,16 @@ namespace fmpm
     std::map<std::string, double>
     Fmpm<dim>::statistics() const
     {
-      if (tolerance == 0)
-        return {};
-      return {{"fmpm_order_mean",
-               solves > 0 ? static_cast<double>(orders) / solves : 0.},
-              {"fmpm_order_max", static_cast<double>(max_order)}};
+      std::map<std::string, double> result;
+      if (tolerance > 0)
+        {
+          result["fmpm_order_mean"] =
+            solves > 0 ? static_cast<double>(orders) / solves : 0.;
+          result["fmpm_order_max"] = static_cast<double>(max_order);
+        }
+      if (periodic())
+        result["fmpm_series_steps"] = static_cast<double>(series_steps);
+      return result;
     }
 
 
@@ -184,6 +228,7 @@ namespace fmpm
     void
     Fmpm<dim>::solve(const GridVectorField &p, GridVectorField &v) const
     {
+      const unsigned int order = series_this_step ? k : 1;
       if (const CellwiseMatrix *cellwise =
             this->get_simulator().get_cellwise_full_mass_matrix())
         {
@@ -191,7 +236,7 @@ namespace fmpm
                                    this->get_lumped_mass(),
                                    p,
                                    v,
-                                   k,
+                                   order,
                                    this->get_simulator().mass_floor(),
                                    &this->get_known_velocity_mask(),
                                    &this->get_known_velocity_values(),
@@ -202,7 +247,7 @@ namespace fmpm
                                this->get_lumped_mass(),
                                p,
                                v,
-                               k,
+                               order,
                                this->get_simulator().mass_floor(),
                                &this->get_known_velocity_mask(),
                                &this->get_known_velocity_values(),
@@ -217,7 +262,7 @@ namespace fmpm
     {
       // m̃ (the assembled full mass matrix) stands in for m̃_k, as seed 000
       // suggests for the unlumped boundary-condition methods.
-      if (k == 1)
+      if (k == 1 || !series_this_step)
         {
           Interface<dim>::vmult(v, p);
           return;

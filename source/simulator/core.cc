@@ -506,6 +506,7 @@ namespace fmpm
       adapt_mesh();
     time_step       = compute_time_step();
     const double dt = time_step;
+    series_step     = mass_matrix->begin_step(timestep_number, time, dt);
     // b(x, t) at the middle of the step: second order in time (first order
     // at t^n, measured on the manufactured solution).
     if (body_acceleration)

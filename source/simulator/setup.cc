@@ -555,6 +555,9 @@ namespace fmpm
     prm.enter_subsection("Particle update");
     particle_update = ParticleUpdate::Registry<dim>::instance().create(
       parameters.method.particle_update, prm);
+    if (mass_matrix->periodic())
+      lumped_step_update =
+        ParticleUpdate::Registry<dim>::instance().create("flip", prm);
     prm.leave_subsection();
 
     if (!parameters.body_acceleration.empty())
@@ -669,6 +672,9 @@ namespace fmpm
     field_needed[ParticleUpdate::updated_velocity] = true;
     for (const auto field : particle_update->required_fields())
       field_needed[field] = true;
+    if (lumped_step_update)
+      for (const auto field : lumped_step_update->required_fields())
+        field_needed[field] = true;
     // Grid damping needs S v; the dissipation measure S v and S a.
     if (parameters.method.grid_damping != 0)
       field_needed[ParticleUpdate::velocity] = true;
@@ -728,6 +734,11 @@ namespace fmpm
                       "momenta, seed 000 Eq. 3.22). Set it to 'net "
                       "incremental', or use 'Mass matrix/Model name = fmpm' "
                       "with a finite Order."));
+        AssertThrow(!mass_matrix->periodic(),
+                    ExcMessage("Mass matrix/Fmpm/Period and Period time "
+                               "(periodic FMPM(k)) are not available with "
+                               "Contact/Model name = multimaterial: set "
+                               "Period = 1 and Period time = 0."));
         AssertThrow(mass_matrix->increment_tolerance() == 0,
                     ExcMessage("Mass matrix/Fmpm/Increment tolerance (the "
                                "adaptive order) is not available with "

@@ -908,6 +908,10 @@ namespace fmpm
                   .begin();
         }
 
+    // Periodic FMPM(k): FLIP in the lumped steps between the series.
+    ParticleUpdate::Interface<dim> &active_update =
+      (series_step || !lumped_step_update) ? *particle_update :
+                                             *lumped_step_update;
     auto                      &pool = particle_handler.get_property_pool();
     ParticleUpdate::Batch<dim> batch;
     batch.time_step = time_step;
@@ -985,7 +989,7 @@ namespace fmpm
             V_n = &damping_velocity;
           }
 
-        particle_update->update(batch);
+        active_update.update(batch);
 
         // Damping (seed 003 Eqs. 1.21-1.25): the acceleration loses
         // A_damp = α_g S v + α_p V^(n); V^(n+1) -= A_damp Δt and, the

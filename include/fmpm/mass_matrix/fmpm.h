@@ -65,10 +65,22 @@ namespace fmpm
       void
       parse_parameters(ParameterHandler &prm) override;
 
+      /** m̃ is assembled in the steps that use the series only. */
       bool
       needs_full_mass_matrix() const override
       {
-        return k > 1;
+        return k > 1 && series_this_step;
+      }
+
+      bool
+      begin_step(const unsigned int step,
+                 const double       time,
+                 const double       time_step) override;
+
+      bool
+      periodic() const override
+      {
+        return period > 1 || period_time > 0;
       }
 
       bool
@@ -112,8 +124,16 @@ namespace fmpm
       /** Adaptive order: the relative increment that ends the series
        * early ('Increment tolerance'); 0: always k. */
       double tolerance = 0;
+      /** Periodic FMPM(k): the series every 'Period' steps, or once in
+       * every 'Period time' interval when that is positive; lumped steps in
+       * between. */
+      unsigned int period      = 1;
+      double       period_time = 0;
 
     private:
+      /** Whether the current step uses the series (begin_step()). */
+      bool               series_this_step = true;
+      unsigned long long series_steps     = 0;
       /** Orders used by solve() since the last output and in the run. */
       mutable unsigned long long solves_since_output = 0, orders_since_output = 0,
                                  solves = 0, orders = 0;

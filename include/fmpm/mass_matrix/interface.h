@@ -126,6 +126,29 @@ namespace fmpm
         return {};
       }
 
+      /**
+       * @brief Called at the start of every time step (step number before
+       * the step, its start time and length): whether this step uses the
+       * mass matrix's own inverse; false for the lumped steps between the
+       * full-mass steps of a periodic FMPM(k). solve() and vmult() then act
+       * as the lumped matrix.
+       */
+      virtual bool
+      begin_step(const unsigned int /*step*/,
+                 const double /*time*/,
+                 const double /*time_step*/)
+      {
+        return true;
+      }
+
+      /** @brief Whether begin_step() can return false (periodic FMPM(k):
+       * FLIP with the lumped matrix in the steps between). */
+      virtual bool
+      periodic() const
+      {
+        return false;
+      }
+
       /** @brief The adaptive order's relative increment tolerance (0:
        * none, the series always has order() terms). */
       virtual double
