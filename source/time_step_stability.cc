@@ -79,6 +79,14 @@ namespace fmpm
      * with another build). */
     constexpr double consistent_limit = 0.4;
 
+    /** Periodic FMPM(5) (FMPM update, USAVG+) on the vibrating bar of
+     * parameters/nairn_bar.prm: period 5 stable at C = 0.3 and 0.35,
+     * unstable at 0.4; periods 3 and 10 stable at 0.4, unstable at 0.5;
+     * period 2 stable at 0.5. Switching the mass matrix between steps
+     * changes each mode's frequency periodically (a parametric
+     * resonance that neither matrix alone has). */
+    constexpr double periodic_limit = 0.35;
+
     /** FMPM(k) of high order with full-mass strain velocities on the
      * colliding disks: the truncated series amplifies the near-null modes
      * of barely touched nodes by up to k (the exact solve's weak-node
@@ -143,6 +151,14 @@ namespace fmpm
                   ": the series amplifies near-null modes by up to k; "
                   "colliding disks stable at C = 3.2/k (k = 32, 64)";
               }
+          }
+        if (!full && method.periodic && periodic_limit < limit.max_courant)
+          {
+            limit.max_courant = periodic_limit;
+            limit.basis =
+              "periodic " + name +
+              ": the vibrating bar with period 5 is stable at C = 0.35, "
+              "unstable at 0.4 (periods 3 and 10: at 0.5)";
           }
         // Lumped strain velocities are at least as stable as full-mass ones.
         if (!full_mass_strain_velocities &&

@@ -655,6 +655,7 @@ namespace fmpm
       method.strain_update_mass_matrix =
         parameters.method.strain_update_mass_matrix;
       method.position_update_psi = particle_update->position_update_psi();
+      method.periodic            = mass_matrix->periodic();
       stability                  = stability_limit(method);
       if (parameters.time.courant_limit > 0)
         {

@@ -167,6 +167,26 @@ namespace
 
 
 
+  // Periodic FMPM(k): the vibrating bar with period 5 fails at C = 0.4 and
+  // with periods 3-10 at 0.5, stable at 0.35: the limit lies below those
+  // and below the method's own.
+  TEST(StabilityLimit, PeriodicFmpmIsCapped)
+  {
+    for (const auto &su : strain_updates)
+      for (const unsigned int k : {2u, 5u, 10u})
+        {
+          fmpm::StabilityMethod m = method("fmpm", k, false, su);
+          const double every_step = fmpm::stability_limit(m).max_courant;
+          m.periodic              = true;
+          const double periodic   = fmpm::stability_limit(m).max_courant;
+          EXPECT_LE(periodic, every_step) << su << k;
+          EXPECT_LE(periodic, 0.35 + 1e-12) << su << k;
+          EXPECT_GT(periodic, 0) << su << k;
+        }
+  }
+
+
+
   // doc/studies/stability.md "Large compression": FMPM/XPIC of k >= 3 and
   // the exact solve with psi > 0 get a note naming psi = 0; k <= 2, psi = 0,
   // FLIP-type updates and the lumped matrix get none.
