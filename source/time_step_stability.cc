@@ -87,15 +87,15 @@ namespace fmpm
      * resonance that neither matrix alone has). */
     constexpr double periodic_limit = 0.35;
 
-    /** FMPM(k) of high order with full-mass strain velocities on the
-     * colliding disks: the truncated series amplifies the near-null modes
-     * of barely touched nodes by up to k (the exact solve's weak-node
-     * remedy has no counterpart in the series), so the limit falls as 1/k:
-     * k = 32 stable at C = 0.1, fails at 0.133 and 0.2; k = 64 stable at
-     * 0.05, fails at 0.1 and 0.2; k = 16, 20, 24 stable at 0.133. The
-     * limit is this constant over k where that is below the full matrix's
-     * (k > 26). */
-    constexpr double high_order_constant = 3.2;
+    /** FMPM(k) of high order with full-mass strain velocities: the
+     * truncated series amplifies the near-null modes of barely touched
+     * nodes by up to k (the exact solve's weak-node remedy has no
+     * counterpart in the series), so the limit falls as 1/k. The rigid
+     * rotation: k = 32 stable at C = 0.065 and 0.08, unstable at 0.1;
+     * k = 12, 16, 20, 24 stable at 0.12, unstable at 3.2/k. The colliding
+     * disks: k = 64 stable at 0.05, unstable at 0.1. The limit is this
+     * constant over k where that is below the full matrix's (k > 21). */
+    constexpr double high_order_constant = 2.56;
   } // namespace
 
 
@@ -149,7 +149,8 @@ namespace fmpm
                 limit.basis =
                   name + ", " + strain_text +
                   ": the series amplifies near-null modes by up to k; "
-                  "colliding disks stable at C = 3.2/k (k = 32, 64)";
+                  "the rigid rotation is stable at C = 2.56/k (k = 32), "
+                  "unstable at 3.2/k";
               }
           }
         if (!full && method.periodic && periodic_limit < limit.max_courant)
