@@ -622,7 +622,11 @@ namespace fmpm
     GridVectorField force;            // f
     GridVectorField updated_momentum; // p⁺ = p + fΔt
     std::array<GridVectorField, ParticleUpdate::n_grid_fields> grid_fields;
+    /** The grid fields a step computes and the particle update reads:
+     * field_needed for the configured update, lumped_step_fields for the
+     * FLIP of the lumped steps of a periodic FMPM(k) (active_fields()). */
     std::array<bool, ParticleUpdate::n_grid_fields>            field_needed;
+    std::array<bool, ParticleUpdate::n_grid_fields> lumped_step_fields;
     std::array<bool, ParticleUpdate::n_grid_fields>            field_computed;
     TrilinosWrappers::SparseMatrix                             full_mass_matrix;
     /** m̃ as one local matrix per cell (FMPM(k) without hanging nodes). */
@@ -700,6 +704,23 @@ namespace fmpm
      * and whether the current step uses the mass matrix's series. */
     std::unique_ptr<ParticleUpdate::Interface<dim>> lumped_step_update;
     bool                                            series_step = true;
+
+    /** The update of this step: the configured one, or FLIP in a lumped
+     * step of a periodic FMPM(k). */
+    ParticleUpdate::Interface<dim> &
+    active_update() const
+    {
+      return (series_step || !lumped_step_update) ? *particle_update :
+                                                    *lumped_step_update;
+    }
+
+    /** The fields active_update() reads this step. */
+    const std::array<bool, ParticleUpdate::n_grid_fields> &
+    active_fields() const
+    {
+      return (series_step || !lumped_step_update) ? field_needed :
+                                                    lumped_step_fields;
+    }
 
     History<dim> history;
 

@@ -229,29 +229,22 @@ namespace fmpm
     Fmpm<dim>::solve(const GridVectorField &p, GridVectorField &v) const
     {
       const unsigned int order = series_this_step ? k : 1;
+      const auto         apply = [&](const auto &m_tilde) {
+        count(apply_fmpm_inverse(m_tilde,
+                                 this->get_lumped_mass(),
+                                 p,
+                                 v,
+                                 order,
+                                 this->get_simulator().mass_floor(),
+                                 &this->get_known_velocity_mask(),
+                                 &this->get_known_velocity_values(),
+                                 tolerance));
+      };
       if (const CellwiseMatrix *cellwise =
             this->get_simulator().get_cellwise_full_mass_matrix())
-        {
-          count(apply_fmpm_inverse(*cellwise,
-                                   this->get_lumped_mass(),
-                                   p,
-                                   v,
-                                   order,
-                                   this->get_simulator().mass_floor(),
-                                   &this->get_known_velocity_mask(),
-                                   &this->get_known_velocity_values(),
-                                   tolerance));
-          return;
-        }
-      count(apply_fmpm_inverse(this->get_full_mass_matrix(),
-                               this->get_lumped_mass(),
-                               p,
-                               v,
-                               order,
-                               this->get_simulator().mass_floor(),
-                               &this->get_known_velocity_mask(),
-                               &this->get_known_velocity_values(),
-                               tolerance));
+        apply(*cellwise);
+      else
+        apply(this->get_full_mass_matrix());
     }
 
 

@@ -589,8 +589,9 @@ namespace fmpm
       // method's reactions.
       const bool centre_of_mass_series =
         !contact_active() || grid_output_follows_step(dt);
+      const auto &needed = active_fields();
       for (unsigned int f = 0; f < n_grid_fields; ++f)
-        if ((field_needed[f] &&
+        if ((needed[f] &&
              (centre_of_mass_series || f == lumped_velocity ||
               f == lumped_updated_velocity || f == lumped_acceleration)) ||
             (velocity_method_reactions &&
@@ -598,7 +599,7 @@ namespace fmpm
           compute_field(static_cast<GridField>(f));
       if (contact_active())
         for (unsigned int f = 0; f < n_grid_fields; ++f)
-          if (field_needed[f])
+          if (needed[f])
             compute_material_field(static_cast<GridField>(f));
       // Seed 000 Eq. 4.1: f holds the conditions' forces, and the solve
       // sets the known accelerations of the corrected nodes (Δv⁺/Δt).

@@ -669,19 +669,22 @@ namespace fmpm
         }
     }
 
-    field_needed.fill(false);
-    field_needed[ParticleUpdate::updated_velocity] = true;
+    // v⁺ always (grid output, conditions); grid damping needs S v, the
+    // dissipation measure S v and S a.
+    std::array<bool, ParticleUpdate::n_grid_fields> always;
+    always.fill(false);
+    always[ParticleUpdate::updated_velocity] = true;
+    if (parameters.method.grid_damping != 0)
+      always[ParticleUpdate::velocity] = true;
+    if (parameters.output.track_dissipation)
+      always[ParticleUpdate::velocity] = always[ParticleUpdate::acceleration] =
+        true;
+    field_needed = lumped_step_fields = always;
     for (const auto field : particle_update->required_fields())
       field_needed[field] = true;
     if (lumped_step_update)
       for (const auto field : lumped_step_update->required_fields())
-        field_needed[field] = true;
-    // Grid damping needs S v; the dissipation measure S v and S a.
-    if (parameters.method.grid_damping != 0)
-      field_needed[ParticleUpdate::velocity] = true;
-    if (parameters.output.track_dissipation)
-      field_needed[ParticleUpdate::velocity] =
-        field_needed[ParticleUpdate::acceleration] = true;
+        lumped_step_fields[field] = true;
   }
 
 

@@ -896,8 +896,9 @@ namespace fmpm
     // (the point reads its material's field, Eq. 32).
     const bool              contact = contact_active();
     std::vector<FieldViews> views(contact ? material_fields.size() : 1);
+    const auto &needed = active_fields();
     for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
-      if (field_needed[f])
+      if (needed[f])
         {
           fields[n_fields++] = f;
           for (unsigned int a = 0; a < views.size(); ++a)
@@ -909,9 +910,7 @@ namespace fmpm
         }
 
     // Periodic FMPM(k): FLIP in the lumped steps between the series.
-    ParticleUpdate::Interface<dim> &active_update =
-      (series_step || !lumped_step_update) ? *particle_update :
-                                             *lumped_step_update;
+    ParticleUpdate::Interface<dim> &update = active_update();
     auto                      &pool = particle_handler.get_property_pool();
     ParticleUpdate::Batch<dim> batch;
     batch.time_step = time_step;
@@ -989,7 +988,7 @@ namespace fmpm
             V_n = &damping_velocity;
           }
 
-        active_update.update(batch);
+        update.update(batch);
 
         // Damping (seed 003 Eqs. 1.21-1.25): the acceleration loses
         // A_damp = α_g S v + α_p V^(n); V^(n+1) -= A_damp Δt and, the
