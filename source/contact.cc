@@ -171,12 +171,15 @@ namespace fmpm
       prm.declare_entry(
         "XPIC contact term",
         "corrected",
-        Patterns::Selection("corrected|uncorrected"),
+        Patterns::Selection("corrected|uncorrected|series"),
         "Multimaterial XPIC(k)/FMPM(k) (mass matrix 'fmpm' of order k): "
         "'corrected' projects each material with S^{+a} and adds the "
         "contact term (I - S S^{+a})^{k-1} S dv^a of the first correction "
         "(seed 004 Eq. 37, seed 000 Eqs. 3.18, 3.22); 'uncorrected' omits "
-        "that term (the simple extension, Eq. 48). Units: none.");
+        "that term (the simple extension, Eq. 48); 'series' puts the "
+        "contact-corrected momenta of every correction through the whole "
+        "series, (m~_k^a)^-1 p^a (NairnMPM; Nairn 2026 tech note, Sec. "
+        "3.1.1, method 2 with 'net incremental'). Units: none.");
       prm.declare_entry(
         "Contact in mass-matrix iterations",
         "net incremental",
@@ -249,7 +252,11 @@ namespace fmpm
         }
       corrections_per_step = prm.get_integer("Corrections per step");
       lumped_three_or_more = prm.get("Three or more materials") == "lumped";
-      xpic_uncorrected     = prm.get("XPIC contact term") == "uncorrected";
+      const std::string term = prm.get("XPIC contact term");
+      xpic_contact_term      = term == "uncorrected" ?
+                                 XpicContactTerm::uncorrected :
+                               term == "series" ? XpicContactTerm::series :
+                                                  XpicContactTerm::corrected;
       net_incremental =
         prm.get("Contact in mass-matrix iterations") == "net incremental";
       prm.leave_subsection();

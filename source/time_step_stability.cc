@@ -87,15 +87,36 @@ namespace fmpm
      * resonance that neither matrix alone has). */
     constexpr double periodic_limit = 0.35;
 
-    /** FMPM(k) of high order with full-mass strain velocities: the
-     * truncated series amplifies the near-null modes of barely touched
-     * nodes by up to k (the exact solve's weak-node remedy has no
-     * counterpart in the series), so the limit falls as 1/k. The rigid
-     * rotation: k = 32 stable at C = 0.065 and 0.08, unstable at 0.1;
-     * k = 12, 16, 20, 24 stable at 0.12, unstable at 3.2/k. The colliding
-     * disks: k = 64 stable at 0.05, unstable at 0.1. The limit is this
-     * constant over k where that is below the full matrix's (k > 21). */
+    /** FMPM(k) of high order with full-mass strain velocities and shape
+     * functions whose near-null modes the series amplifies by up to k
+     * (classic; GIMP with USF/USL/USL+): the limit falls as 1/k. The rigid
+     * rotation (classic): k = 32 stable at C = 0.065 and 0.08, unstable at
+     * 0.1; k = 12, 16, 20, 24 stable at 0.12, unstable at 3.2/k; NairnMPM
+     * fails it at the same Courant numbers (FMPM(16) at 0.2, FMPM(32) at
+     * 0.2). uGIMP with USL-: k = 16 stable at 0.12, k = 32 at 0.08,
+     * unstable at 0.15-0.5. The limit is this constant over k where that
+     * is below the full matrix's (k > 21). */
     constexpr double high_order_constant = 2.56;
+
+    /** FMPM(k) of high order with CPDI (any strain update) or GIMP with
+     * USAVG/USAVG+: the limit falls as 1/sqrt(k), 1.18/sqrt(k) below every
+     * stable measurement. The rigid rotation:
+     * k = 12 stable at 0.35, 16 at 0.3 (unstable at 0.4 with uGIMP
+     * USAVG+ and CPDI USL-), 32 at 0.212 (unstable at 0.3), 64 at 0.15
+     * (unstable at 0.3); the 2026 disk impact (CPDI, USL-): k = 16 and 32
+     * at 0.2, as NairnMPM. */
+    constexpr double smooth_high_order_constant = 1.18;
+
+    /** Whether the shape functions keep the series' near-null modes
+     * weak enough for the 1/sqrt(k) limit. */
+    bool
+    smooth_for_high_orders(const std::string &shape_function,
+                           const bool         averaged_strain_update)
+    {
+      return shape_function == "cpdi" ||
+             ((shape_function == "ugimp" || shape_function == "cpgimp") &&
+              averaged_strain_update);
+    }
   } // namespace
 
 
@@ -135,6 +156,18 @@ namespace fmpm
             limit.basis       = name + ", " + strain_text +
                           ": the vibrating bar's measured critical Courant "
                           "number";
+          }
+        else if (!full && full_mass_strain_velocities &&
+                 smooth_for_high_orders(method.shape_function, averaged))
+          {
+            limit.max_courant =
+              std::min(fmpm_order_limit(10, averaged),
+                       smooth_high_order_constant / std::sqrt(method.order));
+            limit.basis = name + ", " + strain_text + ", shape function '" +
+                          method.shape_function +
+                          "': the rigid rotation is stable at C = "
+                          "1.18/sqrt(k) (k = 12 to 64), unstable at 0.3 "
+                          "(k = 32)";
           }
         else
           {

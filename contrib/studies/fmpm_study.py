@@ -1046,7 +1046,14 @@ class ChartData:
         if not str(row["status"]).startswith("completed"):
             return None
         key = key or self.error_key
-        error = to_float(row.get(key, row["_summary"].get(key)))
+        if key == "energy_loss":  # 1 - E_end / E_0 (no external work)
+            summary = row["_summary"]
+            initial = to_float(summary.get("initial_total_energy"))
+            final = to_float(summary.get("final_total_energy"))
+            error = 1 - final / initial if initial and final is not None \
+                else None
+        else:
+            error = to_float(row.get(key, row["_summary"].get(key)))
         return error if error and error > 0 else None
 
 

@@ -25,6 +25,19 @@ namespace fmpm
    */
   namespace Contact
   {
+    /** The contact term of multimaterial XPIC(k)/FMPM(k). */
+    enum class XpicContactTerm
+    {
+      /** The first correction's Δv^α decays as (I − A^α)^{k−1} (seed 004
+       * Eq. 37, seed 000 Eqs. 3.18, 3.22). */
+      corrected,
+      /** Without the first correction (seed 004 Eq. 48). */
+      uncorrected,
+      /** (m̃ₖ^α)⁻¹ p^α of the corrected momenta (Nairn 2026 tech note,
+       * Sec. 3.1.1, method 2). */
+      series
+    };
+
     /** How the contact normal n̂ and the contact test of a node are found. */
     enum class NormalMethod
     {
@@ -87,9 +100,8 @@ namespace fmpm
       unsigned int         corrections_per_step = 2;
       /** 'Three or more materials = lumped' (else pairwise). */
       bool lumped_three_or_more = true;
-      /** 'XPIC contact term = uncorrected': multimaterial XPIC(k) without
-       * the Δv^α term of seed 004 Eq. 37 (the comparison of Eq. 48). */
-      bool xpic_uncorrected = false;
+      /** 'XPIC contact term'. */
+      XpicContactTerm xpic_contact_term = XpicContactTerm::corrected;
       /** 'Contact in mass-matrix iterations = net incremental': the laws
        * also correct each increment of the FMPM(k)/XPIC(k) series. */
       bool net_incremental = true;

@@ -31,6 +31,8 @@ namespace fmpm
      * ('Particle update/Fmpm|Xpic/Position update psi'); 0 for the other
      * updates. */
     double position_update_psi = 0;
+    /** 'Shape function/Type': classic, ugimp, cpgimp or cpdi. */
+    std::string shape_function = "classic";
     /** Periodic FMPM(k): the series only in some steps, the lumped mass
      * matrix in the others ('Mass matrix/Fmpm/Period', 'Period time'). */
     bool periodic = false;

@@ -600,14 +600,19 @@ namespace fmpm
                    const unsigned int b) -> const Contact::LawInterface<dim> & {
       return *contact_laws[std::min(a, b) * n_materials + std::max(a, b)];
     };
+    // 'XPIC contact term = series' keeps Δv^α = 0: the corrected momenta
+    // then go through the whole series.
+    const bool records_first_correction =
+      (stage == ContactStage::extrapolated ||
+       stage == ContactStage::re_extrapolated) &&
+      contact.xpic_contact_term != Contact::XpicContactTerm::series;
     auto add_momentum = [&](const unsigned int    a,
                             const unsigned int    i,
                             const Tensor<1, dim> &dp) {
       for (unsigned int d = 0; d < dim; ++d)
         {
           p[a * dim + d][i] += dp[d];
-          if (stage == ContactStage::extrapolated ||
-              stage == ContactStage::re_extrapolated)
+          if (records_first_correction)
             dv[a * dim + d][i] += dp[d] / m[a][i];
         }
     };
@@ -721,7 +726,8 @@ namespace fmpm
                                                material.momentum,
                                                target,
                                                mass_floor_value);
-              if (field == velocity && parameters.contact.xpic_uncorrected &&
+              if (field == velocity && parameters.contact.xpic_contact_term ==
+                    Contact::XpicContactTerm::uncorrected &&
                   mass_matrix->order() > 1)
                 {
                   // v^α0 = v^α − Δv^α: the series of Eq. 37 without the
@@ -737,7 +743,8 @@ namespace fmpm
                                                target,
                                                mass_floor_value);
               if (field == updated_velocity &&
-                  parameters.contact.xpic_uncorrected &&
+                  parameters.contact.xpic_contact_term ==
+                    Contact::XpicContactTerm::uncorrected &&
                   mass_matrix->order() > 1)
                 target.add(-1., material.delta_velocity);
               velocity_conditions.correct_velocities(target, t_end, nullptr);

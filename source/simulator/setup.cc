@@ -656,6 +656,7 @@ namespace fmpm
         parameters.method.strain_update_mass_matrix;
       method.position_update_psi = particle_update->position_update_psi();
       method.periodic            = mass_matrix->periodic();
+      method.shape_function      = parameters.method.shape_function;
       stability                  = stability_limit(method);
       if (parameters.time.courant_limit > 0)
         {

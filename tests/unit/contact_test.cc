@@ -375,6 +375,11 @@ namespace
           const double once_per_step   = difference(once);
           const double uncorrected =
             difference(once + " set XPIC contact term = uncorrected\n");
+          // The corrected momenta through the series: with the increments
+          // made equal the one field again.
+          const double series =
+            difference(" set XPIC contact term = series\n");
+          EXPECT_LT(series, 1e-12) << update << k;
           std::cout << update << "(" << k << "), perfect interfaces: largest "
                     << "kinetic energy difference to one material "
                     << net_incremental << " (net incremental), "
@@ -588,8 +593,13 @@ namespace
                          perfect_once +
                            " set XPIC contact term = uncorrected\n",
                          "output-eq47-uncorrected");
+        const auto series = one_xpic2_step(
+          velocity.str(),
+          perfect_once + " set XPIC contact term = series\n",
+          "output-eq47-series");
         ASSERT_EQ(points.size(), single.size());
         ASSERT_EQ(corrected.size(), single.size());
+        ASSERT_EQ(series.size(), single.size());
         for (auto &point : points)
           point.V = field_value(point.x, A, ripple);
 
@@ -665,8 +675,10 @@ namespace
         const auto W_material = project(W, true);
         const auto SpSv       = project(Sv, false);   // S⁺Sv
         const auto SaSva0     = project(Sv_a0, true); // S^{+α}Sv^{α0}
+        const auto SaSv       = project(Sv, true);    // S^{+α}Sv
 
         double       max_corrected_error = 0, max_uncorrected_error = 0;
+        double       max_series_error = 0, max_series_term = 0;
         double       max_term = 0, max_term48 = 0;
         unsigned int q = 0;
         for (const auto &[id, V_single] : single)
@@ -681,6 +693,15 @@ namespace
                                         interpolate(SaSva0, a, point.x) -
                                         2 * interpolate(v, 0, point.x) +
                                         interpolate(SpSv, 0, point.x);
+            // 'series': the corrected lumped velocity of α is v at every
+            // node of α (perfect interface), so XPIC(2) gives S(2v −
+            // S^{+α}Sv): the term S(S⁺ − S^{+α})Sv.
+            const Tensor<1, 2> series_term =
+              interpolate(SpSv, 0, point.x) - interpolate(SaSv, a, point.x);
+            max_series_term = std::max(max_series_term, series_term.norm());
+            max_series_error =
+              std::max(max_series_error,
+                       (series.at(id) - V_single - series_term).norm());
             max_term   = std::max(max_term, term.norm());
             max_term48 = std::max(max_term48, term48.norm());
             max_corrected_error =
@@ -699,6 +720,10 @@ namespace
         EXPECT_GT(max_term, 1e-2 * ripple); // the term is not zero
         EXPECT_LT(max_corrected_error, 1e-12);
         EXPECT_LT(max_uncorrected_error, 1e-12);
+        std::cout << "series term up to " << max_series_term
+                  << ", matched to " << max_series_error << std::endl;
+        EXPECT_GT(max_series_term, 1e-2 * ripple);
+        EXPECT_LT(max_series_error, 1e-12);
         corrected_norm[case_index]   = max_term;
         uncorrected_norm[case_index] = max_term48;
         ++case_index;

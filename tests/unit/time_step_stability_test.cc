@@ -172,6 +172,45 @@ namespace
 
 
 
+  // CPDI (any strain update) and GIMP with USAVG/USAVG+: the rigid rotation
+  // is stable at 1.18/sqrt(k) for k = 12 to 64 and unstable at 0.3 for
+  // k = 32 (0.4 for k = 16); the 2026 disk impact (CPDI, USL-) runs
+  // FMPM(16) and FMPM(32) at NairnMPM's 0.2. GIMP with USL- keeps the
+  // classic limit (the rotation fails FMPM(16) at 0.2, in NairnMPM too).
+  TEST(StabilityLimit, SmoothShapeFunctionsFallAsOneOverSqrtK)
+  {
+    auto limit = [](const std::string &shape,
+                    const unsigned int k,
+                    const std::string &su) {
+      fmpm::StabilityMethod m = method("fmpm", k, false, su);
+      m.shape_function        = shape;
+      return fmpm::stability_limit(m).max_courant;
+    };
+    for (const auto &[shape, su] :
+         std::vector<std::pair<std::string, std::string>>{{"cpdi", "usl"},
+                                                          {"cpdi", "usf"},
+                                                          {"cpdi", "usl+"},
+                                                          {"cpdi", "usavg+"},
+                                                          {"ugimp", "usavg+"},
+                                                          {"cpgimp", "usavg"}})
+      {
+        for (const unsigned int k : {16u, 32u})
+          EXPECT_GE(limit(shape, k, su), 0.2) << shape << su << k;
+        EXPECT_LE(limit(shape, 16, su), 0.3 + 1e-12) << shape << su;
+        EXPECT_LE(limit(shape, 32, su), 0.212 + 1e-12) << shape << su;
+        EXPECT_LE(limit(shape, 64, su), 0.15 + 1e-12) << shape << su;
+        EXPECT_LE(limit(shape, 12, su), 0.35 + 1e-12) << shape << su;
+        // Below k = 10 the bar's table, unchanged by the shape function.
+        EXPECT_EQ(limit(shape, 5, su), limit("classic", 5, su)) << shape << su;
+      }
+    for (const std::string shape : {"classic", "ugimp", "cpgimp"})
+      for (const unsigned int k : {16u, 32u})
+        EXPECT_LT(limit(shape, k, "usl"), 0.2) << shape << k;
+    EXPECT_LT(limit("classic", 16, "usavg+"), 0.2);
+  }
+
+
+
   // Periodic FMPM(k): the vibrating bar with period 5 fails at C = 0.4 and
   // with periods 3-10 at 0.5, stable at 0.35: the limit lies below those
   // and below the method's own.
