@@ -546,10 +546,12 @@ namespace fmpm
         Patterns::Anything(),
         "The largest Courant number the automatic time step uses. 'auto': "
         "the measured critical Courant number of the chosen mass matrix, "
-        "its order, particle update, strain update and strain-update mass "
-        "matrix (doc/studies/stability.md: none for the lumped mass "
-        "matrix, 0.5 to 0.9 for FMPM(k) of k = 2 to 10, 0.12 for the exact "
-        "full mass matrix with full-mass strain velocities); the run says "
+        "its order, particle update, strain update, strain-update mass "
+        "matrix and shape function (doc/studies/stability.md: none for the "
+        "lumped mass matrix, 0.5 to 0.9 for FMPM(k) of k = 2 to 10, "
+        "1.18/sqrt(k) above with CPDI or with GIMP and USAVG, min(0.12, "
+        "2.56/k) otherwise, 0.12 for the exact full mass matrix, with "
+        "full-mass strain velocities); the run says "
         "so when it caps 'Courant number'. 'none': no cap (stability "
         "studies that measure the limits). Or a number > 0, a cap of your "
         "own. Units: none.");
