@@ -97,14 +97,14 @@ namespace fmpm
         Patterns::Selection("none|multimaterial"),
         "'none': all bodies share one velocity field (bodies that touch "
         "stick, as in Sulsky's colliding disks). 'multimaterial': one "
-        "velocity field per material (seed 004 Eqs. 5-6) and contact "
+        "velocity field per material ([NHS2020-contact] Eqs. 5-6) and contact "
         "corrections at nodes where materials meet (Eqs. 7-10, §3.2). "
         "Bodies of one material share a field. Units: none.");
       prm.declare_entry(
         "Normals",
         "logistic regression",
         Patterns::Selection(normal_names),
-        "Contact normal and contact test of a node (seed 004 §2.3, §3.1). "
+        "Contact normal and contact test of a node ([NHS2020-contact] §2.3, §3.1). "
         "'velocity only': n from the volume gradients (Eq. 13), contact "
         "whenever the materials approach (Eq. 14). 'average gradient': n "
         "of Eq. 13, approach and separation of the extrapolated positions "
@@ -159,12 +159,12 @@ namespace fmpm
                         "2",
                         Patterns::Integer(1, 2),
                         "2: after the extrapolation and after the momentum "
-                        "update (seed 004 §3.2); 1: after the momentum update "
+                        "update ([NHS2020-contact] §3.2); 1: after the momentum update "
                         "only (the 'LR once' comparison). Units: none.");
       prm.declare_entry("Three or more materials",
                         "lumped",
                         Patterns::Selection("lumped|pairwise"),
-                        "Nodes with 3+ materials (seed 004 §3.4): 'lumped' "
+                        "Nodes with 3+ materials ([NHS2020-contact] §3.4): 'lumped' "
                         "treats each material against the sum of the others "
                         "(Eq. 50); 'pairwise' corrects every pair in turn "
                         "(conserves momentum). Units: none.");
@@ -175,7 +175,7 @@ namespace fmpm
         "Multimaterial XPIC(k)/FMPM(k) (mass matrix 'fmpm' of order k): "
         "'corrected' projects each material with S^{+a} and adds the "
         "contact term (I - S S^{+a})^{k-1} S dv^a of the first correction "
-        "(seed 004 Eq. 37, seed 000 Eqs. 3.18, 3.22); 'uncorrected' omits "
+        "([NHS2020-contact] Eq. 37, [Nairn2023-FMPM] Eqs. 3.18, 3.22); 'uncorrected' omits "
         "that term (the simple extension, Eq. 48); 'series' puts the "
         "contact-corrected momenta of every correction through the whole "
         "series, (m~_k^a)^-1 p^a (NairnMPM; Nairn 2026 tech note, Sec. "
@@ -188,7 +188,7 @@ namespace fmpm
         "laws also to each increment of the series of each material "
         "(Nairn 2026, 'net incremental contact'; the velocity conditions "
         "are re-imposed on every increment); 'once per step' corrects only "
-        "the extrapolated and updated momenta (seed 000 Ch. 3). Units: "
+        "the extrapolated and updated momenta ([Nairn2023-FMPM] Ch. 3). Units: "
         "none.");
       prm.leave_subsection();
     }
@@ -405,7 +405,7 @@ namespace fmpm
     FMPM_REGISTER_CONTACT_LAW(PerfectInterface,
                               "perfect",
                               "No slip and no separation: both materials move "
-                              "with the centre of mass (seed 004 Eq. 7).")
+                              "with the centre of mass ([NHS2020-contact] Eq. 7).")
     FMPM_REGISTER_CONTACT_LAW(Frictionless,
                               "frictionless",
                               "Stops the normal approach of touching "

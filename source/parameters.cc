@@ -10,6 +10,8 @@
 #include <deal.II/base/numbers.h>
 #include <deal.II/base/utilities.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -83,20 +85,20 @@ namespace fmpm
         Patterns::Selection(
           ParticleUpdate::Registry<dim>::instance().pattern()),
         "How material points get their new velocity and "
-        "position from the grid (seed 000 Table 2.1). " +
+        "position from the grid ([Nairn2023-FMPM] Table 2.1). " +
           ParticleUpdate::Registry<dim>::instance().documentation() +
           "Units: none.");
       prm.declare_entry("Grid damping",
                         "0",
                         Patterns::Double(),
-                        "alpha_g of seed 003 Eqs. 1.17-1.24: the update "
+                        "alpha_g of [Nairn2018-extrap] Eqs. 1.17-1.24: the update "
                         "subtracts alpha_g S v dt from the particle velocity "
                         "(and half of it times dt from the position); for "
                         "quasi-static scenes. Units: 1/s.");
       prm.declare_entry("Particle damping",
                         "0",
                         Patterns::Double(),
-                        "alpha_p of seed 003 Eqs. 1.17-1.24: the update "
+                        "alpha_p of [Nairn2018-extrap] Eqs. 1.17-1.24: the update "
                         "subtracts alpha_p V dt from the particle velocity. "
                         "Units: 1/s.");
       ParticleUpdate::Registry<dim>::instance().declare_parameters(prm);
@@ -314,7 +316,9 @@ namespace fmpm
                         mesh.file_name,
                         Patterns::Anything(),
                         "Gmsh .msh file for 'Type = gmsh', relative to the "
-                        "working directory. Units: none.");
+                        "folder of the scene file that sets it (to the "
+                        "working directory for standard input). Units: "
+                        "none.");
       prm.declare_entry("Initial global refinement",
                         std::to_string(mesh.global_refinement),
                         Patterns::Integer(0, 12),
@@ -416,7 +420,7 @@ namespace fmpm
         Patterns::Selection("constrained|lumped|velocity|unlumped 1|"
                             "unlumped 2|collection full|collection partial"),
         "How velocity conditions are imposed when the mass matrix is not "
-        "lumped (seed 000 Sec. 2.4): 'constrained': lumped momentum and "
+        "lumped ([Nairn2023-FMPM] Sec. 2.4): 'constrained': lumped momentum and "
         "force changes, and the condition values are known values of every "
         "full-mass solve (the least-squares problem with the conditions as "
         "constraints); 'lumped': Eq. 2.52 only; 'velocity': Eq. 2.53, grid "
@@ -427,7 +431,7 @@ namespace fmpm
         "n_BC x n_BC system (n_BC + 1 mass-matrix solves per stage); "
         "'collection partial': those forces with a lumped mass matrix. All "
         "reduce to 'lumped' with a lumped mass matrix except 'unlumped 1' "
-        "(as seed 000 remarks). Units: none.");
+        "(as [Nairn2023-FMPM] remarks). Units: none.");
       const MovingWallParameters wall;
       for (unsigned int w = 0; w < size.n_moving_walls; ++w)
         {
@@ -570,7 +574,7 @@ namespace fmpm
       prm.declare_entry("Strain update",
                         "usavg+",
                         Patterns::Selection("usf|usl|usl+|usavg|usavg+"),
-                        "When stresses are updated (seed 000 §2.1-2.2): "
+                        "When stresses are updated ([Nairn2023-FMPM] §2.1-2.2): "
                         "'usf' before the force extrapolation with v from p; "
                         "'usl' (USL-) after the particle update with the grid "
                         "velocity v+; 'usl+' after re-extrapolating the "
@@ -581,7 +585,7 @@ namespace fmpm
                         "same",
                         Patterns::Selection("same|lumped"),
                         "Which mass matrix turns momenta into the grid "
-                        "velocities of the strain update (seed 000 §3.3 "
+                        "velocities of the strain update ([Nairn2023-FMPM] §3.3 "
                         "question 2): 'same' as the particle update, or "
                         "'lumped'. Units: none.");
     }
@@ -593,7 +597,7 @@ namespace fmpm
         "Type",
         "classic",
         Patterns::Selection(ShapeFunction::pattern()),
-        "The grid shape functions S and G of the transfers (seed 001, "
+        "The grid shape functions S and G of the transfers ([Vaango-MPM], "
         "'Shape functions for MPM, GIMP, and CPDI'): 'classic' the FE_Q(1) "
         "basis at the point; 'ugimp' GIMP averages over the box of the "
         "initial half-lengths; 'cpgimp' GIMP over the box circumscribing the "
@@ -625,7 +629,7 @@ namespace fmpm
                         Patterns::Selection(
                           "first order|taylor|subcycle|cayley"),
                         "How F^(n+1) follows from F^n and the velocity "
-                        "gradient L (seed 001, computeDeformationGradient"
+                        "gradient L ([Vaango-MPM], computeDeformationGradient"
                         "FromVelocity): 'first order' (I + L dt) F; 'taylor' "
                         "sum_k (L dt)^k/k! F with 'Taylor terms' terms; "
                         "'subcycle' first-order substeps with |L dt_sub| "
@@ -680,7 +684,7 @@ namespace fmpm
                       "Solve in a frame rotating with angular velocity w(t) "
                       "about 'Center': the body acceleration gains the "
                       "centrifugal -w x (w x r), Coriolis -2 w x V and Euler "
-                      "-dw/dt x r terms (seed 001, computing the body "
+                      "-dw/dt x r terms ([Vaango-MPM], computing the body "
                       "force). Units: none.");
     prm.declare_entry("Angular velocity",
                       "0; 0; 0",
@@ -747,7 +751,7 @@ namespace fmpm
                           "false",
                           Patterns::Bool(),
                           "Start with the stress in equilibrium with gravity "
-                          "(seed 001, initializeStressWithBodyForce): "
+                          "([Vaango-MPM], initializeStressWithBodyForce): "
                           "sigma = -rho |g| depth along g, with lateral "
                           "stresses of uniaxial strain, so that a column "
                           "under gravity starts at rest. Depth is measured "
@@ -779,6 +783,14 @@ namespace fmpm
                         Patterns::Bool(),
                         "Write particle and grid fields as VTU/PVTU with PVD "
                         "records for ParaView. Units: none.");
+      prm.declare_entry("Compression",
+                        output.compression,
+                        Patterns::Selection(
+                          "best speed|best compression|default|none"),
+                        "zlib compression of the binary VTU data: 'best "
+                        "speed' (files about as small as 'best compression' "
+                        "at a fraction of its cost), 'best compression', "
+                        "'default' (zlib's), or 'none'. Units: none.");
       prm.declare_entry(
         "Write particle csv",
         output.write_particle_csv ? "true" : "false",
@@ -792,7 +804,7 @@ namespace fmpm
         "Write grid acceleration",
         output.write_grid_acceleration ? "true" : "false",
         Patterns::Bool(),
-        "Add the grid acceleration a = m~_k^-1 f + dv+/dt of seed 000 Eq. "
+        "Add the grid acceleration a = m~_k^-1 f + dv+/dt of [Nairn2023-FMPM] Eq. "
         "(4.1) (the series' acceleration of the forces plus the change the "
         "velocity conditions make) to the grid VTU as acceleration_x/y/z, "
         "for crack and J-integral codes; solved only in the steps before a "
@@ -802,8 +814,8 @@ namespace fmpm
                         "false",
                         Patterns::Bool(),
                         "Sum the energy each particle update dissipates "
-                        "compared with a non-dissipative FLIP update (seed "
-                        "003 Eqs. 1.44-1.50) and write it, accumulated, as "
+                        "compared with a non-dissipative FLIP update "
+                        "([Nairn2018-extrap] Eqs. 1.44-1.50) and write it, accumulated, as "
                         "the column dissipated_energy of history.csv. Costs "
                         "two extra grid-to-point interpolations. Units: "
                         "none.");
@@ -1198,6 +1210,7 @@ namespace fmpm
     output.interval                = prm.get_double("Interval");
     output.step_interval           = prm.get_integer("Step interval");
     output.write_vtu               = prm.get_bool("Write vtu");
+    output.compression             = prm.get("Compression");
     output.write_particle_csv      = prm.get_bool("Write particle csv");
     output.write_grid_acceleration = prm.get_bool("Write grid acceleration");
     output.progress_seconds        = prm.get_double("Progress interval");
@@ -1269,7 +1282,9 @@ namespace fmpm
      * as a scene with every parameter at its default value.
      */
     void
-    check_is_parameter_file(const std::string &name, const std::string &text)
+    check_is_parameter_file(const std::string &name,
+                            const std::string &text,
+                            const bool         is_override)
     {
       for (const char c : text)
         AssertThrow(c == '\t' || c == '\n' || c == '\r' || c == '\f' ||
@@ -1281,6 +1296,7 @@ namespace fmpm
                                "--print-default-scene)."));
       std::istringstream in(text);
       std::string        line;
+      bool               only_comments = true;
       while (std::getline(in, line))
         {
           std::istringstream words(line);
@@ -1288,12 +1304,181 @@ namespace fmpm
           words >> first;
           if (first == "set" || first == "subsection" || first == "include")
             return;
+          only_comments = only_comments && (first.empty() || first[0] == '#');
         }
+      // An empty or comment-only override changes nothing (its settings
+      // commented out); as the scene itself it is a mistake.
+      if (only_comments && is_override)
+        return;
       AssertThrow(false,
                   ExcMessage("The scene file <" + name +
                              "> is not a parameter file: it has no 'set' or "
                              "'subsection' line. Give a text .prm file "
                              "(see fmpm --print-default-scene)."));
+    }
+
+    std::string
+    lower_case(std::string text)
+    {
+      for (char &c : text)
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      return text;
+    }
+
+    /** Levenshtein distance of @p a and @p b, ignoring case. */
+    unsigned int
+    edit_distance(const std::string &a, const std::string &b)
+    {
+      std::vector<unsigned int> previous(b.size() + 1), current(b.size() + 1);
+      for (unsigned int j = 0; j <= b.size(); ++j)
+        previous[j] = j;
+      for (unsigned int i = 1; i <= a.size(); ++i)
+        {
+          current[0] = i;
+          for (unsigned int j = 1; j <= b.size(); ++j)
+            current[j] = std::min(
+              {previous[j] + 1,
+               current[j - 1] + 1,
+               previous[j - 1] +
+                 (std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                      std::tolower(static_cast<unsigned char>(b[j - 1])) ?
+                    0u :
+                    1u)});
+          std::swap(previous, current);
+        }
+      return previous[b.size()];
+    }
+
+    /**
+     * The subsections (@p subsections true) or entries declared in @p prm
+     * inside the subsection @p path, from deal.II's PRM listing.
+     */
+    std::vector<std::string>
+    declared_names(const ParameterHandler         &prm,
+                   const std::vector<std::string> &path,
+                   const bool                      subsections)
+    {
+      std::stringstream listing;
+      prm.print_parameters(listing, ParameterHandler::PRM);
+      std::vector<std::string> current, names;
+      std::string              line;
+      while (std::getline(listing, line))
+        {
+          line = Utilities::trim(line.substr(0, line.find('#')));
+          if (line.rfind("subsection ", 0) == 0)
+            {
+              const std::string name = Utilities::trim(line.substr(11));
+              if (subsections && current == path)
+                names.push_back(name);
+              current.push_back(name);
+            }
+          else if (line == "end" && !current.empty())
+            current.pop_back();
+          else if (line.rfind("set ", 0) == 0 && !subsections &&
+                   current == path)
+            names.push_back(
+              Utilities::trim(line.substr(4, line.find('=') - 4)));
+        }
+      return names;
+    }
+
+    /**
+     * For deal.II's errors about an undeclared entry or subsection at a
+     * line of @p text: " Did you mean ...?" with the declared names nearest
+     * to the one written, or the names declared there; empty otherwise.
+     */
+    std::string
+    nearest_names_hint(const ParameterHandler &prm,
+                       const std::string      &text,
+                       const std::string      &message)
+    {
+      const std::string entry_marker = "No entry with name <";
+      const std::string section_marker =
+        "There is no such subsection to be entered: ";
+      const std::string line_marker = "Line <";
+      const auto        line_at     = message.find(line_marker);
+      if (line_at == std::string::npos)
+        return "";
+      const unsigned int line_number = static_cast<unsigned int>(
+        std::atoi(message.c_str() + line_at + line_marker.size()));
+      std::string written;
+      bool        subsection = false;
+      if (const auto at = message.find(entry_marker); at != std::string::npos)
+        {
+          const auto begin = at + entry_marker.size();
+          written          = message.substr(begin, message.find('>', begin) -
+                                                   begin);
+        }
+      else if (const auto at = message.find(section_marker);
+               at != std::string::npos)
+        {
+          written    = Utilities::trim(message.substr(
+            at + section_marker.size(),
+            message.find('\n', at) - at - section_marker.size()));
+          // deal.II names the subsection with its path: "Mass matrix.Fmmp".
+          if (written.find('.') != std::string::npos)
+            written = written.substr(written.rfind('.') + 1);
+          subsection = true;
+        }
+      else
+        return "";
+
+      // The subsection path in force at that line.
+      std::vector<std::string> path;
+      std::istringstream       in(text);
+      std::string              line;
+      for (unsigned int number = 1;
+           number < line_number && std::getline(in, line);
+           ++number)
+        {
+          line = Utilities::trim(line.substr(0, line.find('#')));
+          if (line.rfind("subsection ", 0) == 0)
+            path.push_back(Utilities::trim(line.substr(11)));
+          else if (line == "end" && !path.empty())
+            path.pop_back();
+        }
+      const std::vector<std::string> names =
+        declared_names(prm, path, subsection);
+      if (names.empty())
+        return "";
+      std::vector<std::pair<unsigned int, std::string>> ranked;
+      const std::string lower_written = lower_case(written);
+      for (const auto &name : names)
+        {
+          const unsigned int distance = edit_distance(written, name);
+          const bool contains =
+            !lower_written.empty() &&
+            (lower_case(name).find(lower_written) !=
+               std::string::npos ||
+             lower_written.find(lower_case(name)) !=
+               std::string::npos);
+          if (contains ||
+              distance <= std::max<std::size_t>(2, written.size() / 3))
+            ranked.emplace_back(contains ? 0 : distance, name);
+        }
+      std::sort(ranked.begin(), ranked.end());
+      std::string where;
+      for (const auto &name : path)
+        where += (where.empty() ? "" : "/") + name;
+      where = where.empty() ? "at the top level" : "in '" + where + "'";
+      std::string hint;
+      if (!ranked.empty())
+        {
+          hint = "\n    Did you mean ";
+          for (unsigned int i = 0; i < std::min<std::size_t>(3, ranked.size());
+               ++i)
+            hint += (i > 0 ? " or '" : "'") + ranked[i].second + "'";
+          hint += "?";
+        }
+      else
+        {
+          hint = "\n    " + std::string(subsection ? "Subsections" : "Parameters") +
+                 " " + where + ": ";
+          for (unsigned int i = 0; i < names.size(); ++i)
+            hint += (i > 0 ? ", '" : "'") + names[i] + "'";
+          hint += ".";
+        }
+      return hint;
     }
 
     void
@@ -1309,10 +1494,65 @@ namespace fmpm
         }
       catch (const ExceptionBase &e)
         {
+          const std::string message = message_of(e);
           AssertThrow(false,
                       ExcMessage("Error in the scene <" + name + ">:\n    " +
-                                 message_of(e)));
+                                 message +
+                                 nearest_names_hint(prm, text, message)));
         }
+    }
+  } // namespace
+
+
+
+  namespace
+  {
+    /**
+     * The files a scene names ('include' lines and 'Mesh/File name') are
+     * relative to the scene file's folder: @p text with those relative
+     * paths made absolute against the folder of @p scene_file.
+     */
+    std::string
+    with_paths_relative_to(const std::string &text,
+                           const std::string &scene_file)
+    {
+      const std::filesystem::path folder =
+        std::filesystem::absolute(scene_file).parent_path();
+      const auto resolved = [&folder](const std::string &file) {
+        const std::filesystem::path path(file);
+        return file.empty() || path.is_absolute() ?
+                 file :
+                 (folder / path).lexically_normal().string();
+      };
+      std::vector<std::string> path;
+      std::istringstream       in(text);
+      std::ostringstream       out;
+      std::string              line;
+      while (std::getline(in, line))
+        {
+          const std::string code =
+            Utilities::trim(line.substr(0, line.find('#')));
+          const std::string comment =
+            line.find('#') == std::string::npos ? "" :
+                                                  line.substr(line.find('#'));
+          if (code.rfind("subsection ", 0) == 0)
+            path.push_back(Utilities::trim(code.substr(11)));
+          else if (code == "end" && !path.empty())
+            path.pop_back();
+          else if (code.rfind("include ", 0) == 0)
+            line = "include " + resolved(Utilities::trim(code.substr(8))) +
+                   (comment.empty() ? "" : " " + comment);
+          else if (code.rfind("set ", 0) == 0 &&
+                   path == std::vector<std::string>{"Mesh"} &&
+                   code.find('=') != std::string::npos &&
+                   Utilities::trim(code.substr(4, code.find('=') - 4)) ==
+                     "File name")
+            line = "  set File name = " +
+                   resolved(Utilities::trim(code.substr(code.find('=') + 1))) +
+                   (comment.empty() ? "" : " " + comment);
+          out << line << '\n';
+        }
+      return out.str();
     }
   } // namespace
 
@@ -1328,7 +1568,12 @@ namespace fmpm
       {
         sources.emplace_back(file == "-" ? "standard input" : file,
                              read_source(file));
-        check_is_parameter_file(sources.back().first, sources.back().second);
+        check_is_parameter_file(sources.back().first,
+                                sources.back().second,
+                                sources.size() > 1);
+        if (file != "-")
+          sources.back().second =
+            with_paths_relative_to(sources.back().second, file);
       }
     return sources;
   }

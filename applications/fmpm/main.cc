@@ -31,6 +31,7 @@ namespace
     "\n"
     "Options:\n"
     "  -h, --help                 show this text\n"
+    "  --version                  print the version and the git commit\n"
     "  --validate                 check the scene and exit without running\n"
     "  --print-parameters[=json]  print every parameter with its default,\n"
     "                             allowed values and description; with\n"
@@ -265,6 +266,12 @@ main(int argc, char **argv)
         {
           if (is_root)
             std::cout << usage;
+          return 0;
+        }
+      else if (arg == "--version")
+        {
+          if (is_root)
+            std::cout << fmpm::version_text() << '\n';
           return 0;
         }
       else if (arg == "--validate")

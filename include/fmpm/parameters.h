@@ -232,6 +232,9 @@ namespace fmpm
     double       interval      = 0.0;
     unsigned int step_interval = 0;
     bool         write_vtu     = true;
+    /** zlib level of the VTU data: best speed, best compression, default,
+     * none. */
+    std::string compression = "best speed";
     /** particles_NNNNN.csv at each output (rank 0, rows by point id). */
     bool write_particle_csv = false;
     /** Grid acceleration m̃ₖ⁻¹f + Δv⁺/Δt (seed 000 Eq. 4.1) in the grid VTU. */
@@ -339,6 +342,10 @@ namespace fmpm
   /** @brief The built-in default scene: two elastic disks colliding. */
   std::string
   default_scene();
+
+  /** @brief "fmpm VERSION (git SHORTREV, BRANCH, DATE), deal.II VERSION". */
+  std::string
+  version_text();
 
   /**
    * @brief A number as error messages print it: the shortest text that reads

@@ -19,13 +19,13 @@ namespace fmpm
       prm.declare_entry("Bulk modulus",
                         format_number(defaults.bulk_modulus),
                         Patterns::Double(),
-                        "K of seed 004 Eq. (51) (K = ρ0 C0², C0 the bulk "
+                        "K of [NHS2020-contact] Eq. (51) (K = ρ0 C0², C0 the bulk "
                         "sound speed of the Hugoniot U_s = C0 + S1 u_p). "
                         "Must be positive. Units: Pa.");
       prm.declare_entry("Shear modulus",
                         format_number(defaults.shear_modulus),
                         Patterns::Double(),
-                        "G of the shear term of seed 004 Eq. (18). Must not "
+                        "G of the shear term of [NHS2020-contact] Eq. (18). Must not "
                         "be negative. Units: Pa.");
       prm.declare_entry("Gruneisen gamma",
                         format_number(defaults.gruneisen_gamma),
@@ -328,7 +328,7 @@ namespace fmpm
     FMPM_REGISTER_CONSTITUTIVE_MODEL(
       MieGruneisen,
       "mie gruneisen",
-      "Shock model of seed 004 Sec. 4.3: Mie-Gruneisen pressure (Eq. 51) with "
+      "Shock model of [NHS2020-contact] Sec. 4.3: Mie-Gruneisen pressure (Eq. 51) with "
       "internal energy per unit mass from the stress power, artificial "
       "viscosity (Eq. 52), the hyperelastic shear term of Eq. (18) and "
       "optional J2 plasticity with linear hardening.")

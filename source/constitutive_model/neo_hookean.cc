@@ -18,12 +18,12 @@ namespace fmpm
       prm.declare_entry("Bulk modulus",
                         format_number(defaults.bulk_modulus),
                         Patterns::Double(),
-                        "Bulk modulus K of seed 004 Eq. (18). Must be "
+                        "Bulk modulus K of [NHS2020-contact] Eq. (18). Must be "
                         "positive. Units: Pa.");
       prm.declare_entry("Shear modulus",
                         format_number(defaults.shear_modulus),
                         Patterns::Double(),
-                        "Shear modulus G of seed 004 Eq. (18). Must be "
+                        "Shear modulus G of [NHS2020-contact] Eq. (18). Must be "
                         "positive. Units: Pa.");
     }
 
@@ -171,7 +171,7 @@ namespace fmpm
     FMPM_REGISTER_CONSTITUTIVE_MODEL(
       NeoHookean,
       "neo hookean",
-      "Compressible neo-Hookean hyperelasticity of seed 004 Eq. (18), with bulk "
+      "Compressible neo-Hookean hyperelasticity of [NHS2020-contact] Eq. (18), with bulk "
       "modulus K and shear modulus G; plane strain in 2D.")
   } // namespace ConstitutiveModel
 } // namespace fmpm

@@ -96,7 +96,7 @@ namespace fmpm
       prm.declare_entry("Order",
                         "2",
                         Patterns::Integer(1, 1000),
-                        "The order k of the series m~_k^-1 (seed 000 Eq. "
+                        "The order k of the series m~_k^-1 ([Nairn2023-FMPM] Eq. "
                         "1.23): 1 is the lumped mass matrix, larger k "
                         "approaches the full mass matrix m~ = S^T M S. "
                         "Units: none.");
@@ -270,7 +270,7 @@ namespace fmpm
     FMPM_REGISTER_MASS_MATRIX(
       Fmpm,
       "fmpm",
-      "FMPM(k): the approximate full mass matrix inverse m~_k^-1 of seed 000 "
+      "FMPM(k): the approximate full mass matrix inverse m~_k^-1 of [Nairn2023-FMPM] "
       "Eq. 1.23 (= XPIC(k)), computed as k Jacobi-Richardson sweeps on the "
       "assembled m~ = S^T M S.")
   } // namespace MassMatrix

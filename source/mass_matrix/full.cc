@@ -819,7 +819,7 @@ namespace fmpm
     FMPM_REGISTER_MASS_MATRIX(
       Full,
       "full",
-      "The exact particle full mass matrix m~ = S^T M S of seed 000 Eq. 1.9, "
+      "The exact particle full mass matrix m~ = S^T M S of [Nairn2023-FMPM] Eq. 1.9, "
       "solved with CG (Jacobi preconditioner) to 'Tolerance'; CG "
       "iteration counts go to summary.json.")
     FMPM_REGISTER_MASS_MATRIX(

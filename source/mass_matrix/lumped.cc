@@ -59,7 +59,7 @@ namespace fmpm
 
     FMPM_REGISTER_MASS_MATRIX(Lumped,
                               "lumped",
-                              "The lumped mass matrix m = S^T M of seed 000 "
+                              "The lumped mass matrix m = S^T M of [Nairn2023-FMPM] "
                               "Eq. 1.6: standard MPM.")
   } // namespace MassMatrix
 } // namespace fmpm

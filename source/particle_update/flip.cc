@@ -14,7 +14,7 @@ namespace fmpm
       prm.declare_entry("Position update psi",
                         "0",
                         Patterns::Double(0, 1),
-                        "psi of seed 000 Eq. 2.28: 0 gives the common "
+                        "psi of [Nairn2023-FMPM] Eq. 2.28: 0 gives the common "
                         "first-order position update X += v_p dt, 1 the "
                         "second-order one X += (v_p - a dt/2) dt. "
                         "Units: none.");
@@ -57,13 +57,13 @@ namespace fmpm
     FMPM_REGISTER_PARTICLE_UPDATE(
       Flip,
       "flip",
-      "FLIP(Std) of seed 000 Table 2.1 / Eqs. 2.27-2.28: V += a dt, "
+      "FLIP(Std) of [Nairn2023-FMPM] Table 2.1 / Eqs. 2.27-2.28: V += a dt, "
       "X += (v_p - psi/2 a dt) dt.")
 
     FMPM_REGISTER_PARTICLE_UPDATE(
       Fmpm0,
       "fmpm0",
-      "FMPM(0) = XPIC(0) of seed 000 Table 2.1: V += a dt, X += (v_p - a "
+      "FMPM(0) = XPIC(0) of [Nairn2023-FMPM] Table 2.1: V += a dt, X += (v_p - a "
       "dt/2) dt (FLIP with psi = 1).")
   } // namespace ParticleUpdate
 } // namespace fmpm

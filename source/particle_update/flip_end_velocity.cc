@@ -32,6 +32,6 @@ namespace fmpm
     FMPM_REGISTER_PARTICLE_UPDATE(
       FlipEndVelocity,
       "flip end velocity",
-      "Modified FLIP #2 of seed 003 Eqs. 1.63-1.64: V += a dt, X += V(n+1) dt. Known to fail; for stability studies. (Modified FLIP #1 of seed 003 is 'flip' with psi = 0.)")
+      "Modified FLIP #2 of [Nairn2018-extrap] Eqs. 1.63-1.64: V += a dt, X += V(n+1) dt. Known to fail; for stability studies. (Modified FLIP #1 of [Nairn2018-extrap] is 'flip' with psi = 0.)")
   } // namespace ParticleUpdate
 } // namespace fmpm

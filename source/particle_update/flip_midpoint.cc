@@ -32,6 +32,6 @@ namespace fmpm
     FMPM_REGISTER_PARTICLE_UPDATE(
       FlipMidpoint,
       "flip midpoint",
-      "FLIP velocity update with the midpoint position update of seed 000 Eq. 2.33 (seed 003 Eq. 1.58, second form): X += (V + a dt/2) dt. Known to fail; for stability studies.")
+      "FLIP velocity update with the midpoint position update of [Nairn2023-FMPM] Eq. 2.33 ([Nairn2018-extrap] Eq. 1.58, second form): X += (V + a dt/2) dt. Known to fail; for stability studies.")
   } // namespace ParticleUpdate
 } // namespace fmpm

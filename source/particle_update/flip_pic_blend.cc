@@ -56,6 +56,6 @@ namespace fmpm
     FMPM_REGISTER_PARTICLE_UPDATE(
       FlipPicBlend,
       "flip pic blend",
-      "The FLIP/PIC blend of seed 000 section 2.3.4: V = alpha V + S m~_k^-1 (p+ - alpha p), X += V(n+1) dt, alpha = FLIP fraction. Known to fail for alpha near 1; for stability studies.")
+      "The FLIP/PIC blend of [Nairn2023-FMPM] section 2.3.4: V = alpha V + S m~_k^-1 (p+ - alpha p), X += V(n+1) dt, alpha = FLIP fraction. Known to fail for alpha near 1; for stability studies.")
   } // namespace ParticleUpdate
 } // namespace fmpm

@@ -15,7 +15,7 @@ namespace fmpm
         "Position update psi",
         "1",
         Patterns::Double(0, 1),
-        "psi of seed 000 Eq. 2.28 with the FMPM acceleration A dt = v_p - V "
+        "psi of [Nairn2023-FMPM] Eq. 2.28 with the FMPM acceleration A dt = v_p - V "
         "(Eq. 2.41): X += (v_p - psi (v_p - V)/2) dt. 1 is Table 2.1's "
         "X += (V + v_p) dt/2; 0 moves the points with the grid velocity "
         "v_p = S m~_k^-1 p+ that also updates their deformation gradient "
@@ -65,6 +65,6 @@ namespace fmpm
     FMPM_REGISTER_PARTICLE_UPDATE(
       Fmpm,
       "fmpm",
-      "FMPM(k) of seed 000 Table 2.1 / Eq. 2.26: V = v_p, X += (V + v_p) dt/2 with v_p = S m~_k^-1 p+ ('Position update psi' = 1; 0: X += v_p dt); k is the order of the mass matrix (lumped: FMPM(1), Eq. 2.40).")
+      "FMPM(k) of [Nairn2023-FMPM] Table 2.1 / Eq. 2.26: V = v_p, X += (V + v_p) dt/2 with v_p = S m~_k^-1 p+ ('Position update psi' = 1; 0: X += v_p dt); k is the order of the mass matrix (lumped: FMPM(1), Eq. 2.40).")
   } // namespace ParticleUpdate
 } // namespace fmpm

@@ -32,7 +32,7 @@ namespace fmpm
     FMPM_REGISTER_PARTICLE_UPDATE(
       Pic,
       "pic",
-      "PIC(Std) of seed 000 Table 2.1: V = v_p, X += v_p dt. Dissipative but "
+      "PIC(Std) of [Nairn2023-FMPM] Table 2.1: V = v_p, X += v_p dt. Dissipative but "
       "robust.")
   } // namespace ParticleUpdate
 } // namespace fmpm

@@ -10,8 +10,8 @@ namespace fmpm
     FMPM_REGISTER_PARTICLE_UPDATE(
       PicMidpoint,
       "pic midpoint",
-      "PIC with the midpoint position update of seed 003 Eq. 1.67 (second "
+      "PIC with the midpoint position update of [Nairn2018-extrap] Eq. 1.67 (second "
       "form): V = v_p, X += (V(n) + V(n+1)) dt/2; the same update as 'fmpm'. "
-      "(Modified PIC #1 of seed 003, Eqs. 1.73-1.74, is 'pic'.)")
+      "(Modified PIC #1 of [Nairn2018-extrap], Eqs. 1.73-1.74, is 'pic'.)")
   } // namespace ParticleUpdate
 } // namespace fmpm

@@ -65,6 +65,6 @@ namespace fmpm
     FMPM_REGISTER_PARTICLE_UPDATE(
       Xpic,
       "xpic",
-      "XPIC(k) of seed 000 Eqs. 2.34-2.35 / Table 2.1: V = S m~_k^-1 p + S m^-1 f dt, X += [S m^-1 p + (V(n+1) - V(n))/2] dt (Position update psi = 1; 0: X += S m^-1 p+ dt); k is the order of the mass matrix (lumped: XPIC(1), Eq. 2.38).")
+      "XPIC(k) of [Nairn2023-FMPM] Eqs. 2.34-2.35 / Table 2.1: V = S m~_k^-1 p + S m^-1 f dt, X += [S m^-1 p + (V(n+1) - V(n))/2] dt (Position update psi = 1; 0: X += S m^-1 p+ dt); k is the order of the mass matrix (lumped: XPIC(1), Eq. 2.38).")
   } // namespace ParticleUpdate
 } // namespace fmpm

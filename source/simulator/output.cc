@@ -72,11 +72,13 @@ namespace fmpm
     }
 
     /**
-     * The material points as VTU patches (one vertex each: id and all
-     * properties), cell by cell in the order of owned_cells_by_id(), so that
-     * a resumed run writes the same bytes as the uninterrupted one
-     * (Particles::DataOut follows the handler's order, which depends on
-     * the history of insertions).
+     * The material points as VTU patches (one vertex each), cell by cell in
+     * the order of owned_cells_by_id(), so that a resumed run writes the
+     * same bytes as the uninterrupted one (Particles::DataOut follows the
+     * handler's order, which depends on the history of insertions). The
+     * fields as ParaView reads them: id, the properties by name, vectors
+     * as vectors, the Cauchy stress and F as dim x dim tensors (in 2D also
+     * their zz components, plane strain).
      */
     template <int dim>
     class PointOutput : public DataOutInterface<0, dim>
@@ -90,20 +92,79 @@ namespace fmpm
                       DataComponentInterpretation::DataComponentInterpretation>
                       &interpretations)
       {
+        // How each output field is read from the properties.
+        enum class Kind
+        {
+          copy,
+          stress_tensor,
+          stress_zz,
+          deformation_tensor,
+          deformation_zz
+        };
+        struct Field
+        {
+          Kind         kind;
+          unsigned int first; // property index
+        };
+        std::vector<Field> fields;
         names = {"id"};
-        names.insert(names.end(), property_names.begin(), property_names.end());
-        // Runs of 'dim' components of one name are vectors.
+        auto add_range = [&](const unsigned int  n_components,
+                             const std::string  &name,
+                             const auto          interpretation) {
+          vector_ranges.emplace_back(names.size(),
+                                     names.size() + n_components - 1,
+                                     name,
+                                     interpretation);
+        };
         for (unsigned int c = 0; c < property_names.size(); ++c)
-          if (interpretations[c] ==
-              DataComponentInterpretation::component_is_part_of_vector)
-            {
-              vector_ranges.emplace_back(
-                c + 1,
-                c + dim,
-                property_names[c],
-                DataComponentInterpretation::component_is_part_of_vector);
-              c += dim - 1;
-            }
+          {
+            const bool tensor = property_names[c] == "stress_0" ||
+                                property_names[c] == "deformation_gradient_0";
+            if (tensor)
+              {
+                const bool        stress = property_names[c] == "stress_0";
+                const std::string name =
+                  stress ? "stress" : "deformation_gradient";
+                add_range(dim * dim,
+                          name,
+                          DataComponentInterpretation::
+                            component_is_part_of_tensor);
+                for (unsigned int i = 0; i < dim * dim; ++i)
+                  {
+                    fields.push_back({stress ? Kind::stress_tensor :
+                                               Kind::deformation_tensor,
+                                      c});
+                    names.push_back(name + "_" + std::to_string(i));
+                  }
+                if (dim == 2)
+                  {
+                    fields.push_back(
+                      {stress ? Kind::stress_zz : Kind::deformation_zz, c});
+                    names.push_back(name + "_zz");
+                  }
+                c += (stress ? 6 : 9) - 1;
+              }
+            else if (interpretations[c] ==
+                     DataComponentInterpretation::component_is_part_of_vector)
+              {
+                add_range(dim,
+                          property_names[c],
+                          DataComponentInterpretation::
+                            component_is_part_of_vector);
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    fields.push_back({Kind::copy, c + d});
+                    names.push_back(property_names[c]);
+                  }
+                c += dim - 1;
+              }
+            else
+              {
+                fields.push_back({Kind::copy, c});
+                names.push_back(property_names[c]);
+              }
+          }
+
         for (const auto &cell : owned_cells_by_id(triangulation))
           for (const auto &particle : particle_handler.particles_in_cell(cell))
             {
@@ -113,8 +174,37 @@ namespace fmpm
               const auto values = particle.get_properties();
               patch.data.reinit(names.size(), 1);
               patch.data(0, 0) = particle.get_id();
-              for (unsigned int c = 0; c < values.size(); ++c)
-                patch.data(c + 1, 0) = values[c];
+              unsigned int tensor_entry = 0;
+              for (unsigned int f = 0; f < fields.size(); ++f)
+                {
+                  const Field &field = fields[f];
+                  double       value = 0;
+                  switch (field.kind)
+                    {
+                      case Kind::copy:
+                        value = values[field.first];
+                        break;
+                      case Kind::stress_tensor:
+                      case Kind::deformation_tensor:
+                        {
+                          const unsigned int i = tensor_entry / dim,
+                                             j = tensor_entry % dim;
+                          tensor_entry = (tensor_entry + 1) % (dim * dim);
+                          value =
+                            field.kind == Kind::deformation_tensor ?
+                              values[field.first + 3 * i + j] :
+                              get_symmetric_tensor3(values, field.first)[i][j];
+                          break;
+                        }
+                      case Kind::stress_zz:
+                        value = values[field.first + 2];
+                        break;
+                      case Kind::deformation_zz:
+                        value = values[field.first + 8];
+                        break;
+                    }
+                  patch.data(f + 1, 0) = value;
+                }
               patches.push_back(std::move(patch));
             }
       }
@@ -151,6 +241,67 @@ namespace fmpm
                    DataComponentInterpretation::DataComponentInterpretation>>
         vector_ranges;
     };
+
+    /**
+     * DataOut of the grid whose scalar data vectors "NAME_x", "NAME_y"
+     * (, "NAME_z"), added one after the other, are written as one vector
+     * NAME (the grid fields are stored by component).
+     */
+    template <int dim>
+    class GridOutput : public DataOut<dim>
+    {
+    public:
+      /** The next @p dim scalar data vectors form the vector @p name. */
+      void
+      add_component_vectors(const std::vector<const GridScalar *> &components,
+                            const std::string                     &name)
+      {
+        const unsigned int first = this->get_dataset_names().size();
+        static const char *suffix[3] = {"_x", "_y", "_z"};
+        for (unsigned int d = 0; d < dim; ++d)
+          this->add_data_vector(*components[d], name + suffix[d]);
+        vector_ranges.emplace_back(
+          first,
+          first + dim - 1,
+          name,
+          DataComponentInterpretation::component_is_part_of_vector);
+      }
+
+    private:
+      std::vector<
+        std::tuple<unsigned int,
+                   unsigned int,
+                   std::string,
+                   DataComponentInterpretation::DataComponentInterpretation>>
+      get_nonscalar_data_ranges() const override
+      {
+        auto ranges = DataOut<dim>::get_nonscalar_data_ranges();
+        ranges.insert(ranges.end(), vector_ranges.begin(), vector_ranges.end());
+        return ranges;
+      }
+
+      std::vector<
+        std::tuple<unsigned int,
+                   unsigned int,
+                   std::string,
+                   DataComponentInterpretation::DataComponentInterpretation>>
+        vector_ranges;
+    };
+
+    /** The VTU flags of 'Output/Compression'. */
+    DataOutBase::VtkFlags
+    vtk_flags(const std::string &compression)
+    {
+      DataOutBase::VtkFlags flags;
+      flags.print_date_and_time = false;
+      flags.compression_level =
+        compression == "best compression" ?
+          DataOutBase::VtkFlags::best_compression :
+        compression == "default" ? DataOutBase::VtkFlags::default_compression :
+        compression == "none"    ? DataOutBase::VtkFlags::no_compression :
+                                   DataOutBase::VtkFlags::best_speed;
+      return flags;
+    }
   } // namespace
 
 
@@ -243,7 +394,9 @@ namespace fmpm
 
     const std::string directory = output.directory + "/";
     {
-      PointOutput<dim> particle_output;
+      TimerOutput::Scope points_timer(computing_timer, "output: vtu points");
+      PointOutput<dim>   particle_output;
+      particle_output.set_flags(vtk_flags(output.compression));
       particle_output.build_patches(
         particle_handler,
         triangulation,
@@ -254,31 +407,28 @@ namespace fmpm
       particle_pvd_records.emplace_back(time, name);
     }
     {
-      DataOut<dim> grid_output;
+      TimerOutput::Scope grid_timer(computing_timer, "output: vtu grid");
+      GridOutput<dim>    grid_output;
+      grid_output.set_flags(vtk_flags(output.compression));
       grid_output.attach_dof_handler(dof_handler);
-      GridVectorField &v = grid_fields[ParticleUpdate::updated_velocity];
+      const auto components = [](const GridVectorField &field) {
+        std::vector<const GridScalar *> result;
+        for (unsigned int d = 0; d < dim; ++d)
+          result.push_back(&field.block(d));
+        return result;
+      };
       grid_output.add_data_vector(lumped_mass, "nodal_mass");
-      const char *names[3] = {"velocity_x", "velocity_y", "velocity_z"};
-      for (unsigned int d = 0; d < dim; ++d)
-        grid_output.add_data_vector(v.block(d), names[d]);
+      grid_output.add_component_vectors(
+        components(grid_fields[ParticleUpdate::updated_velocity]), "velocity");
       if (output.write_grid_acceleration &&
           field_computed[ParticleUpdate::acceleration])
-        {
-          const GridVectorField &a = grid_fields[ParticleUpdate::acceleration];
-          const char            *acceleration_names[3] = {"acceleration_x",
-                                                          "acceleration_y",
-                                                          "acceleration_z"};
-          for (unsigned int d = 0; d < dim; ++d)
-            grid_output.add_data_vector(a.block(d), acceleration_names[d]);
-        }
+        grid_output.add_component_vectors(
+          components(grid_fields[ParticleUpdate::acceleration]),
+          "acceleration");
       if (contact_active())
         {
-          const char *normal_names[3] = {"contact_normal_x",
-                                         "contact_normal_y",
-                                         "contact_normal_z"};
-          for (unsigned int d = 0; d < dim; ++d)
-            grid_output.add_data_vector(contact_normal.block(d),
-                                        normal_names[d]);
+          grid_output.add_component_vectors(components(contact_normal),
+                                            "contact_normal");
           grid_output.add_data_vector(contact_separation, "contact_separation");
         }
       Vector<float> subdomain(triangulation.n_active_cells());

@@ -736,7 +736,7 @@ namespace fmpm
                       "'Contact/Contact in mass-matrix iterations = once "
                       "per step' has no contact left in that limit (the "
                       "series converges to the solve of the uncorrected "
-                      "momenta, seed 000 Eq. 3.22). Set it to 'net "
+                      "momenta, [Nairn2023-FMPM] Eq. 3.22). Set it to 'net "
                       "incremental', or use 'Mass matrix/Model name = fmpm' "
                       "with a finite Order."));
         AssertThrow(!mass_matrix->periodic(),

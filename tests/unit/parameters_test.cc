@@ -18,6 +18,9 @@
 #include <utility>
 #include <vector>
 
+#include <filesystem>
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 namespace
@@ -187,9 +190,65 @@ namespace
                                                           "end\n"),
                                              {"End tiem", "typo.prm", "3"});
     EXPECT_NE(message.find("Line <3>"), std::string::npos) << message;
+    // The nearest declared names of the subsection of that line.
+    EXPECT_NE(message.find("Did you mean 'End time'?"), std::string::npos)
+      << message;
 
     expect_error(default_plus("top.prm", "set Number of bodys = 2\n"),
-                 {"Number of bodys", "top.prm"});
+                 {"Number of bodys", "top.prm", "'Number of bodies'"});
+    // A part of a name: every name containing it.
+    expect_error(default_plus("part.prm",
+                              "subsection Time\n  set Courant = 0.2\nend\n"),
+                 {"'Courant number' or 'Courant number limit'"});
+    // A subsection, inside another one.
+    expect_error(default_plus("section.prm",
+                              "subsection Mass matrix\n"
+                              "  subsection Fmmp\n  end\nend\n"),
+                 {"Fmmp", "Did you mean 'Fmpm'"});
+    // Nothing near: the names declared there.
+    expect_error(default_plus("far.prm",
+                              "subsection Timer\n  set Colour = red\nend\n"),
+                 {"Parameters in 'Timer': 'Type'."});
+  }
+
+
+
+  // Scenes name files relative to their own folder ('include' and
+  // 'Mesh/File name'); a comment-only override changes nothing.
+  TEST(ReadScene, FilesRelativeToTheSceneFolder)
+  {
+    const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / "fmpm-relative-paths-test";
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder / "parts");
+    std::ofstream(folder / "scene.prm")
+      << "include parts/time.prm # the end time\n"
+         "subsection Mesh\n  set Type = gmsh\n  set File name = "
+         "parts/mesh.msh\nend\n";
+    std::ofstream(folder / "parts" / "time.prm")
+      << "subsection Time\n  set End time = 0.125\nend\n";
+    std::ofstream(folder / "parts" / "mesh.msh") << "not read here\n";
+    std::ofstream(folder / "comments.prm") << "# set End time = 7\n\n";
+    const auto cwd = std::filesystem::current_path();
+    std::filesystem::current_path(std::filesystem::temp_directory_path());
+    Sources sources;
+    try
+      {
+        sources = fmpm::load_scene_sources(
+          {(folder / "scene.prm").string(), (folder / "comments.prm").string()});
+      }
+    catch (...)
+      {
+        std::filesystem::current_path(cwd);
+        throw;
+      }
+    std::filesystem::current_path(cwd);
+    sources.insert(sources.begin(), {"default scene", fmpm::default_scene()});
+    const fmpm::Parameters parameters = read(sources);
+    EXPECT_EQ(parameters.time.end_time, 0.125);
+    EXPECT_EQ(parameters.mesh.file_name,
+              (folder / "parts" / "mesh.msh").lexically_normal().string());
+    std::filesystem::remove_all(folder);
   }
 
 
