@@ -32,6 +32,7 @@
 #include <deal.II/particles/particle_handler.h>
 
 #include <array>
+#include <future>
 #include <limits>
 #include <memory>
 #include <set>
@@ -470,6 +471,11 @@ namespace fmpm
     serialize_scalar_state(Archive &archive);
 
     // --- output (simulator/output.cc) ---
+    /** Waits for the background writer of the last VTU output; rethrows
+     * its error. */
+    void
+    wait_for_output_writer();
+
     void
     output_results(const GlobalStatistics<dim> &statistics);
     void
@@ -757,6 +763,10 @@ namespace fmpm
     double                                      local_dissipation = 0;
     double                                      dissipated_energy = 0;
     std::vector<std::string>                    lost_point_messages;
+    /** The VTU pieces of the last output, written in a background thread
+     * (no MPI there) while the run continues; waited for before the next
+     * output and at the end (wait_for_output_writer()). */
+    std::future<void> output_writer;
     std::vector<std::pair<double, std::string>> particle_pvd_records;
     std::vector<std::pair<double, std::string>> grid_pvd_records;
     double                                      wall_start         = 0;

@@ -198,6 +198,10 @@ namespace fmpm
   template <int dim>
   Simulator<dim>::~Simulator()
   {
+    // The writer holds patches only; its errors were reported or do not
+    // matter any more.
+    if (output_writer.valid())
+      output_writer.wait();
     particle_handler.clear();
   }
 
@@ -408,6 +412,7 @@ namespace fmpm
                 << " after writing a checkpoint; continue with fmpm --resume"
                 << std::endl;
         print_test_particles();
+        wait_for_output_writer();
         write_summary(stopped_on_signal ? "stopped: signal" :
                       reached_end       ? "completed" :
                                           "stopped: step limit",

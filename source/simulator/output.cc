@@ -243,31 +243,77 @@ namespace fmpm
     };
 
     /**
-     * DataOut of the grid whose scalar data vectors "NAME_x", "NAME_y"
-     * (, "NAME_z"), added one after the other, are written as one vector
-     * NAME (the grid fields are stored by component).
+     * The grid as VTU patches, one per locally owned cell with its vertex
+     * values (Q1 fields are their vertex values, so no FEValues are
+     * needed): scalar fields, and vectors given by their components.
      */
     template <int dim>
-    class GridOutput : public DataOut<dim>
+    class GridPatches : public DataOutInterface<dim, dim>
     {
     public:
-      /** The next @p dim scalar data vectors form the vector @p name. */
+      /** A scalar nodal field. */
       void
-      add_component_vectors(const std::vector<const GridScalar *> &components,
-                            const std::string                     &name)
+      add_scalar(const GridScalar &field, const std::string &name)
       {
-        const unsigned int first = this->get_dataset_names().size();
-        static const char *suffix[3] = {"_x", "_y", "_z"};
-        for (unsigned int d = 0; d < dim; ++d)
-          this->add_data_vector(*components[d], name + suffix[d]);
-        vector_ranges.emplace_back(
-          first,
-          first + dim - 1,
+        fields.push_back(&field);
+        names.push_back(name);
+      }
+
+      /** A vector of nodal components, written as the vector @p name. */
+      void
+      add_vector(const GridVectorField &field, const std::string &name)
+      {
+        ranges.emplace_back(
+          names.size(),
+          names.size() + dim - 1,
           name,
           DataComponentInterpretation::component_is_part_of_vector);
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            fields.push_back(&field.block(d));
+            names.push_back(name);
+          }
+      }
+
+      /** One patch per locally owned cell; the last field is the rank. */
+      void
+      build_patches(const DoFHandler<dim> &dof_handler, const double rank)
+      {
+        names.push_back("subdomain");
+        const unsigned int n_vertices = GeometryInfo<dim>::vertices_per_cell;
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              DataOutBase::Patch<dim, dim> patch;
+              patch.patch_index    = patches.size();
+              patch.n_subdivisions = 1;
+              patch.reference_cell = ReferenceCells::get_hypercube<dim>();
+              patch.data.reinit(names.size(), n_vertices);
+              for (unsigned int v = 0; v < n_vertices; ++v)
+                {
+                  patch.vertices[v]                  = cell->vertex(v);
+                  const types::global_dof_index node = cell->vertex_dof_index(v, 0);
+                  for (unsigned int f = 0; f < fields.size(); ++f)
+                    patch.data(f, v) = (*fields[f])(node);
+                  patch.data(fields.size(), v) = rank;
+                }
+              patches.push_back(std::move(patch));
+            }
       }
 
     private:
+      const std::vector<DataOutBase::Patch<dim, dim>> &
+      get_patches() const override
+      {
+        return patches;
+      }
+
+      std::vector<std::string>
+      get_dataset_names() const override
+      {
+        return names;
+      }
+
       std::vector<
         std::tuple<unsigned int,
                    unsigned int,
@@ -275,17 +321,18 @@ namespace fmpm
                    DataComponentInterpretation::DataComponentInterpretation>>
       get_nonscalar_data_ranges() const override
       {
-        auto ranges = DataOut<dim>::get_nonscalar_data_ranges();
-        ranges.insert(ranges.end(), vector_ranges.begin(), vector_ranges.end());
         return ranges;
       }
 
+      std::vector<const GridScalar *>           fields;
+      std::vector<std::string>                  names;
+      std::vector<DataOutBase::Patch<dim, dim>> patches;
       std::vector<
         std::tuple<unsigned int,
                    unsigned int,
                    std::string,
                    DataComponentInterpretation::DataComponentInterpretation>>
-        vector_ranges;
+        ranges;
     };
 
     /** The VTU flags of 'Output/Compression'. */
@@ -303,6 +350,18 @@ namespace fmpm
       return flags;
     }
   } // namespace
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::wait_for_output_writer()
+  {
+    if (!output_writer.valid())
+      return;
+    TimerOutput::Scope timer(computing_timer, "output: wait for the writer");
+    output_writer.get();
+  }
 
 
 
@@ -392,61 +451,80 @@ namespace fmpm
         return;
       }
 
-    const std::string directory = output.directory + "/";
+    wait_for_output_writer();
+    const std::string  directory = output.directory + "/";
+    const unsigned int rank = Utilities::MPI::this_mpi_process(mpi_communicator);
+    const unsigned int n_ranks =
+      Utilities::MPI::n_mpi_processes(mpi_communicator);
+    // particles_NNNNN.R.vtu and grid_NNNNN.R.vtu (one piece per rank), the
+    // .pvtu records naming them.
+    const auto pieces = [&](const std::string &name) {
+      std::vector<std::string> result;
+      for (unsigned int r = 0; r < n_ranks; ++r)
+        result.push_back(name + "_" + Utilities::int_to_string(n_output, 5) +
+                         "." + std::to_string(r) + ".vtu");
+      return result;
+    };
+    const auto record = [&](const std::string &name) {
+      return name + "_" + Utilities::int_to_string(n_output, 5) + ".pvtu";
+    };
+
+    auto points = std::make_shared<PointOutput<dim>>();
     {
       TimerOutput::Scope points_timer(computing_timer, "output: vtu points");
-      PointOutput<dim>   particle_output;
-      particle_output.set_flags(vtk_flags(output.compression));
-      particle_output.build_patches(
-        particle_handler,
-        triangulation,
-        particle_properties.component_names(),
-        particle_properties.component_interpretations());
-      const std::string name = particle_output.write_vtu_with_pvtu_record(
-        directory, "particles", n_output, mpi_communicator, 5);
-      particle_pvd_records.emplace_back(time, name);
+      points->set_flags(vtk_flags(output.compression));
+      points->build_patches(particle_handler,
+                            triangulation,
+                            particle_properties.component_names(),
+                            particle_properties.component_interpretations());
     }
+    auto grid = std::make_shared<GridPatches<dim>>();
     {
       TimerOutput::Scope grid_timer(computing_timer, "output: vtu grid");
-      GridOutput<dim>    grid_output;
-      grid_output.set_flags(vtk_flags(output.compression));
-      grid_output.attach_dof_handler(dof_handler);
-      const auto components = [](const GridVectorField &field) {
-        std::vector<const GridScalar *> result;
-        for (unsigned int d = 0; d < dim; ++d)
-          result.push_back(&field.block(d));
-        return result;
-      };
-      grid_output.add_data_vector(lumped_mass, "nodal_mass");
-      grid_output.add_component_vectors(
-        components(grid_fields[ParticleUpdate::updated_velocity]), "velocity");
+      grid->set_flags(vtk_flags(output.compression));
+      grid->add_scalar(lumped_mass, "nodal_mass");
+      grid->add_vector(grid_fields[ParticleUpdate::updated_velocity],
+                       "velocity");
       if (output.write_grid_acceleration &&
           field_computed[ParticleUpdate::acceleration])
-        grid_output.add_component_vectors(
-          components(grid_fields[ParticleUpdate::acceleration]),
-          "acceleration");
+        grid->add_vector(grid_fields[ParticleUpdate::acceleration],
+                         "acceleration");
       if (contact_active())
         {
-          grid_output.add_component_vectors(components(contact_normal),
-                                            "contact_normal");
-          grid_output.add_data_vector(contact_separation, "contact_separation");
+          grid->add_vector(contact_normal, "contact_normal");
+          grid->add_scalar(contact_separation, "contact_separation");
         }
-      Vector<float> subdomain(triangulation.n_active_cells());
-      for (unsigned int i = 0; i < subdomain.size(); ++i)
-        subdomain(i) = triangulation.locally_owned_subdomain();
-      grid_output.add_data_vector(subdomain, "subdomain");
-      grid_output.build_patches(mapping);
-      const std::string name = grid_output.write_vtu_with_pvtu_record(
-        directory, "grid", n_output, mpi_communicator, 5);
-      grid_pvd_records.emplace_back(time, name);
+      grid->build_patches(dof_handler, triangulation.locally_owned_subdomain());
     }
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+    particle_pvd_records.emplace_back(time, record("particles"));
+    grid_pvd_records.emplace_back(time, record("grid"));
+    if (rank == 0)
       {
+        std::ofstream particles_pvtu(directory + record("particles"));
+        points->write_pvtu_record(particles_pvtu, pieces("particles"));
+        std::ofstream grid_pvtu(directory + record("grid"));
+        grid->write_pvtu_record(grid_pvtu, pieces("grid"));
         std::ofstream particles_pvd(directory + "particles.pvd");
         DataOutBase::write_pvd_record(particles_pvd, particle_pvd_records);
         std::ofstream grid_pvd(directory + "grid.pvd");
         DataOutBase::write_pvd_record(grid_pvd, grid_pvd_records);
       }
+    // Compression and writing of this rank's pieces go on while the run
+    // continues (as ASPECT's 'Write in background thread').
+    const std::string point_file = directory + pieces("particles")[rank];
+    const std::string grid_file  = directory + pieces("grid")[rank];
+    output_writer = std::async(std::launch::async,
+                               [points, grid, point_file, grid_file]() {
+                                 std::ofstream point_out(point_file);
+                                 points->write_vtu(point_out);
+                                 std::ofstream grid_out(grid_file);
+                                 grid->write_vtu(grid_out);
+                                 AssertThrow(point_out && grid_out,
+                                             ExcMessage(
+                                               "Cannot write the VTU files <" +
+                                               point_file + "> and <" +
+                                               grid_file + ">."));
+                               });
     ++n_output;
   }
 
