@@ -314,7 +314,7 @@ namespace fmpm
              !traction_functions.empty();
     }
     void
-    particles_to_grid(const bool with_forces);
+    particles_to_grid(const bool with_forces, const bool momenta_only = false);
     void
     compute_forces();
     /** f += −V σ G + S M b for point @p k of the support cache with

@@ -656,7 +656,7 @@ namespace fmpm
         const double dt_last = average ? dt / 2 : dt;
         if (re_extrapolate)
           {
-            particles_to_grid(false);
+            particles_to_grid(false, /*momenta_only=*/true);
             momentum_time = time + dt;
             impose_velocity_conditions(momentum, time + dt, nullptr);
             field_computed[velocity] = field_computed[lumped_velocity] = false;

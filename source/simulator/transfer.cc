@@ -572,27 +572,36 @@ namespace fmpm
 
   template <int dim>
   void
-  Simulator<dim>::particles_to_grid(const bool with_forces)
+  Simulator<dim>::particles_to_grid(const bool with_forces,
+                                    const bool momenta_only)
   {
     TimerOutput::Scope timer(computing_timer, "particles to grid");
     using Index = PropertyIndex<dim>;
+    // The re-extrapolation of a step without contact uses the step's S and
+    // M: m and m̃ (and the mass matrix's set-up) are those of the first
+    // extrapolation, only p = SᵀMV changes.
+    const bool masses = !(momenta_only && !contact_active());
 
     // m̃ as cell-wise matrices where the mass matrix accepts them, else the
     // assembled sparse matrix (the collection BC methods need its entries).
-    use_cellwise_full_mass = mass_matrix->needs_full_mass_matrix() &&
-                             mass_matrix->accepts_cellwise_full_mass_matrix() &&
-                             !velocity_conditions.needs_full_mass_matrix();
+    if (masses)
+      use_cellwise_full_mass =
+        mass_matrix->needs_full_mass_matrix() &&
+        mass_matrix->accepts_cellwise_full_mass_matrix() &&
+        !velocity_conditions.needs_full_mass_matrix();
     const bool assemble_full =
-      !use_cellwise_full_mass && (mass_matrix->needs_full_mass_matrix() ||
-                                  velocity_conditions.needs_full_mass_matrix());
-    const bool with_full_mass = use_cellwise_full_mass || assemble_full;
-    lumped_mass               = 0;
+      masses && !use_cellwise_full_mass &&
+      (mass_matrix->needs_full_mass_matrix() ||
+       velocity_conditions.needs_full_mass_matrix());
+    const bool with_full_mass = masses && (use_cellwise_full_mass || assemble_full);
+    if (masses)
+      lumped_mass = 0;
     momentum                  = 0;
     if (with_forces)
       force = 0;
     if (assemble_full)
       full_mass_matrix = 0;
-    if (use_cellwise_full_mass)
+    if (with_full_mass && use_cellwise_full_mass)
       cellwise_full_mass.clear();
 
     // Per-material fields (contact): m^α, p^α0, f^α0, g^α, Σ S M X.
@@ -706,7 +715,12 @@ namespace fmpm
                     p_target[d][i] += MV[d] * S[j];
                 }
             };
-            scatter_mass_momentum(m, p);
+            if (masses)
+              scatter_mass_momentum(m, p);
+            else
+              for (unsigned int j = begin; j < end; ++j)
+                for (unsigned int d = 0; d < dim; ++d)
+                  p[d][node[j]] += MV[d] * S[j];
             if (with_forces)
               {
                 // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
@@ -779,13 +793,15 @@ namespace fmpm
           }
       }
 
-    lumped_mass.compress(VectorOperation::add);
+    if (masses)
+      lumped_mass.compress(VectorOperation::add);
     momentum.compress(VectorOperation::add);
     if (with_forces)
       force.compress(VectorOperation::add);
     if (assemble_full)
       full_mass_matrix.compress(VectorOperation::add);
-    lumped_mass.update_ghost_values();
+    if (masses)
+      lumped_mass.update_ghost_values();
     for (auto &field : material_fields)
       {
         field.mass.compress(VectorOperation::add);
@@ -799,7 +815,8 @@ namespace fmpm
         field.mass.update_ghost_values();
         field.computed.fill(false);
       }
-    mass_matrix->setup();
+    if (masses)
+      mass_matrix->setup();
   }
 
 
