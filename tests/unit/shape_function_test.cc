@@ -631,13 +631,17 @@ namespace
           {
             EXPECT_LE(after[k].norm(), r_max * (1 + 1e-12)) << trial;
             if (dim == 2 && before[k].norm() <= r_max)
-              EXPECT_NEAR((after[k] - before[k]).norm(), 0, 1e-14) << trial;
+              {
+                EXPECT_NEAR((after[k] - before[k]).norm(), 0, 1e-14) << trial;
+              }
             if (dim == 2 && before[k].norm() > r_max)
-              EXPECT_NEAR((after[k] - before[k] * (r_max / before[k].norm()))
-                            .norm(),
-                          0,
-                          1e-14)
-                << trial;
+              {
+                EXPECT_NEAR(
+                  (after[k] - before[k] * (r_max / before[k].norm())).norm(),
+                  0,
+                  1e-14)
+                  << trial;
+              }
           }
         EXPECT_GT(determinant(s), 0) << trial;
       }
