@@ -72,6 +72,57 @@ namespace fmpm
     }
 
     /**
+     * Patches held for writing: the storage and the three queries of
+     * DataOutInterface that PointOutput and GridPatches share.
+     */
+    template <int patch_dim, int dim>
+    class StoredPatches : public DataOutInterface<patch_dim, dim>
+    {
+    protected:
+      using Range =
+        std::tuple<unsigned int,
+                   unsigned int,
+                   std::string,
+                   DataComponentInterpretation::DataComponentInterpretation>;
+
+      /** The next @p n_components names form the vector or tensor @p name. */
+      void
+      add_range(const unsigned int n_components,
+                const std::string &name,
+                const DataComponentInterpretation::DataComponentInterpretation
+                  interpretation)
+      {
+        ranges.emplace_back(names.size(),
+                            names.size() + n_components - 1,
+                            name,
+                            interpretation);
+      }
+
+      std::vector<DataOutBase::Patch<patch_dim, dim>> patches;
+      std::vector<std::string>                        names;
+      std::vector<Range>                              ranges;
+
+    private:
+      const std::vector<DataOutBase::Patch<patch_dim, dim>> &
+      get_patches() const override
+      {
+        return patches;
+      }
+
+      std::vector<std::string>
+      get_dataset_names() const override
+      {
+        return names;
+      }
+
+      std::vector<Range>
+      get_nonscalar_data_ranges() const override
+      {
+        return ranges;
+      }
+    };
+
+    /**
      * The material points as VTU patches (one vertex each), cell by cell in
      * the order of owned_cells_by_id(), so that a resumed run writes the
      * same bytes as the uninterrupted one (Particles::DataOut follows the
@@ -81,7 +132,7 @@ namespace fmpm
      * their zz components, plane strain).
      */
     template <int dim>
-    class PointOutput : public DataOutInterface<0, dim>
+    class PointOutput : public StoredPatches<0, dim>
     {
     public:
       void
@@ -107,15 +158,9 @@ namespace fmpm
           unsigned int first; // property index
         };
         std::vector<Field> fields;
-        names = {"id"};
-        auto add_range = [&](const unsigned int  n_components,
-                             const std::string  &name,
-                             const auto          interpretation) {
-          vector_ranges.emplace_back(names.size(),
-                                     names.size() + n_components - 1,
-                                     name,
-                                     interpretation);
-        };
+        auto              &names   = this->names;
+        auto              &patches = this->patches;
+        names                      = {"id"};
         for (unsigned int c = 0; c < property_names.size(); ++c)
           {
             const bool tensor = property_names[c] == "stress_0" ||
@@ -125,15 +170,15 @@ namespace fmpm
                 const bool        stress = property_names[c] == "stress_0";
                 const std::string name =
                   stress ? "stress" : "deformation_gradient";
-                add_range(dim * dim,
-                          name,
-                          DataComponentInterpretation::
-                            component_is_part_of_tensor);
+                this->add_range(
+                  dim * dim,
+                  name,
+                  DataComponentInterpretation::component_is_part_of_tensor);
                 for (unsigned int i = 0; i < dim * dim; ++i)
                   {
-                    fields.push_back({stress ? Kind::stress_tensor :
-                                               Kind::deformation_tensor,
-                                      c});
+                    fields.push_back(
+                      {stress ? Kind::stress_tensor : Kind::deformation_tensor,
+                       c});
                     names.push_back(name + "_" + std::to_string(i));
                   }
                 if (dim == 2)
@@ -147,10 +192,10 @@ namespace fmpm
             else if (interpretations[c] ==
                      DataComponentInterpretation::component_is_part_of_vector)
               {
-                add_range(dim,
-                          property_names[c],
-                          DataComponentInterpretation::
-                            component_is_part_of_vector);
+                this->add_range(
+                  dim,
+                  property_names[c],
+                  DataComponentInterpretation::component_is_part_of_vector);
                 for (unsigned int d = 0; d < dim; ++d)
                   {
                     fields.push_back({Kind::copy, c + d});
@@ -173,8 +218,9 @@ namespace fmpm
               patch.patch_index = patches.size();
               const auto values = particle.get_properties();
               patch.data.reinit(names.size(), 1);
-              patch.data(0, 0) = particle.get_id();
+              patch.data(0, 0)          = particle.get_id();
               unsigned int tensor_entry = 0;
+              Tensor<2, 3> sigma;
               for (unsigned int f = 0; f < fields.size(); ++f)
                 {
                   const Field &field = fields[f];
@@ -189,11 +235,13 @@ namespace fmpm
                         {
                           const unsigned int i = tensor_entry / dim,
                                              j = tensor_entry % dim;
+                          if (field.kind == Kind::stress_tensor &&
+                              tensor_entry == 0)
+                            sigma = get_symmetric_tensor3(values, field.first);
                           tensor_entry = (tensor_entry + 1) % (dim * dim);
-                          value =
-                            field.kind == Kind::deformation_tensor ?
-                              values[field.first + 3 * i + j] :
-                              get_symmetric_tensor3(values, field.first)[i][j];
+                          value = field.kind == Kind::deformation_tensor ?
+                                    values[field.first + 3 * i + j] :
+                                    sigma[i][j];
                           break;
                         }
                       case Kind::stress_zz:
@@ -208,38 +256,6 @@ namespace fmpm
               patches.push_back(std::move(patch));
             }
       }
-
-    private:
-      const std::vector<DataOutBase::Patch<0, dim>> &
-      get_patches() const override
-      {
-        return patches;
-      }
-
-      std::vector<std::string>
-      get_dataset_names() const override
-      {
-        return names;
-      }
-
-      std::vector<
-        std::tuple<unsigned int,
-                   unsigned int,
-                   std::string,
-                   DataComponentInterpretation::DataComponentInterpretation>>
-      get_nonscalar_data_ranges() const override
-      {
-        return vector_ranges;
-      }
-
-      std::vector<DataOutBase::Patch<0, dim>> patches;
-      std::vector<std::string>                names;
-      std::vector<
-        std::tuple<unsigned int,
-                   unsigned int,
-                   std::string,
-                   DataComponentInterpretation::DataComponentInterpretation>>
-        vector_ranges;
     };
 
     /**
@@ -248,7 +264,7 @@ namespace fmpm
      * needed): scalar fields, and vectors given by their components.
      */
     template <int dim>
-    class GridPatches : public DataOutInterface<dim, dim>
+    class GridPatches : public StoredPatches<dim, dim>
     {
     public:
       /** A scalar nodal field. */
@@ -256,22 +272,19 @@ namespace fmpm
       add_scalar(const GridScalar &field, const std::string &name)
       {
         fields.push_back(&field);
-        names.push_back(name);
+        this->names.push_back(name);
       }
 
       /** A vector of nodal components, written as the vector @p name. */
       void
       add_vector(const GridVectorField &field, const std::string &name)
       {
-        ranges.emplace_back(
-          names.size(),
-          names.size() + dim - 1,
-          name,
-          DataComponentInterpretation::component_is_part_of_vector);
+        this->add_range(
+          dim, name, DataComponentInterpretation::component_is_part_of_vector);
         for (unsigned int d = 0; d < dim; ++d)
           {
             fields.push_back(&field.block(d));
-            names.push_back(name);
+            this->names.push_back(name);
           }
       }
 
@@ -279,6 +292,8 @@ namespace fmpm
       void
       build_patches(const DoFHandler<dim> &dof_handler, const double rank)
       {
+        auto &names   = this->names;
+        auto &patches = this->patches;
         names.push_back("subdomain");
         const unsigned int n_vertices = GeometryInfo<dim>::vertices_per_cell;
         for (const auto &cell : dof_handler.active_cell_iterators())
@@ -291,8 +306,9 @@ namespace fmpm
               patch.data.reinit(names.size(), n_vertices);
               for (unsigned int v = 0; v < n_vertices; ++v)
                 {
-                  patch.vertices[v]                  = cell->vertex(v);
-                  const types::global_dof_index node = cell->vertex_dof_index(v, 0);
+                  patch.vertices[v] = cell->vertex(v);
+                  const types::global_dof_index node =
+                    cell->vertex_dof_index(v, 0);
                   for (unsigned int f = 0; f < fields.size(); ++f)
                     patch.data(f, v) = (*fields[f])(node);
                   patch.data(fields.size(), v) = rank;
@@ -302,37 +318,7 @@ namespace fmpm
       }
 
     private:
-      const std::vector<DataOutBase::Patch<dim, dim>> &
-      get_patches() const override
-      {
-        return patches;
-      }
-
-      std::vector<std::string>
-      get_dataset_names() const override
-      {
-        return names;
-      }
-
-      std::vector<
-        std::tuple<unsigned int,
-                   unsigned int,
-                   std::string,
-                   DataComponentInterpretation::DataComponentInterpretation>>
-      get_nonscalar_data_ranges() const override
-      {
-        return ranges;
-      }
-
-      std::vector<const GridScalar *>           fields;
-      std::vector<std::string>                  names;
-      std::vector<DataOutBase::Patch<dim, dim>> patches;
-      std::vector<
-        std::tuple<unsigned int,
-                   unsigned int,
-                   std::string,
-                   DataComponentInterpretation::DataComponentInterpretation>>
-        ranges;
+      std::vector<const GridScalar *> fields;
     };
 
     /** The VTU flags of 'Output/Compression'. */
@@ -453,7 +439,8 @@ namespace fmpm
 
     wait_for_output_writer();
     const std::string  directory = output.directory + "/";
-    const unsigned int rank = Utilities::MPI::this_mpi_process(mpi_communicator);
+    const unsigned int rank =
+      Utilities::MPI::this_mpi_process(mpi_communicator);
     const unsigned int n_ranks =
       Utilities::MPI::n_mpi_processes(mpi_communicator);
     // particles_NNNNN.R.vtu and grid_NNNNN.R.vtu (one piece per rank), the
@@ -513,18 +500,16 @@ namespace fmpm
     // continues (as ASPECT's 'Write in background thread').
     const std::string point_file = directory + pieces("particles")[rank];
     const std::string grid_file  = directory + pieces("grid")[rank];
-    output_writer = std::async(std::launch::async,
-                               [points, grid, point_file, grid_file]() {
-                                 std::ofstream point_out(point_file);
-                                 points->write_vtu(point_out);
-                                 std::ofstream grid_out(grid_file);
-                                 grid->write_vtu(grid_out);
-                                 AssertThrow(point_out && grid_out,
-                                             ExcMessage(
-                                               "Cannot write the VTU files <" +
-                                               point_file + "> and <" +
-                                               grid_file + ">."));
-                               });
+    output_writer =
+      std::async(std::launch::async, [points, grid, point_file, grid_file]() {
+        std::ofstream point_out(point_file);
+        points->write_vtu(point_out);
+        std::ofstream grid_out(grid_file);
+        grid->write_vtu(grid_out);
+        AssertThrow(point_out && grid_out,
+                    ExcMessage("Cannot write the VTU files <" + point_file +
+                               "> and <" + grid_file + ">."));
+      });
     ++n_output;
   }
 
