@@ -49,10 +49,10 @@ namespace fmpm
   }
 
   template <int dim>
-  const Particles::ParticleHandler<dim> &
-  SimulatorAccess<dim>::get_particle_handler() const
+  const MaterialPoints<dim> &
+  SimulatorAccess<dim>::get_material_points() const
   {
-    return get_simulator().particle_handler;
+    return get_simulator().points;
   }
 
   template <int dim>

@@ -118,12 +118,48 @@ namespace fmpm
       interpretations;
   };
 
-  /** @name Accessors that read typed values out of a point's property slots. */
+  /**
+   * @brief The properties of one point, addressed by slot: column @p slot
+   * of the point store at the point's place (MaterialPoints::record()), or
+   * one record of consecutive slots (RecordColumns).
+   */
+  struct PointRecord
+  {
+    double *const *columns = nullptr;
+    unsigned int   index   = 0;
+
+    double &
+    operator[](const unsigned int slot) const
+    {
+      return columns[slot][index];
+    }
+  };
+
+  /** @brief Column pointers into one record of consecutive slots (set-up,
+   * tests): record() addresses it like a point of the store. */
+  struct RecordColumns
+  {
+    explicit RecordColumns(const ArrayView<double> &values)
+    {
+      for (unsigned int s = 0; s < values.size(); ++s)
+        pointers.push_back(&values[s]);
+    }
+
+    PointRecord
+    record() const
+    {
+      return PointRecord{pointers.data(), 0};
+    }
+
+    std::vector<double *> pointers;
+  };
+
+  /** @name Accessors that read typed values out of a point's property slots
+   * (an ArrayView record or a PointRecord). */
   /** @{ */
-  template <int dim>
+  template <int dim, typename Record>
   inline Tensor<1, dim>
-  get_vector(const ArrayView<const double> &properties,
-             const unsigned int             offset)
+  get_vector(const Record &properties, const unsigned int offset)
   {
     Tensor<1, dim> v;
     for (unsigned int d = 0; d < dim; ++d)
@@ -131,19 +167,19 @@ namespace fmpm
     return v;
   }
 
-  template <int dim>
+  template <int dim, typename Record>
   inline void
-  set_vector(const ArrayView<double> &properties,
-             const unsigned int       offset,
-             const Tensor<1, dim>    &v)
+  set_vector(const Record         &properties,
+             const unsigned int    offset,
+             const Tensor<1, dim> &v)
   {
     for (unsigned int d = 0; d < dim; ++d)
       properties[offset + d] = v[d];
   }
 
+  template <typename Record>
   inline Tensor<2, 3>
-  get_tensor3(const ArrayView<const double> &properties,
-              const unsigned int             offset)
+  get_tensor3(const Record &properties, const unsigned int offset)
   {
     Tensor<2, 3> t;
     for (unsigned int i = 0; i < 3; ++i)
@@ -152,10 +188,11 @@ namespace fmpm
     return t;
   }
 
+  template <typename Record>
   inline void
-  set_tensor3(const ArrayView<double> &properties,
-              const unsigned int       offset,
-              const Tensor<2, 3>      &t)
+  set_tensor3(const Record       &properties,
+              const unsigned int  offset,
+              const Tensor<2, 3> &t)
   {
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = 0; j < 3; ++j)
@@ -166,9 +203,9 @@ namespace fmpm
   constexpr unsigned int stress_component_i[6] = {0, 1, 2, 0, 0, 1};
   constexpr unsigned int stress_component_j[6] = {0, 1, 2, 1, 2, 2};
 
+  template <typename Record>
   inline SymmetricTensor<2, 3>
-  get_symmetric_tensor3(const ArrayView<const double> &properties,
-                        const unsigned int             offset)
+  get_symmetric_tensor3(const Record &properties, const unsigned int offset)
   {
     SymmetricTensor<2, 3> t;
     for (unsigned int c = 0; c < 6; ++c)
@@ -176,8 +213,9 @@ namespace fmpm
     return t;
   }
 
+  template <typename Record>
   inline void
-  set_symmetric_tensor3(const ArrayView<double>     &properties,
+  set_symmetric_tensor3(const Record                &properties,
                         const unsigned int           offset,
                         const SymmetricTensor<2, 3> &t)
   {

@@ -9,6 +9,7 @@
 #include <fmpm/grid_vectors.h>
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/parameters.h>
+#include <fmpm/material_points.h>
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
 #include <fmpm/postprocess/history.h>
@@ -35,6 +36,7 @@
 #include <future>
 #include <limits>
 #include <memory>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -143,7 +145,7 @@ namespace fmpm
     unsigned long long
     n_material_points() const
     {
-      return particle_handler.n_global_particles();
+      return n_global_material_points;
     }
 
     /** @brief No timing table at destruction (a scene set up, not run). */
@@ -197,10 +199,10 @@ namespace fmpm
     }
 
     /** @brief The material points (for tests). */
-    const Particles::ParticleHandler<dim> &
-    get_particle_handler() const
+    const MaterialPoints<dim> &
+    get_material_points() const
     {
-      return particle_handler;
+      return points;
     }
 
     /** @brief Reaction forces of the last step per label. */
@@ -255,6 +257,15 @@ namespace fmpm
     /** Initialize the ParticleHandler on the mesh and count lost points. */
     void
     initialize_particle_handler();
+    /** Give every point of the store to the ParticleHandler, for an event
+     * that needs deal.II's parallel machinery (adaptation, repartitioning,
+     * checkpoint, full sort); points_from_handler() takes them back. */
+    void
+    points_to_handler();
+    /** Take every point of the ParticleHandler into the store (in cell
+     * order) and empty the handler; counts the points on all ranks. */
+    void
+    points_from_handler();
     /** Load balancing by points when the mesh is adapted (step-68). */
     void
     connect_cell_weights();
@@ -317,11 +328,17 @@ namespace fmpm
     particles_to_grid(const bool with_forces, const bool momenta_only = false);
     void
     compute_forces();
-    /** f += −V σ G + S M b for point @p k of the support cache with
-     * properties @p P (Eq. 2.11; b with gravity @p gravity). */
+    /** The store columns the force of a point reads: M, V and σ. */
+    struct ForceColumns
+    {
+      explicit ForceColumns(const MaterialPoints<dim> &points);
+      const double *mass, *volume, *stress[6];
+    };
+    /** f += −V σ G + S M b for point @p k of the store (Eq. 2.11; b with
+     * gravity @p gravity). */
     void
     scatter_point_force(const unsigned int    k,
-                        const double *const   P,
+                        const ForceColumns   &columns,
                         const Tensor<1, dim> &gravity,
                         const bool            uniform_body_force,
                         double *const        *f,
@@ -337,12 +354,10 @@ namespace fmpm
     /** Body acceleration plus traction force / mass of a point (and the
      * tractions' power for the energy balance). */
     Tensor<1, dim>
-    external_acceleration(const ArrayView<const double> &properties,
-                          const Point<dim>              &x,
-                          const Tensor<1, dim>          &gravity);
+    external_acceleration(const unsigned int k, const Tensor<1, dim> &gravity);
     /** Traction force t(t) A_p of a point (zero if it has none). */
     Tensor<1, dim>
-    traction_force_of(const ArrayView<const double> &properties) const;
+    traction_force_of(const unsigned int k) const;
     /** The grid operators the velocity-condition methods use. */
     typename VelocityConditions<dim>::Operators
     velocity_condition_operators() const;
@@ -432,12 +447,6 @@ namespace fmpm
     solve_material_full_mass(const ParticleUpdate::GridField field);
     void
     update_particles();
-    /** @brief Whether sort_particles_into_cells() moves only the points
-     * that left their cell (and sends only those that leave the rank),
-     * which needs their reference locations from the particle update. */
-    bool
-    fast_point_sorting_applies() const;
-
     void
     sort_particles_into_cells();
     void
@@ -613,7 +622,11 @@ namespace fmpm
     double             local_friction_work     = 0;
     unsigned long long local_contact_nodes     = 0;
     unsigned long long contact_nodes_last_step = 0;
-    /** Every locally owned point and its support (S, G) for this step. */
+    /** Every locally owned material point: its state, in cell order. */
+    MaterialPoints<dim> points;
+    /** The number of points on all ranks (set when the store is filled). */
+    unsigned long long n_global_material_points = 0;
+    /** The support (S, G) of every point of the store for this step. */
     SupportCache<dim> supports;
 
     ParticleProperties<dim> particle_properties;
@@ -673,32 +686,24 @@ namespace fmpm
     /** Cells around each vertex, for finding the new cell of a moved point. */
     std::vector<std::set<typename Triangulation<dim>::active_cell_iterator>>
       vertex_to_cells;
-    /** Points (support cache indices) whose new position left their cell
-     * in this step. */
+    /** Points (store places) whose new position left their cell in this
+     * step. */
     std::vector<unsigned int> points_that_left_their_cell;
-    /** Points the fast sort moved (all ranks) since deal.II's sort last
-     * put the points' memory in cell order. */
-    std::size_t points_moved_since_memory_sort = 0;
-    /**
-     * Work arrays of sort_particles_into_cells(), kept between steps: a
-     * step that allocated them anew touched fresh pages (page faults) for
-     * every moved point.
-     */
-    struct PointMoves
+    /** Per receiving rank, the points that leave this rank (work array of
+     * sort_particles_into_cells(), kept between steps). */
+    std::map<unsigned int, std::vector<double>> points_sent;
+    /** A point that left its cell for an owned cell or another rank's
+     * (work array of sort_particles_into_cells()). */
+    struct PointMove
     {
-      /** A point moved to another cell of this rank. */
-      struct Move
-      {
-        typename Triangulation<dim>::active_cell_iterator cell;
-        Point<dim>                                        x, xi;
-        types::particle_index                             id;
-      };
-      std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
-                        leaving;
-      std::vector<Move> moves;
-      /** Properties of moves[m] at [n_properties m, n_properties (m + 1)). */
-      std::vector<double> moved_properties;
-    } point_moves;
+      unsigned int                                      k;
+      typename Triangulation<dim>::active_cell_iterator cell;
+      Point<dim>                                        xi;
+    };
+    std::vector<PointMove> point_moves;
+    /** Events at which the store and the ParticleHandler exchanged the
+     * points (benchmark and test figure). */
+    unsigned long long n_handler_syncs = 0;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
                                                 constitutive_models;

@@ -6,6 +6,7 @@
 
 #include <fmpm/grid_vectors.h>
 #include <fmpm/parameters.h>
+#include <fmpm/material_points.h>
 #include <fmpm/particle_properties.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -59,8 +60,9 @@ namespace fmpm
     get_dof_handler() const;
     const AffineConstraints<double> &
     get_constraints() const;
-    const Particles::ParticleHandler<dim> &
-    get_particle_handler() const;
+    /** The material points (the point store). */
+    const MaterialPoints<dim> &
+    get_material_points() const;
     const ParticleProperties<dim> &
     get_particle_properties() const;
     /** Lumped nodal masses m = SᵀM (Eq. 1.6), ghosted. */

@@ -7,7 +7,6 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/grid/tria.h>
-#include <deal.II/particles/property_pool.h>
 
 #include <vector>
 
@@ -32,24 +31,18 @@ namespace fmpm
    * cache is then the condensed extrapolation and S the interpolation of
    * the distributed field, with no constraint logic in any pass.
    *
-   * Points are named by their PropertyPool handle: properties, location and
-   * reference location are arrays indexed by it, and the handles do not
-   * change until the points are sorted at the end of the step.
+   * Point k of the cache is point k of the MaterialPoints store (its
+   * cells and cell ranges are the store's) until the points are re-binned
+   * at the end of the step.
    *
    * @tparam dim space dimension
    */
   template <int dim>
   struct SupportCache
   {
-    using Handle = typename Particles::PropertyPool<dim>::Handle;
-
-    /** @name Per point, in cell order */
+    /** @name Per point, in the order of the point store */
     /** @{ */
-    /** PropertyPool handle of the point. */
-    std::vector<Handle> handle;
-    /** Active cell index of the point's cell. */
-    std::vector<unsigned int> cell;
-    /** Material index of the point (filled with contact only). */
+    /** Material index of the point (filled with several materials only). */
     std::vector<unsigned char> material;
     /** The point's support is entries [support_begin[k], support_begin[k+1]).
      */
@@ -66,45 +59,22 @@ namespace fmpm
     std::vector<Tensor<1, dim>> G;
     /** @} */
 
-    /** @name Per cell with points, in cell order */
-    /** @{ */
-    /** Active cell index. */
-    std::vector<unsigned int> cell_index;
-    /** The cell (to find a point that leaves it). */
-    std::vector<typename Triangulation<dim>::active_cell_iterator>
-      cell_iterator;
-    /** The cell's points are [cell_point_begin[c], cell_point_begin[c+1]). */
-    std::vector<unsigned int> cell_point_begin;
-    /** @} */
-
     /** @brief Number of cached points. */
     unsigned int
     n_points() const
     {
-      return handle.size();
-    }
-
-    /** @brief Number of cells with points. */
-    unsigned int
-    n_cells() const
-    {
-      return cell_index.size();
+      return support_begin.empty() ? 0 : support_begin.size() - 1;
     }
 
     /** @brief Forget everything (keeps the memory). */
     void
     clear()
     {
-      handle.clear();
-      cell.clear();
       material.clear();
       support_begin.assign(1, 0);
       node.clear();
       S.clear();
       G.clear();
-      cell_index.clear();
-      cell_iterator.clear();
-      cell_point_begin.assign(1, 0);
     }
 
     /**
@@ -134,9 +104,8 @@ namespace fmpm
     std::size_t
     memory_consumption() const
     {
-      return handle.capacity() * sizeof(Handle) +
-             (cell.capacity() + support_begin.capacity() + node.capacity() +
-              cell_index.capacity() + cell_point_begin.capacity()) *
+      return material.capacity() +
+             (support_begin.capacity() + node.capacity()) *
                sizeof(unsigned int) +
              S.capacity() * sizeof(double) +
              G.capacity() * sizeof(Tensor<1, dim>);

@@ -80,7 +80,7 @@ namespace fmpm
           using Index = PropertyIndex<dim>;
           for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
             {
-              const ArrayView<double>    &p = inputs.properties[q];
+              const PointRecord          &p = inputs.properties[q];
               const SymmetricTensor<2, 3> D =
                 symmetrize(inputs.velocity_gradient[q]);
               const SymmetricTensor<2, 3> old_stress =

@@ -220,7 +220,7 @@ namespace fmpm
 
       for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
         {
-          const ArrayView<double> &P  = inputs.properties[q];
+          const PointRecord       &P  = inputs.properties[q];
           const Tensor<2, 3>      &F1 = inputs.deformation_gradient[q];
           const Tensor<2, 3> F0 = get_tensor3(P, Index::deformation_gradient);
           const SymmetricTensor<2, 3> sigma0 =

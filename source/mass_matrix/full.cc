@@ -790,18 +790,24 @@ namespace fmpm
     void
     Consistent<dim>::setup()
     {
-      const auto &particle_handler = this->get_particle_handler();
-      consistent_mass              = 0;
+      // Σ M_p of each cell, by active cell index.
+      const MaterialPoints<dim> &points = this->get_material_points();
+      const double *const mass   = points.column(PropertyIndex<dim>::mass);
+      std::vector<double> mass_of_cell(
+        this->get_triangulation().n_active_cells(), 0.);
+      for (unsigned int c = 0; c < points.n_cells(); ++c)
+        for (unsigned int k = points.cell_point_begin[c];
+             k < points.cell_point_begin[c + 1];
+             ++k)
+          mass_of_cell[points.cell_index[c]] += mass[k];
+      consistent_mass = 0;
       std::vector<types::global_dof_index> dofs(
         this->get_dof_handler().get_fe().dofs_per_cell);
       FullMatrix<double> local;
       for (const auto &cell : this->get_dof_handler().active_cell_iterators())
         if (cell->is_locally_owned())
           {
-            double cell_mass = 0;
-            for (const auto &particle :
-                 particle_handler.particles_in_cell(cell))
-              cell_mass += particle.get_properties()[PropertyIndex<dim>::mass];
+            const double cell_mass = mass_of_cell[cell->active_cell_index()];
             if (cell_mass == 0)
               continue;
             // ρ_c = Σ M_p / |c|

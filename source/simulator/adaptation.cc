@@ -84,10 +84,8 @@ namespace fmpm
     if (strategy == "material points" || strategy == "material boundary")
       {
         std::vector<bool> has_points(n_cells, false);
-        for (const auto &cell : triangulation.active_cell_iterators())
-          if (cell->is_locally_owned())
-            has_points[cell->active_cell_index()] =
-              particle_handler.n_particles_in_cell(cell) > 0;
+        for (const unsigned int c : points.cell_index)
+          has_points[c] = true;
         if (strategy == "material points")
           in_region = has_points;
         else
@@ -218,10 +216,12 @@ namespace fmpm
     if (!mark_cells())
       return false;
     triangulation.prepare_coarsening_and_refinement();
+    points_to_handler();
     particle_handler.prepare_for_coarsening_and_refinement();
     triangulation.execute_coarsening_and_refinement();
     particle_handler.unpack_after_coarsening_and_refinement();
     setup_after_mesh_change();
+    points_from_handler();
     ++mesh_adaptations;
     // A fixed time step must stay stable on the new smallest cell.
     const double stable = minimum_cell_size / max_signal_speed;
@@ -253,15 +253,13 @@ namespace fmpm
       {
         if (!mark_cells())
           break;
-        // The handler's cell storage follows the mesh only through the
-        // transfer; the transferred points are then replaced.
+        // The points are created anew in the finer cells.
+        points.initialize(particle_properties.n_properties());
         triangulation.prepare_coarsening_and_refinement();
-        particle_handler.prepare_for_coarsening_and_refinement();
         triangulation.execute_coarsening_and_refinement();
-        particle_handler.unpack_after_coarsening_and_refinement();
-        particle_handler.clear_particles();
         setup_after_mesh_change();
         create_material_points();
+        points_from_handler();
         compute_mass_floor();
       }
   }

@@ -136,7 +136,7 @@ namespace fmpm
           &max_condition_error &reaction_forces &total_lost_points
             &dissipated_energy &particle_pvd_records &grid_pvd_records
               &particle_steps &mesh_adaptations &cell_steps &max_cells
-                &friction_work &points_moved_since_memory_sort &material_solves
+                &friction_work &material_solves
                   &material_solve_iterations &material_solve_failures;
     for (double &sum : error_sums)
       archive &sum;
@@ -272,6 +272,7 @@ namespace fmpm
     parallel::distributed::CellDataTransfer<dim, dim, Vector<double>>
       partition_transfer(triangulation);
     partition_transfer.prepare_for_serialization(partition_weights);
+    points_to_handler();
     particle_handler.prepare_for_serialization();
     std::vector<GridScalar> ghosted;
     for (const auto &field : grid_fields)
@@ -287,6 +288,9 @@ namespace fmpm
       dof_handler);
     field_transfer.prepare_for_serialization(fields);
     triangulation.save((temporary / "mesh").string());
+    // The store keeps the points.
+    particle_handler.clear_particles();
+    particle_handler.update_cached_numbers();
 
     // Tests stop here in the checkpoint of a given step, after the
     // temporary files, as a run killed while writing would.
@@ -491,6 +495,7 @@ namespace fmpm
           grid_fields[f].block(d) = loaded[f * dim + d];
           grid_fields[f].block(d).update_ghost_values();
         }
+    points_from_handler();
     // The node conditions at the restored wall positions and time.
     setup_boundary_conditions();
     if (parameters.refinement.strategy != "none")

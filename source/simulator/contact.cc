@@ -213,7 +213,6 @@ namespace fmpm
 
     std::vector<CloudPoint>                         owned_points;
     std::map<unsigned int, std::vector<CloudPoint>> sent;
-    auto &pool = particle_handler.get_property_pool();
     for (unsigned int k = 0; k < supports.n_points(); ++k)
       {
         bool       filled = false;
@@ -227,9 +226,8 @@ namespace fmpm
               continue;
             if (!filled)
               {
-                const double *const P =
-                  pool.get_properties(supports.handle[k]).data();
-                const Point<dim> &X = pool.get_location(supports.handle[k]);
+                const PointRecord P = points.record(k);
+                const Point<dim> &X = points.position[k];
                 Tensor<2, dim>    F;
                 for (unsigned int a = 0; a < dim; ++a)
                   for (unsigned int b = 0; b < dim; ++b)
@@ -930,7 +928,7 @@ namespace fmpm
                                        known_velocity_value);
 
     // m̃^α_ii = Σ_{p∈α} M_p S_ip² (into series_free's first block).
-    auto                       &pool = particle_handler.get_property_pool();
+    const double *const         mass_column = points.column(Index::mass);
     std::vector<double *>       diagonal(n_materials);
     std::vector<const double *> m(n_materials);
     for (unsigned int a = 0; a < n_materials; ++a)
@@ -945,7 +943,7 @@ namespace fmpm
       for (unsigned int k = 0; k < supports.n_points(); ++k)
         {
           double *const d = diagonal[supports.material[k]];
-          const double M = pool.get_properties(supports.handle[k])[Index::mass];
+          const double M = mass_column[k];
           for (unsigned int j = supports.support_begin[k];
                j < supports.support_begin[k + 1];
                ++j)
@@ -1292,15 +1290,15 @@ namespace fmpm
             y[a * dim + d] = out[a]->block(d).begin();
           }
       }
-    auto               &pool = particle_handler.get_property_pool();
-    const unsigned int *node = supports.node.data();
+    const double *const mass_column = points.column(Index::mass);
+    const unsigned int *node        = supports.node.data();
     const double       *S    = supports.S.data();
     for (unsigned int k = 0; k < supports.n_points(); ++k)
       {
         const unsigned int a     = supports.material[k];
         const unsigned int begin = supports.support_begin[k];
         const unsigned int end   = supports.support_begin[k + 1];
-        const double M = pool.get_properties(supports.handle[k])[Index::mass];
+        const double M = mass_column[k];
         const double *const *xa     = &x[a * dim];
         double *const       *ya     = &y[a * dim];
         double               s[dim] = {};

@@ -78,6 +78,7 @@ namespace fmpm
     mass_matrix->initialize();
     initialize_particle_handler();
     create_material_points();
+    points_from_handler();
     setup_boundary_conditions();
     initialize_stress_from_gravity();
     compute_mass_floor();
@@ -92,10 +93,12 @@ namespace fmpm
         if (parameters.refinement.point_weight > 0 &&
             Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
           {
+            points_to_handler();
             particle_handler.prepare_for_coarsening_and_refinement();
             triangulation.repartition();
             particle_handler.unpack_after_coarsening_and_refinement();
             setup_after_mesh_change();
+            points_from_handler();
           }
       }
 
@@ -144,6 +147,7 @@ namespace fmpm
       particle_handler.initialize(triangulation,
                                   mapping,
                                   particle_properties.n_properties());
+    points.initialize(particle_properties.n_properties());
     particle_handler.signals.particle_lost.connect(
       [this](const typename Particles::ParticleIterator<dim> &particle,
              const typename Triangulation<dim>::active_cell_iterator &) {
@@ -160,6 +164,30 @@ namespace fmpm
             lost_point_messages.push_back(message.str());
           }
       });
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::points_to_handler()
+  {
+    TimerOutput::Scope timer(computing_timer, "point store: to handler");
+    points.push_to(particle_handler);
+    ++n_handler_syncs;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::points_from_handler()
+  {
+    TimerOutput::Scope timer(computing_timer, "point store: from handler");
+    points.pull_from(particle_handler);
+    n_global_material_points =
+      Utilities::MPI::sum<unsigned long long>(points.n_points(),
+                                              mpi_communicator);
   }
 
 
@@ -184,11 +212,10 @@ namespace fmpm
   Simulator<dim>::compute_mass_floor()
   {
     // Nodes with less than a tiny fraction of a typical point mass are empty.
-    double min_point_mass = std::numeric_limits<double>::max();
-    for (const auto &particle : particle_handler)
-      min_point_mass =
-        std::min(min_point_mass,
-                 particle.get_properties()[PropertyIndex<dim>::mass]);
+    double              min_point_mass = std::numeric_limits<double>::max();
+    const double *const mass = points.column(PropertyIndex<dim>::mass);
+    for (unsigned int k = 0; k < points.n_points(); ++k)
+      min_point_mass = std::min(min_point_mass, mass[k]);
     mass_floor_value =
       1e-12 * Utilities::MPI::min(min_point_mass, mpi_communicator);
   }
@@ -213,9 +240,9 @@ namespace fmpm
   {
     using Index  = PropertyIndex<dim>;
     double speed = 0;
-    for (const auto &particle : particle_handler)
+    for (unsigned int k = 0; k < points.n_points(); ++k)
       {
-        const auto         p = particle.get_properties();
+        const PointRecord  p = points.record(k);
         const double       J = p[Index::volume] / p[Index::initial_volume];
         const unsigned int material =
           static_cast<unsigned int>(p[Index::material_id]);
@@ -267,7 +294,7 @@ namespace fmpm
           << Utilities::MPI::n_mpi_processes(mpi_communicator)
           << " MPI rank(s), " << triangulation.n_global_active_cells()
           << " cells, " << dof_handler.n_dofs() << " nodes, "
-          << particle_handler.n_global_particles() << " material points, "
+          << n_global_material_points << " material points, "
           << "particle update '" << parameters.method.particle_update
           << "', mass matrix '" << parameters.method.mass_matrix
           << "', strain update '" << parameters.method.strain_update << "'"
@@ -287,11 +314,8 @@ namespace fmpm
     // surface to warn about.
     if (stability.warning_only_with_free_surfaces)
       {
-        bool every_cell_filled = true;
-        for (const auto &cell : triangulation.active_cell_iterators())
-          if (cell->is_locally_owned() &&
-              particle_handler.n_particles_in_cell(cell) == 0)
-            every_cell_filled = false;
+        const bool every_cell_filled =
+          points.n_cells() == owned_cells_in_id_order.size();
         // Keep what check_scene() added (" Also: ...").
         const auto also = stability.warning.find(" Also: ");
         if (Utilities::MPI::min(every_cell_filled ? 1 : 0, mpi_communicator) ==
@@ -716,7 +740,7 @@ namespace fmpm
 
     time += dt;
     ++timestep_number;
-    particle_steps += particle_handler.n_global_particles();
+    particle_steps += n_global_material_points;
     if (parameters.refinement.strategy != "none")
       {
         const unsigned long long n_cells =
@@ -951,47 +975,22 @@ namespace fmpm
         reference_displacement->set_time(time);
       }
 
-    // Cell by cell in the order of the cells' ids (CellId): neither the
-    // handler's order (the history of insertions) nor the mesh's storage
-    // order (the history of adaptations and repartitions; a mesh loaded from
-    // a checkpoint is stored afresh) is shared by a resumed run, and the
-    // sums would differ in the last bits.
-    std::vector<typename Triangulation<dim>::active_cell_iterator> cells;
-    for (const auto &cell : triangulation.active_cell_iterators())
-      if (cell->is_locally_owned() &&
-          particle_handler.n_particles_in_cell(cell) > 0)
-        cells.push_back(cell);
-    std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) {
-      return a->id() < b->id();
-    });
+    // In the store's order: cell by cell in the order of the cells' ids
+    // (CellId) on adapted meshes, by id in a cell. Neither depends on the
+    // history of the points' moves, and a resumed run shares it (bitwise
+    // equal sums).
     const unsigned int n_materials = parameters.size.n_materials;
     const unsigned int stride      = GlobalStatistics<dim>::material_stride();
     if (n_materials > 1)
       s.per_material.assign(n_materials * stride, 0.);
     constexpr unsigned int stress_slots[6] = {0, 1, 3, 2, 4, 5};
-    // Within a cell by id: the order of the points in a cell depends on
-    // which points moved in when.
-    std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
-      points;
-    for (const auto &cell : cells)
-      {
-        points.clear();
-        for (auto particle = particle_handler.particles_in_cell(cell).begin();
-             particle != particle_handler.particles_in_cell(cell).end();
-             ++particle)
-          points.push_back(particle);
-        std::sort(points.begin(),
-                  points.end(),
-                  [](const auto &a, const auto &b) {
-                    return a->get_id() < b->get_id();
-                  });
-        for (const auto &point : points)
+    {
+      for (unsigned int k = 0; k < points.n_points(); ++k)
           {
-            const auto          &particle = *point;
-            const auto           p        = particle.get_properties();
-            const double         M        = p[Index::mass];
-            const Tensor<1, dim> V        = get_vector<dim>(p, Index::velocity);
-            const Point<dim>     x        = particle.get_location();
+            const PointRecord    p = points.record(k);
+            const double         M = p[Index::mass];
+            const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
+            const Point<dim>    &x = points.position[k];
             if (n_materials > 1)
               {
                 double *const sums = &s.per_material[static_cast<unsigned int>(
@@ -1120,18 +1119,18 @@ namespace fmpm
     using Index          = PropertyIndex<dim>;
     double      speed    = -1;
     std::string location = "no material points";
-    for (const auto &particle : particle_handler)
+    for (unsigned int k = 0; k < points.n_points(); ++k)
       {
-        const auto   p = particle.get_properties();
-        const double v = get_vector<dim>(p, Index::velocity).norm();
+        const PointRecord p = points.record(k);
+        const double      v = get_vector<dim>(p, Index::velocity).norm();
         if (v > speed)
           {
             speed = v;
             std::ostringstream text;
-            text << "the fastest material point, " << particle.get_id()
+            text << "the fastest material point, " << points.id[k]
                  << " of Body " << static_cast<unsigned int>(p[Index::body_id])
                  << ", moves at " << format_number(v, 6) << " m/s at position ("
-                 << particle.get_location() << ")";
+                 << points.position[k] << ")";
             location = text.str();
           }
       }

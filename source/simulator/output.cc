@@ -53,25 +53,6 @@ namespace fmpm
     }
 
     /**
-     * Locally owned active cells in the order of their ids (CellId): the
-     * same on a mesh stored afresh (loaded from a checkpoint) as on one
-     * that evolved through adaptations, unlike the storage order.
-     */
-    template <int dim>
-    std::vector<typename Triangulation<dim>::active_cell_iterator>
-    owned_cells_by_id(const Triangulation<dim> &triangulation)
-    {
-      std::vector<typename Triangulation<dim>::active_cell_iterator> cells;
-      for (const auto &cell : triangulation.active_cell_iterators())
-        if (cell->is_locally_owned())
-          cells.push_back(cell);
-      std::sort(cells.begin(), cells.end(), [](const auto &a, const auto &b) {
-        return a->id() < b->id();
-      });
-      return cells;
-    }
-
-    /**
      * Patches held for writing: the storage and the three queries of
      * DataOutInterface that PointOutput and GridPatches share.
      */
@@ -123,10 +104,9 @@ namespace fmpm
     };
 
     /**
-     * The material points as VTU patches (one vertex each), cell by cell in
-     * the order of owned_cells_by_id(), so that a resumed run writes the
-     * same bytes as the uninterrupted one (Particles::DataOut follows the
-     * handler's order, which depends on the history of insertions). The
+     * The material points as VTU patches (one vertex each), in the order of
+     * the point store, so that a resumed run writes the same bytes as the
+     * uninterrupted one. The
      * fields as ParaView reads them: id, the properties by name, vectors
      * as vectors, the Cauchy stress and F as dim x dim tensors (in 2D also
      * their zz components, plane strain).
@@ -136,9 +116,8 @@ namespace fmpm
     {
     public:
       void
-      build_patches(const Particles::ParticleHandler<dim> &particle_handler,
-                    const Triangulation<dim>              &triangulation,
-                    const std::vector<std::string>        &property_names,
+      build_patches(const MaterialPoints<dim>      &points,
+                    const std::vector<std::string> &property_names,
                     const std::vector<
                       DataComponentInterpretation::DataComponentInterpretation>
                       &interpretations)
@@ -210,15 +189,14 @@ namespace fmpm
               }
           }
 
-        for (const auto &cell : owned_cells_by_id(triangulation))
-          for (const auto &particle : particle_handler.particles_in_cell(cell))
+        for (unsigned int k = 0; k < points.n_points(); ++k)
             {
               DataOutBase::Patch<0, dim> patch;
-              patch.vertices[0] = particle.get_location();
+              patch.vertices[0] = points.position[k];
               patch.patch_index = patches.size();
-              const auto values = particle.get_properties();
+              const PointRecord values = points.record(k);
               patch.data.reinit(names.size(), 1);
-              patch.data(0, 0)          = particle.get_id();
+              patch.data(0, 0)          = points.id[k];
               unsigned int tensor_entry = 0;
               Tensor<2, 3> sigma;
               for (unsigned int f = 0; f < fields.size(); ++f)
@@ -460,8 +438,7 @@ namespace fmpm
     {
       TimerOutput::Scope points_timer(computing_timer, "output: vtu points");
       points->set_flags(vtk_flags(output.compression));
-      points->build_patches(particle_handler,
-                            triangulation,
+      points->build_patches(this->points,
                             particle_properties.component_names(),
                             particle_properties.component_interpretations());
     }
@@ -545,14 +522,14 @@ namespace fmpm
     using Index = PropertyIndex<dim>;
     // Gather (id, x, V) to rank 0 and print sorted by id.
     std::vector<std::pair<types::particle_index, std::vector<double>>> local;
-    for (const auto &particle : particle_handler)
+    for (unsigned int k = 0; k < points.n_points(); ++k)
       {
         std::vector<double> values;
         for (unsigned int d = 0; d < dim; ++d)
-          values.push_back(particle.get_location()[d]);
+          values.push_back(points.position[k][d]);
         for (unsigned int d = 0; d < dim; ++d)
-          values.push_back(particle.get_properties()[Index::velocity + d]);
-        local.emplace_back(particle.get_id(), values);
+          values.push_back(points.column(Index::velocity + d)[k]);
+        local.emplace_back(points.id[k], values);
       }
     const auto all = Utilities::MPI::gather(mpi_communicator, local, 0);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
@@ -592,16 +569,16 @@ namespace fmpm
     const unsigned int n_columns = 2 + 2 * dim + stress_slots.size() + 4;
 
     std::vector<std::pair<types::particle_index, std::vector<double>>> local;
-    local.reserve(particle_handler.n_locally_owned_particles());
-    for (const auto &particle : particle_handler)
+    local.reserve(points.n_points());
+    for (unsigned int k = 0; k < points.n_points(); ++k)
       {
-        const ArrayView<const double> p = particle.get_properties();
+        const PointRecord   p = points.record(k);
         std::vector<double>           row;
         row.reserve(n_columns);
         row.push_back(p[Index::body_id]);
         row.push_back(p[Index::material_id]);
         for (unsigned int d = 0; d < dim; ++d)
-          row.push_back(particle.get_location()[d]);
+          row.push_back(points.position[k][d]);
         for (unsigned int d = 0; d < dim; ++d)
           row.push_back(p[Index::velocity + d]);
         for (const unsigned int c : stress_slots)
@@ -612,7 +589,7 @@ namespace fmpm
         row.push_back(determinant(get_tensor3(p, Index::deformation_gradient)));
         row.push_back(has_energy ? p[energy_slot] : 0.);
         row.push_back(has_plastic_strain ? p[plastic_slot] : 0.);
-        local.emplace_back(particle.get_id(), std::move(row));
+        local.emplace_back(points.id[k], std::move(row));
       }
     const auto all = Utilities::MPI::gather(mpi_communicator, local, 0);
     if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
@@ -671,7 +648,7 @@ namespace fmpm
     // Load balance: the largest number of points on one rank against the
     // mean.
     const double local_points =
-      static_cast<double>(particle_handler.n_locally_owned_particles());
+      static_cast<double>(points.n_points());
     const double max_rank_points =
       Utilities::MPI::max(local_points, mpi_communicator);
     const double mean_rank_points =
@@ -711,7 +688,7 @@ namespace fmpm
     out << "  \"dimension\": " << dim << ",\n";
     out << "  \"n_mpi_ranks\": "
         << Utilities::MPI::n_mpi_processes(mpi_communicator) << ",\n";
-    out << "  \"n_particles\": " << particle_handler.n_global_particles()
+    out << "  \"n_particles\": " << n_global_material_points
         << ",\n";
     out << "  \"n_cells\": " << triangulation.n_global_active_cells() << ",\n";
     out << "  \"point_imbalance\": "

@@ -151,6 +151,8 @@ namespace fmpm
       std::sort(owned_cells_in_id_order.begin(),
                 owned_cells_in_id_order.end(),
                 [](const auto &a, const auto &b) { return a->id() < b->id(); });
+    points.set_cell_order(owned_cells_in_id_order,
+                          triangulation.n_active_cells());
     setup_contact();
 
     if (mass_matrix && (mass_matrix->needs_full_mass_matrix() ||
@@ -496,10 +498,10 @@ namespace fmpm
     // and their face area (product of the initial side lengths across the
     // face normal).
     if (traction_index_slot != numbers::invalid_unsigned_int)
-      for (auto &particle : particle_handler)
+      for (unsigned int k = 0; k < points.n_points(); ++k)
         {
-          const auto       p = particle.get_properties();
-          const Point<dim> X(
+          const PointRecord p = points.record(k);
+          const Point<dim>  X(
             get_vector<dim>(p, PropertyIndex<dim>::initial_position));
           for (unsigned int n = 0;
                n < parameters.boundary_conditions.tractions.size();
@@ -799,15 +801,15 @@ namespace fmpm
         const Tensor<1, dim> down = g / g.norm();
         // The top surface: the smallest ĝ·x over the body's point domains.
         double top = std::numeric_limits<double>::max();
-        for (const auto &particle : particle_handler)
+        for (unsigned int k = 0; k < points.n_points(); ++k)
           {
-            const auto p = particle.get_properties();
+            const PointRecord p = points.record(k);
             if (static_cast<unsigned int>(p[Index::body_id]) != b)
               continue;
             double half = 0;
             for (unsigned int d = 0; d < dim; ++d)
               half += std::abs(down[d]) * p[Index::initial_half_length + d];
-            top = std::min(top, down * particle.get_location() - half);
+            top = std::min(top, down * points.position[k] - half);
           }
         top = Utilities::MPI::min(top, mpi_communicator);
 
@@ -825,12 +827,12 @@ namespace fmpm
         inputs.reference_density = density;
         inputs.resize(1);
         outputs.resize(1);
-        for (auto &particle : particle_handler)
+        for (unsigned int k = 0; k < points.n_points(); ++k)
           {
-            const auto p = particle.get_properties();
+            const PointRecord p = points.record(k);
             if (static_cast<unsigned int>(p[Index::body_id]) != b)
               continue;
-            const double depth   = down * particle.get_location() - top;
+            const double depth   = down * points.position[k] - top;
             const double epsilon = -density * g.norm() * depth / M;
             Tensor<2, 3> strain;
             for (unsigned int i = 0; i < dim; ++i)

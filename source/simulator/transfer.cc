@@ -38,15 +38,18 @@ namespace fmpm
       return f;
     }
 
-    /** The dim x dim block of the stored Cauchy stress (Voigt-like order). */
+    /** The dim x dim block of point k's stored Cauchy stress, from the six
+     * stress columns (Voigt-like order). */
     template <int dim>
     inline void
-    stress_block(const double *stored, double (&sigma)[dim][dim])
+    stress_block(const double *const *stress,
+                 const unsigned int   k,
+                 double (&sigma)[dim][dim])
     {
       for (unsigned int c = 0; c < 6; ++c)
         if (stress_component_i[c] < dim && stress_component_j[c] < dim)
           sigma[stress_component_i[c]][stress_component_j[c]] =
-            sigma[stress_component_j[c]][stress_component_i[c]] = stored[c];
+            sigma[stress_component_j[c]][stress_component_i[c]] = stress[c][k];
     }
 
     /**
@@ -125,12 +128,13 @@ namespace fmpm
     }
 
     /**
-     * F^{n+1} = ΔF F^n read from and for the stored (row-major) F^n; in 2D
-     * ΔF is the identity outside its 2x2 block.
+     * F^{n+1} = ΔF F^n read from and for the stored (row-major) F^n of
+     * @p F_old (a point's record from the F slots on); in 2D ΔF is the
+     * identity outside its 2x2 block.
      */
-    template <int dim>
+    template <int dim, typename Record>
     inline Tensor<2, 3>
-    updated_deformation_gradient(const Tensor<2, 3> &dF, const double *F_old)
+    updated_deformation_gradient(const Tensor<2, 3> &dF, const Record &F_old)
     {
       Tensor<2, 3> F;
       for (unsigned int a = 0; a < dim; ++a)
@@ -225,21 +229,6 @@ namespace fmpm
     /** Points per batch of the strain update (constitutive model calls). */
     constexpr unsigned int stress_batch_size = 64;
 
-    /** How many points ahead a pass fetches a point's record: points the
-     * fast sort moved sit in free slots of the pool, away from their
-     * cell's other points, where the hardware prefetcher does not follow. */
-    constexpr unsigned int prefetch_distance = 8;
-
-    /** Fetch the cache lines of @p n_values values from @p first on (for
-     * reading or, with @p for_write, writing). */
-    template <bool for_write = false>
-    DEAL_II_ALWAYS_INLINE inline void
-    prefetch(const double *const first, const unsigned int n_values)
-    {
-      for (unsigned int i = 0; i < n_values; i += 8)
-        __builtin_prefetch(first + i, for_write ? 1 : 0);
-      __builtin_prefetch(first + n_values - 1, for_write ? 1 : 0);
-    }
   } // namespace
 
 
@@ -293,16 +282,15 @@ namespace fmpm
 
   template <int dim>
   Tensor<1, dim>
-  Simulator<dim>::traction_force_of(
-    const ArrayView<const double> &properties) const
+  Simulator<dim>::traction_force_of(const unsigned int k) const
   {
     Tensor<1, dim> F;
     const int      index =
-      static_cast<int>(properties[traction_index_slot] + 0.5) - 1;
+      static_cast<int>(points.column(traction_index_slot)[k] + 0.5) - 1;
     if (index < 0)
       return F;
     // F_p = t(t) A_p, the f_T term of Eq. 2.10 (at mid-step, like b).
-    const double area = properties[traction_index_slot + 1];
+    const double area = points.column(traction_index_slot + 1)[k];
     for (unsigned int d = 0; d < dim; ++d)
       F[d] = traction_functions[index]->value(Point<1>(), d) * area;
     return F;
@@ -312,11 +300,12 @@ namespace fmpm
 
   template <int dim>
   Tensor<1, dim>
-  Simulator<dim>::external_acceleration(const ArrayView<const double> &p,
-                                        const Point<dim>              &x,
-                                        const Tensor<1, dim>          &gravity)
+  Simulator<dim>::external_acceleration(const unsigned int    k,
+                                        const Tensor<1, dim> &gravity)
   {
     using Index            = PropertyIndex<dim>;
+    const PointRecord  p   = points.record(k);
+    const Point<dim>  &x   = points.position[k];
     const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
     Tensor<1, dim>       b =
       parameters.body_acceleration_at_initial_position ?
@@ -329,7 +318,7 @@ namespace fmpm
     if (!traction_functions.empty())
       {
         // The traction force as an acceleration, F_p / M_p (Eq. 2.10).
-        const Tensor<1, dim> F_p = traction_force_of(p);
+        const Tensor<1, dim> F_p = traction_force_of(k);
         b += F_p / p[Index::mass];
         local_traction_power += F_p * V;
         local_traction_magnitude += F_p.norm();
@@ -344,27 +333,29 @@ namespace fmpm
   Simulator<dim>::compute_supports()
   {
     TimerOutput::Scope timer(computing_timer, "shape functions");
-    using Index                 = PropertyIndex<dim>;
-    constexpr unsigned int n    = GridTransfer<dim>::n_nodes;
-    auto                  &pool = particle_handler.get_property_pool();
+    using Index              = PropertyIndex<dim>;
+    constexpr unsigned int n = GridTransfer<dim>::n_nodes;
     supports.clear();
-    const unsigned int n_points = particle_handler.n_locally_owned_particles();
+    const unsigned int n_points = points.n_points();
     if (n_points == 0)
       return;
-    supports.handle.reserve(n_points);
-    supports.cell.reserve(n_points);
     supports.support_begin.reserve(n_points + 1);
     supports.node.reserve(n * n_points);
     supports.S.reserve(n * n_points);
     supports.G.reserve(n * n_points);
-    // Handles index the pool's arrays: a point's handle is its location's
-    // place in them.
-    const Point<dim> *const first_location = &pool.get_location(0);
-    const auto             &partitioner    = *lumped_mass.get_partitioner();
-    const bool classic = (shape_function == ShapeFunction::Type::classic);
-    const bool multiple_materials = constitutive_models.size() > 1;
+    const auto &partitioner = *lumped_mass.get_partitioner();
+    const bool  classic     = (shape_function == ShapeFunction::Type::classic);
+    const bool  multiple_materials = constitutive_models.size() > 1;
+    const double *const material_id = points.column(Index::material_id);
+    const double       *F_column[dim][dim], *l0_column[dim];
+    for (unsigned int a = 0; a < dim; ++a)
+      {
+        l0_column[a] = points.column(Index::initial_half_length + a);
+        for (unsigned int b = 0; b < dim; ++b)
+          F_column[a][b] = points.column(Index::deformation_gradient + 3 * a + b);
+      }
     if (multiple_materials)
-      supports.material.reserve(n_points);
+      supports.material.resize(n_points);
 
     // A node of a support: itself, or for a hanging node its masters with
     // the constraint weights (S_jp += c_ij S_ip).
@@ -390,64 +381,30 @@ namespace fmpm
     const bool gimp = (shape_function == ShapeFunction::Type::ugimp ||
                        shape_function == ShapeFunction::Type::cpgimp);
     ShapeFunction::UniformGimpPatch<dim> gimp_patch;
-    // The points, cell by cell: cells in the order of their ids (the sums
-    // over points onto nodes are then independent of the mesh's storage
-    // order, which a mesh loaded from a checkpoint does not share: bitwise
-    // resumes), each cell's points in the handler's order. A point's handle
-    // is its location's place in the pool (no point data is read here).
-    for (const auto &cell : owned_cells_in_id_order)
-      {
-        const auto particles = particle_handler.particles_in_cell(cell);
-        if (particles.begin() == particles.end())
-          continue;
-        const unsigned int c = cell->active_cell_index();
-        for (const auto &particle : particles)
-          {
-            supports.handle.push_back(&particle.get_location() -
-                                      first_location);
-            supports.cell.push_back(c);
-          }
-        supports.cell_index.push_back(c);
-        supports.cell_iterator.push_back(cell);
-        supports.cell_point_begin.push_back(supports.n_points());
-      }
-
-    // The supports, reading each point's data from the pool by its handle
-    // (the data of the point prefetch_distance ahead fetched meanwhile:
-    // points the fast sort moved sit away from their cell's others).
-    const unsigned int n_supported_points = supports.n_points();
-    for (unsigned int cell_number = 0; cell_number < supports.n_cells();
+    // The points in the store's order: cell by cell (cells in the order of
+    // their ids, so that the sums over points onto nodes do not depend on
+    // the mesh's storage order, which a mesh loaded from a checkpoint does
+    // not share: bitwise resumes), by id in a cell.
+    if (multiple_materials)
+      for (unsigned int k = 0; k < n_points; ++k)
+        supports.material[k] = static_cast<unsigned char>(material_id[k]);
+    for (unsigned int cell_number = 0; cell_number < points.n_cells();
          ++cell_number)
       {
-        const unsigned int c    = supports.cell_index[cell_number];
+        const unsigned int c    = points.cell_index[cell_number];
         const auto        &data = transfer.cell_data(c);
         if (gimp && data.uniform_patch)
           gimp_patch.reinit(transfer, c);
-        for (unsigned int k = supports.cell_point_begin[cell_number];
-             k < supports.cell_point_begin[cell_number + 1];
+        for (unsigned int k = points.cell_point_begin[cell_number];
+             k < points.cell_point_begin[cell_number + 1];
              ++k)
           {
-            if (k + prefetch_distance < n_supported_points)
-              {
-                const auto ahead = supports.handle[k + prefetch_distance];
-                if (classic)
-                  prefetch(&pool.get_reference_location(ahead)[0], dim);
-                else
-                  prefetch(&pool.get_location(ahead)[0], dim);
-                if (!classic || multiple_materials)
-                  prefetch(pool.get_properties(ahead).data(),
-                           Index::n_core_properties);
-              }
-            const auto        h        = supports.handle[k];
-            const Point<dim> &location = pool.get_location(h);
-            if (multiple_materials)
-              supports.material.push_back(static_cast<unsigned char>(
-                pool.get_properties(h)[Index::material_id]));
+            const Point<dim> &location = points.position[k];
             const unsigned int first = supports.node.size();
             if (classic)
               {
                 GridTransfer<dim>::values_and_gradients(
-                  data, pool.get_reference_location(h), S, G);
+                  data, points.reference_position[k], S, G);
                 if (!data.has_constraints)
                   for (unsigned int i = 0; i < n; ++i)
                     {
@@ -466,14 +423,13 @@ namespace fmpm
               }
             else
               {
-                const auto     p = pool.get_properties(h);
                 Tensor<2, dim> F;
                 Tensor<1, dim> l0;
                 for (unsigned int a = 0; a < dim; ++a)
                   {
-                    l0[a] = p[Index::initial_half_length + a];
+                    l0[a] = l0_column[a][k];
                     for (unsigned int b = 0; b < dim; ++b)
-                      F[a][b] = p[Index::deformation_gradient + 3 * a + b];
+                      F[a][b] = F_column[a][b][k];
                   }
                 // GIMP's closed forms on a uniform patch from the cell's
                 // planes (built once per cell), else the general support.
@@ -517,7 +473,7 @@ namespace fmpm
                       {
                         std::ostringstream message;
                         message
-                          << "the domain of material point " << pool.get_id(h)
+                          << "the domain of material point " << points.id[k]
                           << " at (" << location << ") "
                           << (status == ShapeFunction::Status::outside_mesh ?
                                 "reaches outside the mesh by more than half a "
@@ -637,7 +593,6 @@ namespace fmpm
           }
       }
 
-    auto          &pool               = particle_handler.get_property_pool();
     const auto    &partitioner        = *lumped_mass.get_partitioner();
     const bool     uniform_body_force = !has_point_body_force();
     Tensor<1, dim> gravity;
@@ -655,24 +610,29 @@ namespace fmpm
     const unsigned int *const   node               = supports.node.data();
     const double *const         S                  = supports.S.data();
     const Tensor<1, dim> *const G                  = supports.G.data();
-    const unsigned int          n_supported_points = supports.n_points();
-    // The record's values this pass reads: M, V (and V, σ for the forces).
-    const unsigned int record_values_read =
-      with_forces ? Index::stress + 6 : Index::velocity + dim;
+    // The columns this pass reads: M, V (and V, σ for the forces; X for
+    // contact positions).
+    const double *const mass_column   = points.column(Index::mass);
+    const double *const volume_column = points.column(Index::volume);
+    const double       *velocity_column[dim], *stress_column[6];
+    for (unsigned int d = 0; d < dim; ++d)
+      velocity_column[d] = points.column(Index::velocity + d);
+    for (unsigned int c = 0; c < 6; ++c)
+      stress_column[c] = points.column(Index::stress + c);
     // m̃ of one cell over the union of its points' supports: the nodes, and
     // the place in them of each support entry of the cell's points.
     std::vector<unsigned int>            cell_nodes, slot;
     std::vector<double>                  local_full_mass;
     std::vector<types::global_dof_index> dofs;
 
-    for (unsigned int c = 0; c < supports.n_cells(); ++c)
+    for (unsigned int c = 0; c < points.n_cells(); ++c)
       {
         const unsigned int first_entry =
-          supports.support_begin[supports.cell_point_begin[c]];
+          supports.support_begin[points.cell_point_begin[c]];
         if (with_full_mass)
           {
             const unsigned int entry_end =
-              supports.support_begin[supports.cell_point_begin[c + 1]];
+              supports.support_begin[points.cell_point_begin[c + 1]];
             cell_nodes.clear();
             slot.resize(entry_end - first_entry);
             for (unsigned int j = first_entry; j < entry_end; ++j)
@@ -686,23 +646,16 @@ namespace fmpm
             local_full_mass.assign(cell_nodes.size() * cell_nodes.size(), 0.);
           }
         const unsigned int n_cell_nodes = cell_nodes.size();
-        for (unsigned int k = supports.cell_point_begin[c];
-             k < supports.cell_point_begin[c + 1];
+        for (unsigned int k = points.cell_point_begin[c];
+             k < points.cell_point_begin[c + 1];
              ++k)
           {
-            if (k + prefetch_distance < n_supported_points)
-              prefetch(pool
-                         .get_properties(supports.handle[k + prefetch_distance])
-                         .data(),
-                       record_values_read);
-            const double *const P =
-              pool.get_properties(supports.handle[k]).data();
-            const double       M     = P[Index::mass];
+            const double       M     = mass_column[k];
             const unsigned int begin = supports.support_begin[k];
             const unsigned int end   = supports.support_begin[k + 1];
             double             MV[dim];
             for (unsigned int d = 0; d < dim; ++d)
-              MV[d] = M * P[Index::velocity + d];
+              MV[d] = M * velocity_column[d][k];
             // m = SᵀM (Eq. 1.6), p = SᵀMV; with contact also m^α, p^α0 of
             // the point's material (Eq. 5).
             auto scatter_mass_momentum = [&](double *const        m_target,
@@ -726,16 +679,11 @@ namespace fmpm
                 // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
                 // τ/ρ₀ M = σ V; F_p the traction force)
                 const Tensor<1, dim> b =
-                  uniform_body_force ?
-                    gravity :
-                    external_acceleration(ArrayView<const double>(
-                                            P,
-                                            particle_properties.n_properties()),
-                                          pool.get_location(supports.handle[k]),
-                                          gravity);
+                  uniform_body_force ? gravity :
+                                       external_acceleration(k, gravity);
                 double sigma[dim][dim];
-                stress_block<dim>(P + Index::stress, sigma);
-                const double   V = P[Index::volume];
+                stress_block<dim>(stress_column, k, sigma);
+                const double   V = volume_column[k];
                 double *const *f_a =
                   contact ? &f_alpha[supports.material[k] * dim] : nullptr;
                 for (unsigned int j = begin; j < end; ++j)
@@ -752,7 +700,7 @@ namespace fmpm
               {
                 // Eqs. 5 and 11 for the point's material α.
                 const unsigned int alpha = supports.material[k];
-                const double       V     = P[Index::volume];
+                const double       V     = volume_column[k];
                 scatter_mass_momentum(m_alpha[alpha], &p_alpha[alpha * dim]);
                 if (contact_needs_gradients)
                   for (unsigned int j = begin; j < end; ++j)
@@ -760,7 +708,7 @@ namespace fmpm
                       g_alpha[alpha * dim + d][node[j]] += V * G[j][d];
                 if (contact_needs_positions)
                   {
-                    const Point<dim> &X = pool.get_location(supports.handle[k]);
+                    const Point<dim> &X = points.position[k];
                     for (unsigned int j = begin; j < end; ++j)
                       for (unsigned int d = 0; d < dim; ++d)
                         x_alpha[alpha * dim + d][node[j]] += M * S[j] * X[d];
@@ -828,7 +776,6 @@ namespace fmpm
     TimerOutput::Scope timer(computing_timer, "particles to grid");
     using Index                       = PropertyIndex<dim>;
     force                             = 0;
-    auto          &pool               = particle_handler.get_property_pool();
     const bool     uniform_body_force = !has_point_body_force();
     Tensor<1, dim> gravity;
     for (unsigned int d = 0; d < dim; ++d)
@@ -845,9 +792,10 @@ namespace fmpm
           f_alpha[a * dim + d] = material_fields[a].force.block(d).begin();
       }
 
+    const ForceColumns columns(points);
     for (unsigned int k = 0; k < supports.n_points(); ++k)
       scatter_point_force(k,
-                          pool.get_properties(supports.handle[k]).data(),
+                          columns,
                           gravity,
                           uniform_body_force,
                           f,
@@ -861,9 +809,20 @@ namespace fmpm
 
 
   template <int dim>
+  Simulator<dim>::ForceColumns::ForceColumns(const MaterialPoints<dim> &points)
+    : mass(points.column(PropertyIndex<dim>::mass))
+    , volume(points.column(PropertyIndex<dim>::volume))
+  {
+    for (unsigned int c = 0; c < 6; ++c)
+      stress[c] = points.column(PropertyIndex<dim>::stress + c);
+  }
+
+
+
+  template <int dim>
   void
   Simulator<dim>::scatter_point_force(const unsigned int    k,
-                                      const double *const   P,
+                                      const ForceColumns   &columns,
                                       const Tensor<1, dim> &gravity,
                                       const bool            uniform_body_force,
                                       double *const        *f,
@@ -873,17 +832,12 @@ namespace fmpm
     const unsigned int *const   node = supports.node.data();
     const double *const         S    = supports.S.data();
     const Tensor<1, dim> *const G    = supports.G.data();
-    const double                M    = P[Index::mass];
-    const double                V    = P[Index::volume];
+    const double                M    = columns.mass[k];
+    const double                V    = columns.volume[k];
     double                      sigma[dim][dim];
-    stress_block<dim>(P + Index::stress, sigma);
+    stress_block<dim>(columns.stress, k, sigma);
     const Tensor<1, dim> b =
-      uniform_body_force ?
-        gravity :
-        external_acceleration(
-          ArrayView<const double>(P, particle_properties.n_properties()),
-          particle_handler.get_property_pool().get_location(supports.handle[k]),
-          gravity);
+      uniform_body_force ? gravity : external_acceleration(k, gravity);
     for (unsigned int j = supports.support_begin[k];
          j < supports.support_begin[k + 1];
          ++j)
@@ -928,8 +882,7 @@ namespace fmpm
 
     // Periodic FMPM(k): FLIP in the lumped steps between the series.
     ParticleUpdate::Interface<dim> &update = active_update();
-    auto                      &pool = particle_handler.get_property_pool();
-    ParticleUpdate::Batch<dim> batch;
+    ParticleUpdate::Batch<dim>      batch;
     batch.time_step = time_step;
     points_that_left_their_cell.clear();
     const bool   track_dissipation = parameters.output.track_dissipation;
@@ -941,39 +894,27 @@ namespace fmpm
     const bool has_moving_walls        = velocity_conditions.has_moving_boxes();
     const unsigned int *const node     = supports.node.data();
     const double *const       S        = supports.S.data();
-    // deal.II's sort (sort_particles_into_cells) finds every point's
-    // reference location itself; the fast one-rank sort needs them here.
-    const bool sort_moves_only_leaving_points = fast_point_sorting_applies();
-    const unsigned int n_supported_points     = supports.n_points();
+    double *velocity_column[dim];
+    for (unsigned int d = 0; d < dim; ++d)
+      velocity_column[d] = points.column(Index::velocity + d);
+    const double *const mass_column = points.column(Index::mass);
 
     // One batch per cell with points (the plugin's virtual call per batch).
-    for (unsigned int c = 0; c < supports.n_cells(); ++c)
+    for (unsigned int c = 0; c < points.n_cells(); ++c)
       {
-        const unsigned int first_point = supports.cell_point_begin[c];
+        const unsigned int first_point = points.cell_point_begin[c];
         const unsigned int n_points =
-          supports.cell_point_begin[c + 1] - first_point;
-        const auto &data = transfer.cell_data(supports.cell_index[c]);
+          points.cell_point_begin[c + 1] - first_point;
+        const auto &data = transfer.cell_data(points.cell_index[c]);
         batch.resize(n_points);
 
         // Gather: V, X and the requested fields extrapolated with S.
         for (unsigned int q = 0; q < n_points; ++q)
           {
             const unsigned int k = first_point + q;
-            if (k + prefetch_distance < n_supported_points)
-              {
-                // V and X are read here and written below, ξ read below.
-                const auto ahead = supports.handle[k + prefetch_distance];
-                prefetch<true>(pool.get_properties(ahead).data() +
-                                 Index::velocity,
-                               dim);
-                prefetch<true>(&pool.get_location(ahead)[0], dim);
-                prefetch(&pool.get_reference_location(ahead)[0], dim);
-              }
-            const double *const P =
-              pool.get_properties(supports.handle[k]).data();
             for (unsigned int d = 0; d < dim; ++d)
-              batch.velocity[q][d] = P[Index::velocity + d];
-            batch.position[q]        = pool.get_location(supports.handle[k]);
+              batch.velocity[q][d] = velocity_column[d][k];
+            batch.position[q]        = points.position[k];
             const unsigned int begin = supports.support_begin[k];
             const unsigned int end   = supports.support_begin[k + 1];
             const FieldViews  &field_values =
@@ -1028,8 +969,7 @@ namespace fmpm
         if (track_dissipation)
           for (unsigned int q = 0; q < n_points; ++q)
             {
-              const double M = pool.get_properties(
-                supports.handle[first_point + q])[Index::mass];
+              const double M = mass_column[first_point + q];
               const Tensor<1, dim> a_dt =
                 batch.grid[ParticleUpdate::acceleration][q] * time_step;
               const Tensor<1, dim> &v_g =
@@ -1042,38 +982,34 @@ namespace fmpm
 
         // Scatter the new V and X, and the new reference location of each
         // point still in its cell (no later pass of the step reads it: they
-        // use the support cache); the others are sorted at the step's end.
+        // use the support cache); the others are re-binned at the step's
+        // end.
         for (unsigned int q = 0; q < n_points; ++q)
           {
             const unsigned int    k  = first_point + q;
-            const auto            h  = supports.handle[k];
-            double *const         P  = pool.get_properties(h).data();
             const Tensor<1, dim> &V  = batch.velocity[q];
             const double          V2 = V * V;
             if (!std::isfinite(V2) && local_failure.empty())
               {
                 std::ostringstream message;
-                message << "velocity of material point " << pool.get_id(h)
-                        << " at (" << pool.get_location(h)
+                message << "velocity of material point " << points.id[k]
+                        << " at (" << points.position[k]
                         << ") is not finite (NaN or Inf)";
                 local_failure = message.str();
               }
             max_V2 = std::max(max_V2, V2);
             for (unsigned int d = 0; d < dim; ++d)
-              P[Index::velocity + d] = V[d];
+              velocity_column[d][k] = V[d];
             // Points do not enter a moving wall's box.
             if (has_moving_walls)
               velocity_conditions.push_out_of_walls(batch.position[q]);
-            pool.set_location(h, batch.position[q]);
-            if (sort_moves_only_leaving_points)
-              {
-                const Point<dim> xi = GridTransfer<dim>::reference_point(
-                  data, batch.position[q], pool.get_reference_location(h));
-                if (GridTransfer<dim>::is_inside(xi))
-                  pool.set_reference_location(h, xi);
-                else
-                  points_that_left_their_cell.push_back(k);
-              }
+            points.position[k] = batch.position[q];
+            const Point<dim> xi = GridTransfer<dim>::reference_point(
+              data, batch.position[q], points.reference_position[k]);
+            if (GridTransfer<dim>::is_inside(xi))
+              points.reference_position[k] = xi;
+            else
+              points_that_left_their_cell.push_back(k);
           }
       }
     local_max_point_speed = std::sqrt(max_V2);
@@ -1099,9 +1035,6 @@ namespace fmpm
     const unsigned int              n_materials = constitutive_models.size();
     const DeformationGradientUpdate F_update =
       parameters.method.deformation_gradient_method();
-    auto              &pool         = particle_handler.get_property_pool();
-    const unsigned int n_properties = particle_properties.n_properties();
-
     ConstitutiveModel::StressUpdateInputs  inputs;
     ConstitutiveModel::StressUpdateOutputs outputs;
     inputs.time_step = dt;
@@ -1122,6 +1055,7 @@ namespace fmpm
     // visited in cache order (one material: the sums are those of
     // compute_forces()); else compute_forces() after it.
     const bool     forces_here = with_forces && n_materials == 1 && !contact;
+    const ForceColumns force_columns(points);
     double        *f[dim];
     Tensor<1, dim> gravity;
     const bool     uniform_body_force = !has_point_body_force();
@@ -1143,9 +1077,9 @@ namespace fmpm
     if (needs_cell_size)
       {
         cell_size_by_index.resize(triangulation.n_active_cells());
-        for (unsigned int c = 0; c < supports.n_cells(); ++c)
-          cell_size_by_index[supports.cell_index[c]] =
-            supports.cell_iterator[c]->minimum_vertex_distance();
+        for (unsigned int c = 0; c < points.n_cells(); ++c)
+          cell_size_by_index[points.cell_index[c]] =
+            points.cell_iterator[c]->minimum_vertex_distance();
       }
 
     // Points of a batch grouped by material for the model call (one group
@@ -1182,7 +1116,7 @@ namespace fmpm
             if (constitutive_models[m]->needs_cell_size())
               for (unsigned int q = 0; q < n_group; ++q)
                 inputs.cell_size[q] =
-                  cell_size_by_index[supports.cell[group_points[q]]];
+                  cell_size_by_index[points.cell[group_points[q]]];
             // L = ∇v = Σ_i v_i ⊗ G_pi (Eqs. 2.7, 2.18), plane strain in 2D.
             for (unsigned int q = 0; q < n_group; ++q)
               {
@@ -1193,13 +1127,7 @@ namespace fmpm
                                        supports.support_begin[k + 1],
                                        v_a,
                                        inputs.velocity_gradient[q]);
-                double *const P =
-                  pool.get_properties(supports.handle[k]).data();
-                inputs.properties[q] = ArrayView<double>(P, n_properties);
-                // The record is read below and by the model: fetch its
-                // cache lines now (points moved by the sort sit away from
-                // their cell's others in memory).
-                prefetch<true>(P, n_properties);
+                inputs.properties[q] = points.record(k);
               }
             increments<dim == 2 ? 2 : 3>(F_update,
                                          parameters.method,
@@ -1209,18 +1137,19 @@ namespace fmpm
                                          dF);
             for (unsigned int q = 0; q < n_group; ++q)
               {
-                const double *const P = inputs.properties[q].data();
+                const PointRecord F_old{
+                  inputs.properties[q].columns + Index::deformation_gradient,
+                  inputs.properties[q].index};
                 inputs.deformation_gradient[q] =
-                  updated_deformation_gradient<dim>(
-                    dF[q], P + Index::deformation_gradient);
+                  updated_deformation_gradient<dim>(dF[q], F_old);
                 const double J = determinant(inputs.deformation_gradient[q]);
                 if (!(J > 0) && local_failure.empty())
                   {
-                    const auto         h = supports.handle[group_points[q]];
+                    const unsigned int k = group_points[q];
                     std::ostringstream message;
                     message
-                      << "material point " << pool.get_id(h) << " at ("
-                      << pool.get_location(h)
+                      << "material point " << points.id[k] << " at ("
+                      << points.position[k]
                       << ") has an inverted deformation gradient, J = " << J;
                     local_failure = message.str();
                   }
@@ -1230,17 +1159,16 @@ namespace fmpm
             constitutive_models[m]->update_stress(inputs, outputs);
             if (outputs.failed_point >= 0 && local_failure.empty())
               {
-                const auto h =
-                  supports.handle[group_points[outputs.failed_point]];
+                const unsigned int k = group_points[outputs.failed_point];
                 std::ostringstream message;
-                message << "material point " << pool.get_id(h) << " at ("
-                        << pool.get_location(h) << ") " << outputs.failure;
+                message << "material point " << points.id[k] << " at ("
+                        << points.position[k] << ") " << outputs.failure;
                 local_failure = message.str();
               }
 
             for (unsigned int q = 0; q < n_group; ++q)
               {
-                const ArrayView<double> &P = inputs.properties[q];
+                const PointRecord       &P = inputs.properties[q];
                 const Tensor<2, 3>      &F = inputs.deformation_gradient[q];
                 const double             J = determinant(F);
                 set_tensor3(P, Index::deformation_gradient, F);
@@ -1255,10 +1183,10 @@ namespace fmpm
                 if (!std::isfinite(outputs.strain_energy_density[q]) &&
                     local_failure.empty())
                   {
-                    const auto         h = supports.handle[group_points[q]];
+                    const unsigned int k = group_points[q];
                     std::ostringstream message;
-                    message << "stress of material point " << pool.get_id(h)
-                            << " at (" << pool.get_location(h)
+                    message << "stress of material point " << points.id[k]
+                            << " at (" << points.position[k]
                             << ") is not finite (NaN or Inf)";
                     local_failure = message.str();
                   }
@@ -1266,7 +1194,7 @@ namespace fmpm
             if (forces_here)
               for (unsigned int q = 0; q < n_group; ++q)
                 scatter_point_force(group_points[q],
-                                    inputs.properties[q].data(),
+                                    force_columns,
                                     gravity,
                                     uniform_body_force,
                                     f,
@@ -1295,63 +1223,32 @@ namespace fmpm
 
 
   template <int dim>
-  bool
-  Simulator<dim>::fast_point_sorting_applies() const
-  {
-    // The fast sort moves only the points that left their cell (to a
-    // neighbour on this rank, or sent to the rank that owns it); deal.II's
-    // sort checks every point and puts the points' memory in cell order
-    // (which every pass reads faster), so the fast sort hands over to it
-    // when the points it moved reach a fraction of all points (see
-    // sort_particles_into_cells()).
-    return parameters.fast_point_sorting;
-  }
-
-
-
-  template <int dim>
   void
   Simulator<dim>::sort_particles_into_cells()
   {
     TimerOutput::Scope timer(computing_timer, "sort points into cells");
-    // The particle update set the reference locations of the points that
-    // stayed in their cells. Move the others to the cell that now holds
-    // them, searching the (owned or ghost) cells around the old cell's
-    // vertices: a locally owned cell takes the point here, a ghost cell's
-    // owner receives it (one point-to-point exchange of only these points).
-    // If a point could not be found nearby or left the mesh, deal.II's full
-    // sort handles every point (and reports lost points).
-    // Memory order: the moved points take free slots, away from their new
-    // cell's other points; once the moved points (all ranks) reach this
-    // fraction of all points, deal.II's sort (which reorders the memory)
-    // runs instead.
-    // (benchmark_2d, 400 steps, one rank, particle-steps/s: 1.52-1.65e6 at
-    // 0.02 and 0.05, 1.80-1.96e6 at 0.1, 1.86-1.89e6 at 0.2, 1.58-1.60e6
-    // at 0.5: the passes read scattered memory for longer at 0.5, deal.II's
-    // sort runs too often below 0.1. With the passes' prefetches, 800 steps:
-    // 0.2 still wins over 1 and never: 3.6e6 against 3.2e6 and 3.0e6.)
-    constexpr double memory_sort_fraction = 0.2;
-    if (!fast_point_sorting_applies())
+    // The particle update set the reference positions of the points that
+    // stayed in their cells. Each of the others gets the cell that now holds
+    // it, searched around its old cell: a locally owned cell takes it in the
+    // store, a ghost cell's owner receives it (one point-to-point exchange of
+    // only these points), and the store puts its points back in cell order.
+    // A point not found nearby or outside the mesh: deal.II's sort handles
+    // every point (and reports lost points).
+    auto full_sort = [this]() {
+      points_that_left_their_cell.clear();
+      points_to_handler();
+      particle_handler.sort_particles_into_subdomains_and_cells();
+      points_from_handler();
+    };
+    if (!parameters.fast_point_sorting)
       {
-        points_that_left_their_cell.clear();
-        points_moved_since_memory_sort = 0;
-        particle_handler.sort_particles_into_subdomains_and_cells();
+        full_sort();
         return;
       }
-    auto              &pool             = particle_handler.get_property_pool();
-    const unsigned int n_properties     = particle_properties.n_properties();
-    auto              &leaving          = point_moves.leaving;
-    auto              &moves            = point_moves.moves;
-    auto              &moved_properties = point_moves.moved_properties;
-    leaving.clear();
-    moves.clear();
-    moved_properties.clear();
-    // Per receiving rank, per point: id, x, the new cell's CellId (binary),
-    // the properties.
-    std::map<unsigned int, std::vector<double>> sent;
-    std::uint64_t                               n_sent         = 0;
-    bool                                        need_full_sort = false;
-    Point<dim>                                  center;
+    point_moves.clear();
+    std::uint64_t n_sent         = 0;
+    bool          need_full_sort = false;
+    Point<dim>    center;
     for (unsigned int d = 0; d < dim; ++d)
       center[d] = 0.5;
     Assert(std::is_sorted(points_that_left_their_cell.begin(),
@@ -1360,27 +1257,12 @@ namespace fmpm
     unsigned int cell_with_points = 0;
     for (const unsigned int k : points_that_left_their_cell)
       {
-        // The point's iterator: its place among its cell's points is its
-        // place in the cache (compute_supports() walks them in that order).
-        const Point<dim> *const location =
-          &pool.get_location(supports.handle[k]);
-        // The points that left are listed in cache order: the cell's place
+        // The points that left are listed in store order: the cell's place
         // follows with a cursor.
-        while (supports.cell_point_begin[cell_with_points + 1] <= k)
+        while (points.cell_point_begin[cell_with_points + 1] <= k)
           ++cell_with_points;
-        const auto cell  = supports.cell_iterator[cell_with_points];
-        auto       range = particle_handler.particles_in_cell(cell);
-        auto       particle =
-          std::next(range.begin(),
-                    k - supports.cell_point_begin[cell_with_points]);
-        if (&particle->get_location() != location)
-          {
-            Assert(false, ExcInternalError());
-            need_full_sort = true;
-            continue;
-          }
-        leaving.push_back(particle);
-        const Point<dim> x = *location;
+        const auto       cell = points.cell_iterator[cell_with_points];
+        const Point<dim> x    = points.position[k];
 
         // The new cell: across the face the point crossed, from neighbour
         // to neighbour (a corner takes two steps); where that meets a
@@ -1441,31 +1323,13 @@ namespace fmpm
               if (target.state() == IteratorState::valid)
                 break;
             }
-        const bool found = target.state() == IteratorState::valid;
-        if (found)
+        if (target.state() == IteratorState::valid)
           {
-            const auto p = particle->get_properties();
-            if (target->is_locally_owned())
-              {
-                moves.push_back({target, x, xi, particle->get_id()});
-                moved_properties.insert(moved_properties.end(),
-                                        p.begin(),
-                                        p.end());
-              }
-            else
-              {
-                std::vector<double> &buffer = sent[target->subdomain_id()];
-                buffer.push_back(particle->get_id());
-                for (unsigned int d = 0; d < dim; ++d)
-                  buffer.push_back(x[d]);
-                for (const unsigned int word :
-                     target->id().template to_binary<dim>())
-                  buffer.push_back(word);
-                buffer.insert(buffer.end(), p.begin(), p.end());
-                ++n_sent;
-              }
+            point_moves.push_back({k, target, xi});
+            if (!target->is_locally_owned())
+              ++n_sent;
           }
-        if (!found)
+        else
           need_full_sort = true;
       }
     // One reduction: does any rank need the full sort, how many points left
@@ -1479,76 +1343,75 @@ namespace fmpm
                         mpi_communicator,
                         make_array_view(global_counts));
     points_that_left_their_cell.clear();
-    if (global_counts[0] != 0 ||
-        points_moved_since_memory_sort + global_counts[1] >
-          memory_sort_fraction * particle_handler.n_global_particles())
+    if (global_counts[0] != 0)
       {
-        particle_handler.sort_particles_into_subdomains_and_cells();
-        points_moved_since_memory_sort = 0;
+        full_sort();
         return;
       }
     if (global_counts[1] == 0)
       return;
-    points_moved_since_memory_sort += global_counts[1];
 
+    // Per receiving rank, per point: id, x, the new cell's CellId (binary),
+    // the properties.
+    const unsigned int n_properties = points.n_properties();
+    for (auto &buffer : points_sent)
+      buffer.second.clear();
+    for (const PointMove &move : point_moves)
+      if (move.cell->is_locally_owned())
+        points.move(move.k, move.cell, move.xi);
+      else
+        {
+          std::vector<double> &buffer = points_sent[move.cell->subdomain_id()];
+          buffer.push_back(points.id[move.k]);
+          for (unsigned int d = 0; d < dim; ++d)
+            buffer.push_back(points.position[move.k][d]);
+          for (const unsigned int word :
+               move.cell->id().template to_binary<dim>())
+            buffer.push_back(word);
+          const std::size_t first = buffer.size();
+          buffer.resize(first + n_properties);
+          points.copy_record(move.k, buffer.data() + first);
+          points.remove(move.k);
+        }
     // Only the points that change rank travel, to the owners of their new
     // cells (deal.II's some-to-some exchange; every rank takes part, a rank
     // may receive without sending).
-    const std::map<unsigned int, std::vector<double>> received =
-      global_counts[2] != 0 ?
-        Utilities::MPI::some_to_some(mpi_communicator, sent) :
-        std::map<unsigned int, std::vector<double>>();
-    // One by one, each cell's points from the last: a removal leaves the
-    // places of the cell's earlier points unchanged. (remove_particles()
-    // would also recount every point on this rank, collectively.)
-    for (auto particle = leaving.rbegin(); particle != leaving.rend();
-         ++particle)
-      particle_handler.remove_particle(*particle);
-    for (unsigned int m = 0; m < moves.size(); ++m)
-      particle_handler.insert_particle(
-        moves[m].x,
-        moves[m].xi,
-        moves[m].id,
-        moves[m].cell,
-        ArrayView<const double>(moved_properties.data() + m * n_properties,
-                                n_properties));
-    const unsigned int record = 1 + dim + 4 + n_properties;
-    for (const auto &from_rank : received)
+    if (global_counts[2] != 0)
       {
-        const std::vector<double> &buffer = from_rank.second;
-        AssertDimension(buffer.size() % record, 0);
-        for (std::size_t r = 0; r < buffer.size(); r += record)
+        std::map<unsigned int, std::vector<double>> sent;
+        for (const auto &buffer : points_sent)
+          if (!buffer.second.empty())
+            sent.insert(buffer);
+        const std::map<unsigned int, std::vector<double>> received =
+          Utilities::MPI::some_to_some(mpi_communicator, sent);
+        const unsigned int record = 1 + dim + 4 + n_properties;
+        for (const auto &from_rank : received)
           {
-            const double *const entry = buffer.data() + r;
-            Point<dim>          x;
-            for (unsigned int d = 0; d < dim; ++d)
-              x[d] = entry[1 + d];
-            CellId::binary_type binary;
-            for (unsigned int w = 0; w < 4; ++w)
-              binary[w] = static_cast<unsigned int>(entry[1 + dim + w]);
-            const typename Triangulation<dim>::active_cell_iterator cell =
-              triangulation.create_cell_iterator(CellId(binary));
-            Assert(cell->is_locally_owned(), ExcInternalError());
-            const Point<dim> xi = GridTransfer<dim>::reference_point(
-              transfer.cell_data(cell->active_cell_index()), x, center);
-            particle_handler.insert_particle(
-              x,
-              xi,
-              static_cast<types::particle_index>(entry[0]),
-              cell,
-              ArrayView<const double>(entry + 1 + dim + 4, n_properties));
+            const std::vector<double> &buffer = from_rank.second;
+            AssertDimension(buffer.size() % record, 0);
+            for (std::size_t r = 0; r < buffer.size(); r += record)
+              {
+                const double *const entry = buffer.data() + r;
+                Point<dim>          x;
+                for (unsigned int d = 0; d < dim; ++d)
+                  x[d] = entry[1 + d];
+                CellId::binary_type binary;
+                for (unsigned int w = 0; w < 4; ++w)
+                  binary[w] = static_cast<unsigned int>(entry[1 + dim + w]);
+                const typename Triangulation<dim>::active_cell_iterator cell =
+                  triangulation.create_cell_iterator(CellId(binary));
+                Assert(cell->is_locally_owned(), ExcInternalError());
+                const Point<dim> xi = GridTransfer<dim>::reference_point(
+                  transfer.cell_data(cell->active_cell_index()), x, center);
+                points.add(static_cast<types::particle_index>(entry[0]),
+                           x,
+                           xi,
+                           cell,
+                           entry + 1 + dim + 4);
+              }
           }
       }
-    // The handler's cached numbers need no refresh (update_cached_numbers()
-    // is a pass over all points and two collectives): insert_particle() and
-    // remove_particle() keep each rank's count, no point was lost (else the
-    // full sort ran above), so the global count and the next free id are
-    // unchanged; the largest number of points per cell, which fmpm does not
-    // read, is refreshed by the next deal.II sort.
-    Assert(particle_handler.n_locally_owned_particles() ==
-             static_cast<types::particle_index>(
-               std::distance(particle_handler.begin(), particle_handler.end())),
-           ExcInternalError());
+    points.rebin();
   }
 
   template class Simulator<2>;

@@ -72,10 +72,11 @@ fi
 grep -q '"status": "completed"' resumed/summary.json || fail "resumed run not completed"
 
 # The physics of summary.json: without wall times, memory and (other rank counts)
-# the partition.
+# the partition and the CG iteration counts (a sum in another order can stop
+# an iteration earlier or later).
 physics() {
   sed '/"phase_wall_seconds"/,$d' "$1" | grep -v -e wall_seconds -e particle_steps_per_second -e resident_bytes -e support_cache_bytes -e latest_checkpoint \
-    | if [ "$full_ranks" = "$resume_ranks" ]; then cat; else grep -v -e n_mpi_ranks -e point_imbalance; fi
+    | if [ "$full_ranks" = "$resume_ranks" ]; then cat; else grep -v -e n_mpi_ranks -e point_imbalance -e cg_iterations; fi
 }
 physics full/summary.json > full.summary
 physics resumed/summary.json > resumed.summary

@@ -38,7 +38,7 @@ namespace
     using fmpm::SimulatorAccess<dim>::get_dof_handler;
     using fmpm::SimulatorAccess<dim>::get_full_mass_matrix;
     using fmpm::SimulatorAccess<dim>::get_lumped_mass;
-    using fmpm::SimulatorAccess<dim>::get_particle_handler;
+    using fmpm::SimulatorAccess<dim>::get_material_points;
   };
 
   /**

@@ -239,10 +239,11 @@ end
   const double rho = 100, g = 10, H = 1, W = 0.25;
   const double base_stress = rho * g * H;
   double       max_error = 0, max_speed = 0;
-  for (const auto &particle : simulator->get_particle_handler())
+  const auto &points = simulator->get_material_points();
+  for (unsigned int k = 0; k < points.n_points(); ++k)
     {
-      const auto   p     = particle.get_properties();
-      const double depth = H - particle.get_location()[1];
+      const auto   p     = points.record(k);
+      const double depth = H - points.position[k][1];
       const double sigma_yy =
         p[fmpm::PropertyIndex<2>::stress + 1]; // xx, yy, zz, xy, ...
       max_error = std::max(max_error, std::abs(sigma_yy + rho * g * depth));
@@ -397,8 +398,8 @@ end
   simulator->run();
   // The wall's face is at 0.5 + 2 t = 0.7 at the end.
   double min_x = 1e30;
-  for (const auto &particle : simulator->get_particle_handler())
-    min_x = std::min(min_x, particle.get_location()[0]);
+  for (const auto &x : simulator->get_material_points().position)
+    min_x = std::min(min_x, x[0]);
   EXPECT_GE(min_x, 0.7 - 1e-12);
   EXPECT_GT(simulator->get_history().back().momentum[0], 0);
 }

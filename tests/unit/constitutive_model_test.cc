@@ -385,9 +385,12 @@ namespace
     SymmetricTensor<2, 3> sigma_old;
     sigma_old[0][0] = 1.5;
     sigma_old[0][1] = -0.5;
+    std::vector<fmpm::RecordColumns> records;
+    for (unsigned int q = 0; q < 2; ++q)
+      records.emplace_back(make_array_view(storage[q]));
     for (unsigned int q = 0; q < 2; ++q)
       {
-        inputs.properties[q] = make_array_view(storage[q]);
+        inputs.properties[q] = records[q].record();
         fmpm::set_symmetric_tensor3(inputs.properties[q],
                                     Index::stress,
                                     sigma_old);

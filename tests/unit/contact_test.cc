@@ -516,10 +516,11 @@ namespace
       make_simulator<2>({}, scene + output_overrides(directory), prm);
     simulator->run();
     std::map<types::particle_index, Tensor<1, 2>> result;
-    for (const auto &particle : simulator->get_particle_handler())
+    const auto &points = simulator->get_material_points();
+    for (unsigned int k = 0; k < points.n_points(); ++k)
       {
-        const auto p = particle.get_properties();
-        result[particle.get_id()] =
+        const auto p = points.record(k);
+        result[points.id[k]] =
           fmpm::get_vector<2>(p, fmpm::PropertyIndex<2>::velocity);
         if (initial_points)
           {
@@ -529,7 +530,7 @@ namespace
             point.M = p[fmpm::PropertyIndex<2>::mass];
             point.material =
               static_cast<unsigned int>(p[fmpm::PropertyIndex<2>::material_id]);
-            (*initial_points)[particle.get_id()] = point;
+            (*initial_points)[points.id[k]] = point;
           }
       }
     return result;
@@ -1256,10 +1257,11 @@ namespace
     std::vector<Point<2>>     x;
     std::vector<unsigned int> body;
     double                    volume = 0;
-    for (const auto &particle : simulator->get_particle_handler())
+    const auto &points = simulator->get_material_points();
+    for (unsigned int k = 0; k < points.n_points(); ++k)
       {
-        const auto p = particle.get_properties();
-        x.push_back(particle.get_location());
+        const auto p = points.record(k);
+        x.push_back(points.position[k]);
         body.push_back(
           static_cast<unsigned int>(p[fmpm::PropertyIndex<2>::body_id]));
         volume += p[fmpm::PropertyIndex<2>::volume];

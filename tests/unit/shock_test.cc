@@ -79,7 +79,9 @@ namespace
       L[0][0]                        = std::log(J / J_old) / dt;
       inputs.deformation_gradient[0] = F;
       inputs.velocity_gradient[0]    = L;
-      inputs.properties[0] = ArrayView<double>(values.data(), values.size());
+      const fmpm::RecordColumns record(
+        ArrayView<double>(values.data(), values.size()));
+      inputs.properties[0] = record.record();
       inputs.cell_size[0]  = cell_size;
       inputs.time_step     = dt;
       inputs.reference_density = rho0;

@@ -38,7 +38,7 @@ namespace fmpm
       /** Spatial velocity gradient L used for the update. Units: 1/s. */
       std::vector<Tensor<2, 3>> velocity_gradient;
       /** All property slots of each point, for models with history state. */
-      std::vector<ArrayView<double>> properties;
+      std::vector<PointRecord> properties;
       /** Size of each point's cell (its smallest vertex distance), filled
        * only for models whose needs_cell_size() is true. Units: m. */
       std::vector<double> cell_size;

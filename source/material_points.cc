@@ -1,0 +1,282 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#include <fmpm/material_points.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace fmpm
+{
+  template <int dim>
+  void
+  MaterialPoints<dim>::initialize(const unsigned int n_properties)
+  {
+    position.clear();
+    reference_position.clear();
+    id.clear();
+    cell.clear();
+    columns.assign(n_properties, std::vector<double>());
+    refresh_column_pointers();
+    rebuild_cell_ranges();
+  }
+
+
+
+  template <int dim>
+  void
+  MaterialPoints<dim>::refresh_column_pointers()
+  {
+    column_pointers.resize(columns.size());
+    for (unsigned int s = 0; s < columns.size(); ++s)
+      column_pointers[s] = columns[s].data();
+  }
+
+
+
+  template <int dim>
+  void
+  MaterialPoints<dim>::copy_record(const unsigned int k,
+                                   double            *record_values) const
+  {
+    for (unsigned int s = 0; s < columns.size(); ++s)
+      record_values[s] = columns[s][k];
+  }
+
+
+
+  template <int dim>
+  void
+  MaterialPoints<dim>::set_cell_order(const std::vector<CellIterator> &cells,
+                                      const unsigned int n_active_cells)
+  {
+    cell_key.assign(n_active_cells, numbers::invalid_unsigned_int);
+    cell_of_key = cells;
+    for (unsigned int c = 0; c < cells.size(); ++c)
+      cell_key[cells[c]->active_cell_index()] = c;
+    cell_received.assign(cells.size(), 0);
+  }
+
+
+
+  template <int dim>
+  void
+  MaterialPoints<dim>::pull_from(Particles::ParticleHandler<dim> &handler)
+  {
+    const unsigned int n = handler.n_locally_owned_particles();
+    position.clear();
+    reference_position.clear();
+    id.clear();
+    cell.clear();
+    position.reserve(n);
+    reference_position.reserve(n);
+    id.reserve(n);
+    cell.reserve(n);
+    for (auto &values : columns)
+      {
+        values.clear();
+        values.reserve(n);
+      }
+    std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
+      in_cell;
+    for (const auto &c : cell_of_key)
+      {
+        in_cell.clear();
+        const auto range = handler.particles_in_cell(c);
+        for (auto particle = range.begin(); particle != range.end(); ++particle)
+          in_cell.push_back(particle);
+        std::sort(in_cell.begin(),
+                  in_cell.end(),
+                  [](const auto &a, const auto &b) {
+                    return a->get_id() < b->get_id();
+                  });
+        for (const auto &particle : in_cell)
+          {
+            position.push_back(particle->get_location());
+            reference_position.push_back(particle->get_reference_location());
+            id.push_back(particle->get_id());
+            cell.push_back(c->active_cell_index());
+            const auto values = particle->get_properties();
+            for (unsigned int s = 0; s < columns.size(); ++s)
+              columns[s].push_back(values[s]);
+          }
+      }
+    AssertThrow(id.size() == n,
+                ExcMessage("The particle handler holds points outside the "
+                           "locally owned cells."));
+    refresh_column_pointers();
+    rebuild_cell_ranges();
+    handler.clear_particles();
+    handler.update_cached_numbers();
+  }
+
+
+
+  template <int dim>
+  void
+  MaterialPoints<dim>::push_to(Particles::ParticleHandler<dim> &handler) const
+  {
+    Assert(handler.n_locally_owned_particles() == 0, ExcInternalError());
+    handler.reserve(n_points());
+    std::vector<double> record_values(columns.size());
+    for (unsigned int c = 0; c < n_cells(); ++c)
+      for (unsigned int k = cell_point_begin[c]; k < cell_point_begin[c + 1];
+           ++k)
+        {
+          copy_record(k, record_values.data());
+          handler.insert_particle(position[k],
+                                  reference_position[k],
+                                  id[k],
+                                  cell_iterator[c],
+                                  make_array_view(record_values));
+        }
+    handler.update_cached_numbers();
+  }
+
+
+
+  template <int dim>
+  void
+  MaterialPoints<dim>::add(const types::particle_index id,
+                           const Point<dim>           &x,
+                           const Point<dim>           &xi,
+                           const CellIterator         &cell,
+                           const double               *record_values)
+  {
+    position.push_back(x);
+    reference_position.push_back(xi);
+    this->id.push_back(id);
+    this->cell.push_back(cell->active_cell_index());
+    for (unsigned int s = 0; s < columns.size(); ++s)
+      columns[s].push_back(record_values[s]);
+    refresh_column_pointers();
+    cell_received[key(this->cell.size() - 1)] = 1;
+    any_change_since_rebin                    = true;
+  }
+
+
+
+  template <int dim>
+  void
+  MaterialPoints<dim>::rebin()
+  {
+    if (!any_change_since_rebin)
+      return;
+    any_change_since_rebin = false;
+    const unsigned int n      = n_points();
+    const unsigned int n_keys = cell_of_key.size();
+
+    // Stable counting sort by the cell's key; removed points are dropped.
+    count.assign(n_keys + 1, 0);
+    unsigned int n_kept = 0;
+    for (unsigned int k = 0; k < n; ++k)
+      if (cell[k] != numbers::invalid_unsigned_int)
+        {
+          ++count[key(k) + 1];
+          ++n_kept;
+        }
+    std::partial_sum(count.begin(), count.end(), count.begin());
+    permutation.resize(n_kept);
+    {
+      std::vector<unsigned int> &next = count; // count[key] = next place
+      for (unsigned int k = 0; k < n; ++k)
+        if (cell[k] != numbers::invalid_unsigned_int)
+          permutation[next[key(k)]++] = k;
+    }
+    // In the cells that received points: by id (the order of a cell's
+    // points is then that of a run that never moved them).
+    for (unsigned int first = 0; first < n_kept;)
+      {
+        const unsigned int c    = key(permutation[first]);
+        unsigned int       last = first + 1;
+        while (last < n_kept && key(permutation[last]) == c)
+          ++last;
+        if (cell_received[c])
+          {
+            std::sort(permutation.begin() + first,
+                      permutation.begin() + last,
+                      [this](const unsigned int a, const unsigned int b) {
+                        return id[a] < id[b];
+                      });
+            cell_received[c] = 0;
+          }
+        first = last;
+      }
+
+    // Apply the permutation from the first place it changes.
+    unsigned int first_change = 0;
+    while (first_change < n_kept && permutation[first_change] == first_change)
+      ++first_change;
+    if (first_change == n_kept && n_kept == n)
+      {
+        // The points changed cells without changing places.
+        rebuild_cell_ranges();
+        return;
+      }
+    auto apply = [&](auto &values) {
+      using Value = typename std::decay_t<decltype(values)>::value_type;
+      std::vector<Value> reordered(n_kept - first_change);
+      for (unsigned int k = first_change; k < n_kept; ++k)
+        reordered[k - first_change] = values[permutation[k]];
+      values.resize(n_kept);
+      std::copy(reordered.begin(), reordered.end(), values.begin() + first_change);
+    };
+    apply(position);
+    apply(reference_position);
+    apply(id);
+    apply(cell);
+    scratch.resize(n_kept);
+    for (auto &values : columns)
+      {
+        // Gather into scratch, which then becomes the column.
+        std::copy(values.begin(), values.begin() + first_change, scratch.begin());
+        for (unsigned int k = first_change; k < n_kept; ++k)
+          scratch[k] = values[permutation[k]];
+        values.swap(scratch);
+        scratch.resize(n_kept);
+      }
+    refresh_column_pointers();
+    rebuild_cell_ranges();
+  }
+
+
+
+  template <int dim>
+  void
+  MaterialPoints<dim>::rebuild_cell_ranges()
+  {
+    cell_index.clear();
+    cell_iterator.clear();
+    cell_point_begin.assign(1, 0);
+    for (unsigned int k = 0; k < n_points(); ++k)
+      if (k == 0 || cell[k] != cell[k - 1])
+        {
+          if (k > 0)
+            cell_point_begin.push_back(k);
+          cell_index.push_back(cell[k]);
+          cell_iterator.push_back(cell_of_key[key(k)]);
+        }
+    if (n_points() > 0)
+      cell_point_begin.push_back(n_points());
+  }
+
+
+
+  template <int dim>
+  std::size_t
+  MaterialPoints<dim>::memory_consumption() const
+  {
+    std::size_t bytes = position.capacity() * sizeof(Point<dim>) +
+                        reference_position.capacity() * sizeof(Point<dim>) +
+                        id.capacity() * sizeof(types::particle_index) +
+                        cell.capacity() * sizeof(unsigned int) +
+                        scratch.capacity() * sizeof(double) +
+                        permutation.capacity() * sizeof(unsigned int);
+    for (const auto &values : columns)
+      bytes += values.capacity() * sizeof(double);
+    return bytes;
+  }
+
+  template class MaterialPoints<2>;
+  template class MaterialPoints<3>;
+} // namespace fmpm
