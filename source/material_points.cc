@@ -10,15 +10,36 @@ namespace fmpm
 {
   template <int dim>
   void
-  MaterialPoints<dim>::initialize(const unsigned int n_properties)
+  MaterialPoints<dim>::initialize(const unsigned int               n_properties,
+                                  const std::vector<unsigned int> &zero_slots)
   {
     position.clear();
     reference_position.clear();
     id.clear();
     cell.clear();
     columns.assign(n_properties, std::vector<double>());
+    zero_slot.assign(n_properties, 0);
+    for (const unsigned int s : zero_slots)
+      zero_slot[s] = 1;
     refresh_column_pointers();
     rebuild_cell_ranges();
+  }
+
+
+
+  template <int dim>
+  std::vector<unsigned int>
+  MaterialPoints<dim>::plane_strain_zero_slots()
+  {
+    if (dim == 3)
+      return {};
+    using Index = PropertyIndex<dim>;
+    return {Index::deformation_gradient + 2,
+            Index::deformation_gradient + 5,
+            Index::deformation_gradient + 6,
+            Index::deformation_gradient + 7,
+            Index::stress + 4,
+            Index::stress + 5};
   }
 
 
@@ -27,9 +48,11 @@ namespace fmpm
   void
   MaterialPoints<dim>::refresh_column_pointers()
   {
+    if (zeros.size() < id.size())
+      zeros.resize(std::max<std::size_t>(id.capacity(), id.size()), 0.);
     column_pointers.resize(columns.size());
     for (unsigned int s = 0; s < columns.size(); ++s)
-      column_pointers[s] = columns[s].data();
+      column_pointers[s] = zero_slot[s] ? zeros.data() : columns[s].data();
   }
 
 
@@ -40,7 +63,7 @@ namespace fmpm
                                    double            *record_values) const
   {
     for (unsigned int s = 0; s < columns.size(); ++s)
-      record_values[s] = columns[s][k];
+      record_values[s] = zero_slot[s] ? 0. : columns[s][k];
   }
 
 
@@ -72,10 +95,11 @@ namespace fmpm
     reference_position.reserve(n);
     id.reserve(n);
     cell.reserve(n);
-    for (auto &values : columns)
+    for (unsigned int s = 0; s < columns.size(); ++s)
       {
-        values.clear();
-        values.reserve(n);
+        columns[s].clear();
+        if (!zero_slot[s])
+          columns[s].reserve(n);
       }
     std::vector<typename Particles::ParticleHandler<dim>::particle_iterator>
       in_cell;
@@ -98,7 +122,10 @@ namespace fmpm
             cell.push_back(c->active_cell_index());
             const auto values = particle->get_properties();
             for (unsigned int s = 0; s < columns.size(); ++s)
-              columns[s].push_back(values[s]);
+              if (!zero_slot[s])
+                columns[s].push_back(values[s]);
+              else
+                Assert(values[s] == 0, ExcInternalError());
           }
       }
     AssertThrow(id.size() == n,
@@ -148,7 +175,8 @@ namespace fmpm
     this->id.push_back(id);
     this->cell.push_back(cell->active_cell_index());
     for (unsigned int s = 0; s < columns.size(); ++s)
-      columns[s].push_back(record_values[s]);
+      if (!zero_slot[s])
+        columns[s].push_back(record_values[s]);
     refresh_column_pointers();
     cell_received[key(this->cell.size() - 1)] = 1;
     any_change_since_rebin                    = true;
@@ -226,8 +254,11 @@ namespace fmpm
     apply(id);
     apply(cell);
     scratch.resize(n_kept);
-    for (auto &values : columns)
+    for (unsigned int s = 0; s < columns.size(); ++s)
       {
+        if (zero_slot[s])
+          continue;
+        std::vector<double> &values = columns[s];
         // Gather into scratch, which then becomes the column.
         std::copy(values.begin(), values.begin() + first_change, scratch.begin());
         for (unsigned int k = first_change; k < n_kept; ++k)
@@ -271,7 +302,8 @@ namespace fmpm
                         id.capacity() * sizeof(types::particle_index) +
                         cell.capacity() * sizeof(unsigned int) +
                         scratch.capacity() * sizeof(double) +
-                        permutation.capacity() * sizeof(unsigned int);
+                        permutation.capacity() * sizeof(unsigned int) +
+                        zeros.capacity() * sizeof(double);
     for (const auto &values : columns)
       bytes += values.capacity() * sizeof(double);
     return bytes;

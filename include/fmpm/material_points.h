@@ -42,9 +42,21 @@ namespace fmpm
   public:
     using CellIterator = typename Triangulation<dim>::active_cell_iterator;
 
-    /** @brief Set the number of property columns; forget every point. */
+    /**
+     * @brief Set the number of property columns; forget every point.
+     *
+     * The slots in @p zero_slots are zero for every point (in 2D, plane
+     * strain: F_xz, F_yz, F_zx, F_zy, σ_xz, σ_yz): they take no memory,
+     * and their columns read as zeros. Nothing may write another value.
+     */
     void
-    initialize(const unsigned int n_properties);
+    initialize(const unsigned int               n_properties,
+               const std::vector<unsigned int> &zero_slots = {});
+
+    /** @brief The slots that are zero in 2D (plane strain): F_xz, F_yz,
+     * F_zx, F_zy, σ_xz, σ_yz; none in 3D. */
+    static std::vector<unsigned int>
+    plane_strain_zero_slots();
 
     /** @brief Number of points on this rank. */
     unsigned int
@@ -67,17 +79,18 @@ namespace fmpm
       return columns.size();
     }
 
-    /** @brief The column of property slot @p slot (one value per point). */
+    /** @brief The column of property slot @p slot (one value per point;
+     * a zero slot's column reads zeros and must not be written). */
     double *
     column(const unsigned int slot)
     {
-      return columns[slot].data();
+      return column_pointers[slot];
     }
 
     const double *
     column(const unsigned int slot) const
     {
-      return columns[slot].data();
+      return column_pointers[slot];
     }
 
     /** @brief The properties of point @p k, addressed by slot. */
@@ -190,6 +203,9 @@ namespace fmpm
 
     std::vector<std::vector<double>> columns;
     std::vector<double *>            column_pointers;
+    /** Whether a slot is always zero, and the zeros its column reads. */
+    std::vector<char>   zero_slot;
+    std::vector<double> zeros;
     /** By active cell index: the cell's place in the order, and back. */
     std::vector<unsigned int> cell_key;
     std::vector<CellIterator> cell_of_key;

@@ -254,7 +254,8 @@ namespace fmpm
         if (!mark_cells())
           break;
         // The points are created anew in the finer cells.
-        points.initialize(particle_properties.n_properties());
+        points.initialize(particle_properties.n_properties(),
+                      MaterialPoints<dim>::plane_strain_zero_slots());
         triangulation.prepare_coarsening_and_refinement();
         triangulation.execute_coarsening_and_refinement();
         setup_after_mesh_change();

@@ -843,8 +843,15 @@ namespace fmpm
             inputs.velocity_gradient[0]    = strain;
             inputs.properties[0]           = p;
             constitutive_models[material]->update_stress(inputs, outputs);
-            set_tensor3(p, Index::deformation_gradient, F);
-            set_symmetric_tensor3(p, Index::stress, outputs.cauchy_stress[0]);
+            // (In 2D the plane-strain zero entries are not stored.)
+            for (unsigned int a = 0; a < 3; ++a)
+              for (unsigned int c = 0; c < 3; ++c)
+                if (dim == 3 || (a < 2) == (c < 2))
+                  p[Index::deformation_gradient + 3 * a + c] = F[a][c];
+            for (unsigned int c = 0; c < (dim == 3 ? 6 : 4); ++c)
+              p[Index::stress + c] =
+                outputs.cauchy_stress[0][stress_component_i[c]]
+                                        [stress_component_j[c]];
             p[Index::strain_energy_density] = outputs.strain_energy_density[0];
             p[Index::volume] = determinant(F) * p[Index::initial_volume];
           }

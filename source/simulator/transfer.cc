@@ -128,13 +128,14 @@ namespace fmpm
     }
 
     /**
-     * F^{n+1} = ΔF F^n read from and for the stored (row-major) F^n of
-     * @p F_old (a point's record from the F slots on); in 2D ΔF is the
-     * identity outside its 2x2 block.
+     * F^{n+1} = ΔF F^n of point k, F^n read from the nine (row-major)
+     * columns @p F; in 2D ΔF is the identity outside its 2x2 block.
      */
-    template <int dim, typename Record>
+    template <int dim>
     inline Tensor<2, 3>
-    updated_deformation_gradient(const Tensor<2, 3> &dF, const Record &F_old)
+    updated_deformation_gradient(const Tensor<2, 3>  &dF,
+                                 const double *const *F_old,
+                                 const unsigned int   k)
     {
       Tensor<2, 3> F;
       for (unsigned int a = 0; a < dim; ++a)
@@ -142,12 +143,12 @@ namespace fmpm
           {
             double sum = 0;
             for (unsigned int c = 0; c < dim; ++c)
-              sum += dF[a][c] * F_old[3 * c + b];
+              sum += dF[a][c] * F_old[3 * c + b][k];
             F[a][b] = sum;
           }
       for (unsigned int a = dim; a < 3; ++a)
         for (unsigned int b = 0; b < 3; ++b)
-          F[a][b] = F_old[3 * a + b];
+          F[a][b] = F_old[3 * a + b][k];
       return F;
     }
 
@@ -1088,7 +1089,19 @@ namespace fmpm
     for (auto &group : by_material)
       group.reserve(stress_batch_size);
     unsigned int group_points[stress_batch_size];
-    double       J_of_group[stress_batch_size];
+    double       J_of_group[stress_batch_size], J_new[stress_batch_size];
+    // F (row major) and σ in the store. In 2D (plane strain) only the 2x2
+    // block and F_33 of F, and σ_xx, σ_yy, σ_zz, σ_xy are stored: the other
+    // entries are zero and are not written.
+    double *F_column[9], *stress_column[6];
+    for (unsigned int c = 0; c < 9; ++c)
+      F_column[c] = points.column(Index::deformation_gradient + c);
+    for (unsigned int c = 0; c < 6; ++c)
+      stress_column[c] = points.column(Index::stress + c);
+    double *const       energy_column = points.column(Index::strain_energy_density);
+    double *const       volume_column = points.column(Index::volume);
+    const double *const initial_volume_column =
+      points.column(Index::initial_volume);
 
     for (unsigned int batch_begin = 0; batch_begin < supports.n_points();
          batch_begin += stress_batch_size)
@@ -1137,12 +1150,12 @@ namespace fmpm
                                          dF);
             for (unsigned int q = 0; q < n_group; ++q)
               {
-                const PointRecord F_old{
-                  inputs.properties[q].columns + Index::deformation_gradient,
-                  inputs.properties[q].index};
                 inputs.deformation_gradient[q] =
-                  updated_deformation_gradient<dim>(dF[q], F_old);
+                  updated_deformation_gradient<dim>(dF[q],
+                                                    F_column,
+                                                    group_points[q]);
                 const double J = determinant(inputs.deformation_gradient[q]);
+                J_new[q]       = J;
                 if (!(J > 0) && local_failure.empty())
                   {
                     const unsigned int k = group_points[q];
@@ -1168,16 +1181,19 @@ namespace fmpm
 
             for (unsigned int q = 0; q < n_group; ++q)
               {
-                const PointRecord       &P = inputs.properties[q];
-                const Tensor<2, 3>      &F = inputs.deformation_gradient[q];
-                const double             J = determinant(F);
-                set_tensor3(P, Index::deformation_gradient, F);
-                set_symmetric_tensor3(P,
-                                      Index::stress,
-                                      outputs.cauchy_stress[q]);
-                P[Index::strain_energy_density] =
-                  outputs.strain_energy_density[q];
-                P[Index::volume] = J * P[Index::initial_volume];
+                const unsigned int     k     = group_points[q];
+                const Tensor<2, 3>    &F     = inputs.deformation_gradient[q];
+                const auto            &sigma = outputs.cauchy_stress[q];
+                const double           J     = J_new[q];
+                for (unsigned int a = 0; a < 3; ++a)
+                  for (unsigned int b = 0; b < 3; ++b)
+                    if (dim == 3 || (a < 2) == (b < 2))
+                      F_column[3 * a + b][k] = F[a][b];
+                for (unsigned int c = 0; c < (dim == 3 ? 6 : 4); ++c)
+                  stress_column[c][k] =
+                    sigma[stress_component_i[c]][stress_component_j[c]];
+                energy_column[k] = outputs.strain_energy_density[q];
+                volume_column[k] = J * initial_volume_column[k];
                 // Inverted points are reported above; they give no speed.
                 J_of_group[q] = J > 0 ? J : 1;
                 if (!std::isfinite(outputs.strain_energy_density[q]) &&
