@@ -125,35 +125,36 @@ namespace
   }
 
   /**
-   * Bytes the passes of one FLIP-type step move per point: the per-point
-   * data each pass reads and writes, counted by cache line where a pass
-   * touches a part of a point's property record (Q doubles per point, 64
-   * byte lines). s support entries per point of 4 + 8 + 8 dim bytes (node,
-   * S, G). Grid vectors (a few per cent of the points' bytes) are left out.
-   *   supports:         read x (8 dim), write the entries and 16 per point
-   *   particles to grid: read the entries, the line with M and V
-   *   stress update:     read node and G, read and write the record
-   *                      (F, σ, V, energy), forces from the same record
-   *   particle update:   read node and S, read and write the line with V,
-   *                      read and write x and the reference location
-   *   sort:              read x, move the record and x (deal.II's memory
-   *                      sort) on boxes
+   * Bytes the passes of one FLIP-type step move per point: the columns of
+   * the point store each pass reads and writes (8 bytes per value; Q
+   * property columns, of which 6 are not stored in 2D: plane strain), and
+   * s support entries per point of 4 + 8 + 8 dim bytes (node, S, G). Grid
+   * vectors (a few per cent of the points' bytes) are left out.
+   *   supports:          read x or ξ (8 dim), write the entries and 4
+   *   particles to grid: read the entries, M, V, the volume and σ
+   *   stress update:     read node and G, read and write F, write σ, e, V
+   *                      (read V₀)
+   *   particle update:   read node and S, read and write V, x and ξ
+   *   sort (rebin):      every column read and written once (a step in
+   *                      which the points move everywhere), and the
+   *                      permutation
    */
   double
   bytes_per_point_step(const boost::property_tree::ptree &summary)
   {
-    const double dim     = summary.get<double>("dimension");
-    const double Q       = summary.get<double>("n_properties", 0.);
-    const double s       = summary.get<double>("support_entries_per_point", 0.);
-    const double entry   = 4 + 8 + 8 * dim;
-    const double record  = 64. * std::ceil(8. * Q / 64.);
-    const double line    = 64.;
-    const double x       = 8. * dim;
-    const double support = x + s * entry + 16.;
-    const double p2g     = s * entry + line;
-    const double stress  = s * (4 + 8 * dim) + 2 * record;
-    const double update  = s * (4 + 8) + 2 * line + 4 * x;
-    const double sort    = x + 2 * (record + 2 * x);
+    const double dim       = summary.get<double>("dimension");
+    const double Q         = summary.get<double>("n_properties", 0.);
+    const double s         = summary.get<double>("support_entries_per_point", 0.);
+    const double entry     = 4 + 8 + 8 * dim;
+    const double x         = 8. * dim;
+    const double n_F       = dim == 2 ? 5 : 9;
+    const double n_sigma   = dim == 2 ? 4 : 6;
+    const double stored    = Q - (dim == 2 ? 6 : 0);
+    const double support   = x + s * entry + 4.;
+    const double p2g       = s * entry + 8 * (2 + dim + n_sigma);
+    const double stress    = s * (4 + 8 * dim) + 8 * (2 * n_F + n_sigma + 3);
+    const double update    = s * (4 + 8) + 2 * 3 * x;
+    const double sort      = 2 * (8 * stored + 2 * x + 8 + 4) + 4;
     return support + p2g + stress + update + sort;
   }
 
