@@ -96,14 +96,33 @@ namespace fmpm
             }
           return;
         }
+      // ε = sym(F) − I, σ = λ tr(ε) I + 2μ ε, W = σ:ε / 2, entry by entry
+      // (the sums in the order of deal.II's SymmetricTensor operations).
+      const double two_mu = 2 * mu;
       for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
         {
-          const SymmetricTensor<2, 3> strain =
-            symmetrize(inputs.deformation_gradient[q]) - identity;
-          const SymmetricTensor<2, 3> stress =
-            lambda * trace(strain) * identity + 2 * mu * strain;
-          outputs.cauchy_stress[q]         = stress;
-          outputs.strain_energy_density[q] = 0.5 * (stress * strain);
+          const Tensor<2, 3> &F    = inputs.deformation_gradient[q];
+          const double        e_xx = F[0][0] - 1, e_yy = F[1][1] - 1,
+                       e_zz = F[2][2] - 1;
+          const double e_xy = (F[0][1] + F[1][0]) * 0.5,
+                       e_xz = (F[0][2] + F[2][0]) * 0.5,
+                       e_yz = (F[1][2] + F[2][1]) * 0.5;
+          const double lambda_trace = lambda * (e_xx + e_yy + e_zz);
+          SymmetricTensor<2, 3> &sigma = outputs.cauchy_stress[q];
+          sigma[0][0] = lambda_trace + two_mu * e_xx;
+          sigma[1][1] = lambda_trace + two_mu * e_yy;
+          sigma[2][2] = lambda_trace + two_mu * e_zz;
+          sigma[0][1] = two_mu * e_xy;
+          sigma[0][2] = two_mu * e_xz;
+          sigma[1][2] = two_mu * e_yz;
+          double work = sigma[0][1] * e_xy;
+          work += sigma[0][2] * e_xz;
+          work += sigma[1][2] * e_yz;
+          work += work;
+          work += sigma[0][0] * e_xx;
+          work += sigma[1][1] * e_yy;
+          work += sigma[2][2] * e_zz;
+          outputs.strain_energy_density[q] = 0.5 * work;
         }
     }
 

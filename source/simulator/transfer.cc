@@ -1150,10 +1150,30 @@ namespace fmpm
                                          dF);
             for (unsigned int q = 0; q < n_group; ++q)
               {
-                inputs.deformation_gradient[q] =
-                  updated_deformation_gradient<dim>(dF[q],
-                                                    F_column,
-                                                    group_points[q]);
+                if constexpr (dim == 2)
+                  {
+                    // F^{n+1} = ΔF F^n on the 2x2 block; F_33 and the zero
+                    // entries kept (plane strain), written in place.
+                    const unsigned int  k  = group_points[q];
+                    const Tensor<2, 3> &d  = dF[q];
+                    const double        a  = F_column[0][k], b = F_column[1][k],
+                                 c = F_column[3][k], e = F_column[4][k];
+                    Tensor<2, 3> &F = inputs.deformation_gradient[q];
+                    F[0][0]         = d[0][0] * a + d[0][1] * c;
+                    F[0][1]         = d[0][0] * b + d[0][1] * e;
+                    F[0][2]         = 0;
+                    F[1][0]         = d[1][0] * a + d[1][1] * c;
+                    F[1][1]         = d[1][0] * b + d[1][1] * e;
+                    F[1][2]         = 0;
+                    F[2][0]         = 0;
+                    F[2][1]         = 0;
+                    F[2][2]         = F_column[8][k];
+                  }
+                else
+                  inputs.deformation_gradient[q] =
+                    updated_deformation_gradient<dim>(dF[q],
+                                                      F_column,
+                                                      group_points[q]);
                 const double J = determinant(inputs.deformation_gradient[q]);
                 J_new[q]       = J;
                 if (!(J > 0) && local_failure.empty())
