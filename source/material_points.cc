@@ -141,6 +141,21 @@ namespace fmpm
 
   template <int dim>
   void
+  MaterialPoints<dim>::reserve(const unsigned int n)
+  {
+    position.reserve(n);
+    reference_position.reserve(n);
+    id.reserve(n);
+    cell.reserve(n);
+    for (unsigned int s = 0; s < columns.size(); ++s)
+      if (!zero_slot[s])
+        columns[s].reserve(n);
+  }
+
+
+
+  template <int dim>
+  void
   MaterialPoints<dim>::push_to(Particles::ParticleHandler<dim> &handler) const
   {
     Assert(handler.n_locally_owned_particles() == 0, ExcInternalError());

@@ -119,6 +119,10 @@ namespace fmpm
     void
     pull_from(Particles::ParticleHandler<dim> &handler);
 
+    /** @brief Reserve memory for @p n points. */
+    void
+    reserve(const unsigned int n);
+
     /** @brief Give every point to the (empty) @p handler. */
     void
     push_to(Particles::ParticleHandler<dim> &handler) const;

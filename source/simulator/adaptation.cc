@@ -260,7 +260,6 @@ namespace fmpm
         triangulation.execute_coarsening_and_refinement();
         setup_after_mesh_change();
         create_material_points();
-        points_from_handler();
         compute_mass_floor();
       }
   }

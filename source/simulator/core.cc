@@ -78,7 +78,6 @@ namespace fmpm
     mass_matrix->initialize();
     initialize_particle_handler();
     create_material_points();
-    points_from_handler();
     setup_boundary_conditions();
     initialize_stress_from_gravity();
     compute_mass_floor();

@@ -451,16 +451,6 @@ namespace fmpm
           }
       }
 
-    particle_handler.reserve(new_points.size());
-    for (unsigned int i = 0; i < new_points.size(); ++i)
-      particle_handler.insert_particle(new_points[i].x,
-                                       new_points[i].xi,
-                                       ids[i],
-                                       new_points[i].cell,
-                                       make_array_view(
-                                         new_points[i].properties));
-    particle_handler.update_cached_numbers();
-
     // Every body must have produced points.
     std::vector<unsigned long long> points_per_body(n_bodies, 0);
     for (const auto &point : new_points)
@@ -474,6 +464,25 @@ namespace fmpm
                              "outside the mesh or is smaller than one point "
                              "spacing. Check its Center and Half lengths "
                              "against the Mesh subsection."));
+
+    // The points go straight into the store (not through the handler),
+    // each record freed once copied.
+    points.initialize(particle_properties.n_properties(),
+                      MaterialPoints<dim>::plane_strain_zero_slots());
+    points.reserve(new_points.size());
+    for (unsigned int i = 0; i < new_points.size(); ++i)
+      {
+        points.add(ids[i],
+                   new_points[i].x,
+                   new_points[i].xi,
+                   new_points[i].cell,
+                   new_points[i].properties.data());
+        std::vector<double>().swap(new_points[i].properties);
+      }
+    points.rebin();
+    n_global_material_points =
+      Utilities::MPI::sum<unsigned long long>(points.n_points(),
+                                              mpi_communicator);
   }
 
 
