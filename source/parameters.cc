@@ -929,16 +929,16 @@ namespace fmpm
     prm.declare_entry("Fast point sorting",
                       "true",
                       Patterns::Bool(),
-                      "After each step, move only the material points that "
-                      "left their cell (their reference coordinates are kept "
-                      "up to date during the particle update), and run "
-                      "deal.II's full sort, which also puts the points' "
-                      "memory back in cell order, once the moved points "
-                      "reach half of all points; false runs deal.II's full "
-                      "sort of every point every step. The physics is the "
-                      "same (to round-off: the order of the points within a "
-                      "cell differs). Used on one MPI rank; several ranks "
-                      "use deal.II's sort. Units: none.");
+                      "After each step, find the new cell of only the "
+                      "material points that left their cell (their reference "
+                      "coordinates are kept up to date during the particle "
+                      "update), send only the points that leave the MPI "
+                      "rank, and re-bin the point store in cell order; "
+                      "deal.II's full sort runs only when a point is not "
+                      "found near its old cell or leaves the mesh. false: "
+                      "deal.II's full sort of every point every step (for "
+                      "checking; the points are in the same order either "
+                      "way, so the physics is the same). Units: none.");
     prm.leave_subsection();
 
     prm.enter_subsection("Timer");
