@@ -18,8 +18,9 @@ namespace fmpm
   using namespace dealii;
 
   /**
-   * @brief Offsets of the per-point state in the ParticleHandler's
-   * PropertyPool (as Lethe's dem_properties.h).
+   * @brief Slots of the per-point state: the columns of the point store
+   * (MaterialPoints) and the record the ParticleHandler carries at events
+   * (as Lethe's dem_properties.h).
    *
    * The deformation gradient F and the Cauchy stress are always stored as
    * 3x3 tensors: in 2D the scene is in plane strain (F_33 = 1), so that the

@@ -701,9 +701,6 @@ namespace fmpm
       Point<dim>                                        xi;
     };
     std::vector<PointMove> point_moves;
-    /** Events at which the store and the ParticleHandler exchanged the
-     * points (benchmark and test figure). */
-    unsigned long long n_handler_syncs = 0;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
                                                 constitutive_models;

@@ -23,7 +23,7 @@ namespace fmpm
    * order, for every shape function (classic included). Every pass of the
    * step reads it: m, p, f and m̃ to the grid (Sᵀ, Gᵀ), the strain update
    * (G), the particle update (S) and the USL+/USAVG+ re-extrapolation. No
-   * pass evaluates a shape function or asks the ParticleHandler for a point.
+   * pass evaluates a shape function.
    *
    * Hanging nodes are resolved here: a constrained node i with
    * v_i = Σ_j c_ij v_j passes its weights to its masters (S_jp += c_ij S_ip,

@@ -174,7 +174,6 @@ namespace fmpm
   {
     TimerOutput::Scope timer(computing_timer, "point store: to handler");
     points.push_to(particle_handler);
-    ++n_handler_syncs;
   }
 
 
