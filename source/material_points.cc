@@ -256,31 +256,21 @@ namespace fmpm
         rebuild_cell_ranges();
         return;
       }
-    auto apply = [&](auto &values) {
-      using Value = typename std::decay_t<decltype(values)>::value_type;
-      std::vector<Value> reordered(n_kept - first_change);
+    // Gather into a kept work array, which then becomes the array.
+    auto apply = [&](auto &values, auto &work) {
+      work.resize(n_kept);
+      std::copy(values.begin(), values.begin() + first_change, work.begin());
       for (unsigned int k = first_change; k < n_kept; ++k)
-        reordered[k - first_change] = values[permutation[k]];
-      values.resize(n_kept);
-      std::copy(reordered.begin(), reordered.end(), values.begin() + first_change);
+        work[k] = values[permutation[k]];
+      values.swap(work);
     };
-    apply(position);
-    apply(reference_position);
-    apply(id);
-    apply(cell);
-    scratch.resize(n_kept);
+    apply(position, point_scratch);
+    apply(reference_position, point_scratch);
+    apply(id, id_scratch);
+    apply(cell, cell_scratch);
     for (unsigned int s = 0; s < columns.size(); ++s)
-      {
-        if (zero_slot[s])
-          continue;
-        std::vector<double> &values = columns[s];
-        // Gather into scratch, which then becomes the column.
-        std::copy(values.begin(), values.begin() + first_change, scratch.begin());
-        for (unsigned int k = first_change; k < n_kept; ++k)
-          scratch[k] = values[permutation[k]];
-        values.swap(scratch);
-        scratch.resize(n_kept);
-      }
+      if (!zero_slot[s])
+        apply(columns[s], scratch);
     refresh_column_pointers();
     rebuild_cell_ranges();
   }
@@ -317,6 +307,10 @@ namespace fmpm
                         id.capacity() * sizeof(types::particle_index) +
                         cell.capacity() * sizeof(unsigned int) +
                         scratch.capacity() * sizeof(double) +
+                        point_scratch.capacity() * sizeof(Point<dim>) +
+                        id_scratch.capacity() *
+                          sizeof(types::particle_index) +
+                        cell_scratch.capacity() * sizeof(unsigned int) +
                         permutation.capacity() * sizeof(unsigned int) +
                         zeros.capacity() * sizeof(double);
     for (const auto &values : columns)

@@ -217,8 +217,11 @@ namespace fmpm
     std::vector<char> cell_received;
     bool              any_change_since_rebin = false;
     /** Work arrays of rebin(), kept between steps. */
-    std::vector<unsigned int> permutation, count;
-    std::vector<double>       scratch;
+    std::vector<unsigned int>          permutation, count;
+    std::vector<double>                scratch;
+    std::vector<Point<dim>>            point_scratch;
+    std::vector<types::particle_index> id_scratch;
+    std::vector<unsigned int>          cell_scratch;
   };
 } // namespace fmpm
 
