@@ -74,25 +74,47 @@ namespace fmpm
       const double mu     = youngs_modulus / (2 * (1 + poissons_ratio));
       const double lambda = youngs_modulus * poissons_ratio /
                             ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
-      const SymmetricTensor<2, 3> identity = unit_symmetric_tensor<3>();
       if (strain_measure == StrainMeasure::incremental)
         {
-          using Index = PropertyIndex<dim>;
+          // σ += Δt (λ tr(D) I + 2μ D), D = sym(L), and the energy from the
+          // midpoint stress, entry by entry (the sums in the order of
+          // deal.II's SymmetricTensor operations: the same results).
+          using Index         = PropertyIndex<dim>;
+          const double two_mu = 2 * mu;
+          const double dt     = inputs.time_step;
           for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
             {
-              const PointRecord          &p = inputs.properties[q];
-              const SymmetricTensor<2, 3> D =
-                symmetrize(inputs.velocity_gradient[q]);
-              const SymmetricTensor<2, 3> old_stress =
-                get_symmetric_tensor3(p, Index::stress);
-              const SymmetricTensor<2, 3> stress =
-                old_stress +
-                inputs.time_step * (lambda * trace(D) * identity + 2 * mu * D);
+              const PointRecord  &p = inputs.properties[q];
+              const Tensor<2, 3> &L = inputs.velocity_gradient[q];
+              // Voigt-like order xx, yy, zz, xy, xz, yz (the stored order).
+              const double D[6] = {L[0][0],
+                                   L[1][1],
+                                   L[2][2],
+                                   (L[0][1] + L[1][0]) * 0.5,
+                                   (L[0][2] + L[2][0]) * 0.5,
+                                   (L[1][2] + L[2][1]) * 0.5};
+              const double lambda_trace = lambda * (D[0] + D[1] + D[2]);
+              double       old_stress[6], stress[6];
+              for (unsigned int c = 0; c < 6; ++c)
+                {
+                  old_stress[c] = p[Index::stress + c];
+                  const double rate =
+                    c < 3 ? lambda_trace + two_mu * D[c] : two_mu * D[c];
+                  stress[c] = old_stress[c] + dt * rate;
+                }
+              double work = (old_stress[3] + stress[3]) * D[3];
+              work += (old_stress[4] + stress[4]) * D[4];
+              work += (old_stress[5] + stress[5]) * D[5];
+              work += work;
+              work += (old_stress[0] + stress[0]) * D[0];
+              work += (old_stress[1] + stress[1]) * D[1];
+              work += (old_stress[2] + stress[2]) * D[2];
+              SymmetricTensor<2, 3> &sigma = outputs.cauchy_stress[q];
+              for (unsigned int c = 0; c < 6; ++c)
+                sigma[stress_component_i[c]][stress_component_j[c]] = stress[c];
               const double J = determinant(inputs.deformation_gradient[q]);
-              outputs.cauchy_stress[q] = stress;
               outputs.strain_energy_density[q] =
-                p[Index::strain_energy_density] +
-                0.5 * J * ((old_stress + stress) * D) * inputs.time_step;
+                p[Index::strain_energy_density] + 0.5 * J * work * dt;
             }
           return;
         }
