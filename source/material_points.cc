@@ -192,7 +192,6 @@ namespace fmpm
     for (unsigned int s = 0; s < columns.size(); ++s)
       if (!zero_slot[s])
         columns[s].push_back(record_values[s]);
-    refresh_column_pointers();
     cell_received[key(this->cell.size() - 1)] = 1;
     any_change_since_rebin                    = true;
   }
@@ -205,7 +204,7 @@ namespace fmpm
   {
     if (!any_change_since_rebin)
       return;
-    any_change_since_rebin = false;
+    any_change_since_rebin    = false;
     const unsigned int n      = n_points();
     const unsigned int n_keys = cell_of_key.size();
 
@@ -252,7 +251,9 @@ namespace fmpm
       ++first_change;
     if (first_change == n_kept && n_kept == n)
       {
-        // The points changed cells without changing places.
+        // The points changed cells without changing places (or arrived
+        // at the end).
+        refresh_column_pointers();
         rebuild_cell_ranges();
         return;
       }
@@ -308,8 +309,7 @@ namespace fmpm
                         cell.capacity() * sizeof(unsigned int) +
                         scratch.capacity() * sizeof(double) +
                         point_scratch.capacity() * sizeof(Point<dim>) +
-                        id_scratch.capacity() *
-                          sizeof(types::particle_index) +
+                        id_scratch.capacity() * sizeof(types::particle_index) +
                         cell_scratch.capacity() * sizeof(unsigned int) +
                         permutation.capacity() * sizeof(unsigned int) +
                         zeros.capacity() * sizeof(double);

@@ -133,9 +133,9 @@ namespace fmpm
     void
     move(const unsigned int k, const CellIterator &cell, const Point<dim> &xi)
     {
-      this->cell[k]           = cell->active_cell_index();
-      reference_position[k]   = xi;
-      cell_received[key(k)]   = 1;
+      this->cell[k]          = cell->active_cell_index();
+      reference_position[k]  = xi;
+      cell_received[key(k)]  = 1;
       any_change_since_rebin = true;
     }
 
@@ -147,8 +147,8 @@ namespace fmpm
       any_change_since_rebin = true;
     }
 
-    /** @brief A point that arrived from another rank, in the owned
-     * @p cell. */
+    /** @brief A point that arrived from another rank (or is created), in
+     * the owned @p cell; rebin() must follow before the columns are read. */
     void
     add(const types::particle_index id,
         const Point<dim>           &x,

@@ -8,8 +8,8 @@
 #include <fmpm/grid_transfer.h>
 #include <fmpm/grid_vectors.h>
 #include <fmpm/mass_matrix/interface.h>
-#include <fmpm/parameters.h>
 #include <fmpm/material_points.h>
+#include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
 #include <fmpm/postprocess/history.h>
@@ -35,8 +35,8 @@
 #include <array>
 #include <future>
 #include <limits>
-#include <memory>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
@@ -644,10 +644,10 @@ namespace fmpm
     /** The grid fields a step computes and the particle update reads:
      * field_needed for the configured update, lumped_step_fields for the
      * FLIP of the lumped steps of a periodic FMPM(k) (active_fields()). */
-    std::array<bool, ParticleUpdate::n_grid_fields>            field_needed;
+    std::array<bool, ParticleUpdate::n_grid_fields> field_needed;
     std::array<bool, ParticleUpdate::n_grid_fields> lumped_step_fields;
-    std::array<bool, ParticleUpdate::n_grid_fields>            field_computed;
-    TrilinosWrappers::SparseMatrix                             full_mass_matrix;
+    std::array<bool, ParticleUpdate::n_grid_fields> field_computed;
+    TrilinosWrappers::SparseMatrix                  full_mass_matrix;
     /** m̃ as one local matrix per cell (FMPM(k) without hanging nodes). */
     CellwiseMatrix cellwise_full_mass;
     bool           use_cellwise_full_mass = false;
@@ -689,9 +689,6 @@ namespace fmpm
     /** Points (store places) whose new position left their cell in this
      * step. */
     std::vector<unsigned int> points_that_left_their_cell;
-    /** Per receiving rank, the points that leave this rank (work array of
-     * sort_particles_into_cells(), kept between steps). */
-    std::map<unsigned int, std::vector<double>> points_sent;
     /** A point that left its cell for an owned cell or another rank's
      * (work array of sort_particles_into_cells()). */
     struct PointMove
@@ -762,13 +759,13 @@ namespace fmpm
     std::array<double, 4> error_sums{{0, 0, 0, 0}};
     /** Energy dissipated by the particle updates on this rank in the
      * current step, and the global accumulated sum (seed 003 Eq. 1.46). */
-    double                                      local_dissipation = 0;
-    double                                      dissipated_energy = 0;
-    std::vector<std::string>                    lost_point_messages;
+    double                   local_dissipation = 0;
+    double                   dissipated_energy = 0;
+    std::vector<std::string> lost_point_messages;
     /** The VTU pieces of the last output, written in a background thread
      * (no MPI there) while the run continues; waited for before the next
      * output and at the end (wait_for_output_writer()). */
-    std::future<void> output_writer;
+    std::future<void>                           output_writer;
     std::vector<std::pair<double, std::string>> particle_pvd_records;
     std::vector<std::pair<double, std::string>> grid_pvd_records;
     double                                      wall_start         = 0;

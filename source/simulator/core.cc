@@ -983,54 +983,50 @@ namespace fmpm
     if (n_materials > 1)
       s.per_material.assign(n_materials * stride, 0.);
     constexpr unsigned int stress_slots[6] = {0, 1, 3, 2, 4, 5};
-    {
-      for (unsigned int k = 0; k < points.n_points(); ++k)
+    for (unsigned int k = 0; k < points.n_points(); ++k)
+      {
+        const PointRecord    p = points.record(k);
+        const double         M = p[Index::mass];
+        const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
+        const Point<dim>    &x = points.position[k];
+        if (n_materials > 1)
           {
-            const PointRecord    p = points.record(k);
-            const double         M = p[Index::mass];
-            const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
-            const Point<dim>    &x = points.position[k];
-            if (n_materials > 1)
-              {
-                double *const sums = &s.per_material[static_cast<unsigned int>(
-                                                       p[Index::material_id]) *
-                                                     stride];
-                const double  volume = p[Index::volume];
-                sums[0] += M;
-                for (unsigned int d = 0; d < dim; ++d)
-                  sums[1 + d] += M * V[d];
-                sums[1 + dim] += volume;
-                // 2D: xx, yy, xy = stored slots 0, 1, 3.
-                for (unsigned int c = 0; c < GlobalStatistics<dim>::n_stress;
-                     ++c)
-                  sums[2 + dim + c] +=
-                    volume *
-                    p[Index::stress + (dim == 2 ? stress_slots[c] : c)];
-                sums[stride - 2] += 0.5 * M * V * V;
-                sums[stride - 1] +=
-                  p[Index::initial_volume] * p[Index::strain_energy_density];
-              }
-            s.mass += M;
-            s.momentum += M * V;
-            s.kinetic_energy += 0.5 * M * V * V;
-            s.strain_energy +=
+            double *const sums =
+              &s.per_material[static_cast<unsigned int>(p[Index::material_id]) *
+                              stride];
+            const double volume = p[Index::volume];
+            sums[0] += M;
+            for (unsigned int d = 0; d < dim; ++d)
+              sums[1 + d] += M * V[d];
+            sums[1 + dim] += volume;
+            // 2D: xx, yy, xy = stored slots 0, 1, 3.
+            for (unsigned int c = 0; c < GlobalStatistics<dim>::n_stress; ++c)
+              sums[2 + dim + c] +=
+                volume * p[Index::stress + (dim == 2 ? stress_slots[c] : c)];
+            sums[stride - 2] += 0.5 * M * V * V;
+            sums[stride - 1] +=
               p[Index::initial_volume] * p[Index::strain_energy_density];
-            s.potential_energy -= M * (gravity * x);
-            if (reference_velocity)
+          }
+        s.mass += M;
+        s.momentum += M * V;
+        s.kinetic_energy += 0.5 * M * V * V;
+        s.strain_energy +=
+          p[Index::initial_volume] * p[Index::strain_energy_density];
+        s.potential_energy -= M * (gravity * x);
+        if (reference_velocity)
+          {
+            const Point<dim> X(get_vector<dim>(p, Index::initial_position));
+            Tensor<1, dim>   v_ref, u_ref;
+            for (unsigned int d = 0; d < dim; ++d)
               {
-                const Point<dim> X(get_vector<dim>(p, Index::initial_position));
-                Tensor<1, dim>   v_ref, u_ref;
-                for (unsigned int d = 0; d < dim; ++d)
-                  {
-                    v_ref[d] = reference_velocity->value(X, d);
-                    u_ref[d] = reference_displacement->value(X, d);
-                  }
-                const Tensor<1, dim> u = x - X;
-                s.velocity_error_squared += M * (V - v_ref).norm_square();
-                s.velocity_reference_squared += M * v_ref.norm_square();
-                s.displacement_error_squared += M * (u - u_ref).norm_square();
-                s.displacement_reference_squared += M * u_ref.norm_square();
+                v_ref[d] = reference_velocity->value(X, d);
+                u_ref[d] = reference_displacement->value(X, d);
               }
+            const Tensor<1, dim> u = x - X;
+            s.velocity_error_squared += M * (V - v_ref).norm_square();
+            s.velocity_reference_squared += M * v_ref.norm_square();
+            s.displacement_error_squared += M * (u - u_ref).norm_square();
+            s.displacement_reference_squared += M * u_ref.norm_square();
           }
       }
 

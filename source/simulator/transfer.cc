@@ -305,8 +305,8 @@ namespace fmpm
                                         const Tensor<1, dim> &gravity)
   {
     using Index            = PropertyIndex<dim>;
-    const PointRecord  p   = points.record(k);
-    const Point<dim>  &x   = points.position[k];
+    const PointRecord    p = points.record(k);
+    const Point<dim>    &x = points.position[k];
     const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
     Tensor<1, dim>       b =
       parameters.body_acceleration_at_initial_position ?
@@ -346,14 +346,15 @@ namespace fmpm
     supports.G.reserve(n * n_points);
     const auto &partitioner = *lumped_mass.get_partitioner();
     const bool  classic     = (shape_function == ShapeFunction::Type::classic);
-    const bool  multiple_materials = constitutive_models.size() > 1;
+    const bool  multiple_materials  = constitutive_models.size() > 1;
     const double *const material_id = points.column(Index::material_id);
     const double       *F_column[dim][dim], *l0_column[dim];
     for (unsigned int a = 0; a < dim; ++a)
       {
         l0_column[a] = points.column(Index::initial_half_length + a);
         for (unsigned int b = 0; b < dim; ++b)
-          F_column[a][b] = points.column(Index::deformation_gradient + 3 * a + b);
+          F_column[a][b] =
+            points.column(Index::deformation_gradient + 3 * a + b);
       }
     if (multiple_materials)
       supports.material.resize(n_points);
@@ -400,8 +401,8 @@ namespace fmpm
              k < points.cell_point_begin[cell_number + 1];
              ++k)
           {
-            const Point<dim> &location = points.position[k];
-            const unsigned int first = supports.node.size();
+            const Point<dim>  &location = points.position[k];
+            const unsigned int first    = supports.node.size();
             if (classic)
               {
                 GridTransfer<dim>::values_and_gradients(
@@ -546,14 +547,14 @@ namespace fmpm
         mass_matrix->needs_full_mass_matrix() &&
         mass_matrix->accepts_cellwise_full_mass_matrix() &&
         !velocity_conditions.needs_full_mass_matrix();
-    const bool assemble_full =
-      masses && !use_cellwise_full_mass &&
-      (mass_matrix->needs_full_mass_matrix() ||
-       velocity_conditions.needs_full_mass_matrix());
-    const bool with_full_mass = masses && (use_cellwise_full_mass || assemble_full);
+    const bool assemble_full = masses && !use_cellwise_full_mass &&
+                               (mass_matrix->needs_full_mass_matrix() ||
+                                velocity_conditions.needs_full_mass_matrix());
+    const bool with_full_mass =
+      masses && (use_cellwise_full_mass || assemble_full);
     if (masses)
       lumped_mass = 0;
-    momentum                  = 0;
+    momentum = 0;
     if (with_forces)
       force = 0;
     if (assemble_full)
@@ -608,9 +609,9 @@ namespace fmpm
         p[d] = momentum.block(d).begin();
         f[d] = force.block(d).begin();
       }
-    const unsigned int *const   node               = supports.node.data();
-    const double *const         S                  = supports.S.data();
-    const Tensor<1, dim> *const G                  = supports.G.data();
+    const unsigned int *const   node = supports.node.data();
+    const double *const         S    = supports.S.data();
+    const Tensor<1, dim> *const G    = supports.G.data();
     // The columns this pass reads: M, V (and V, σ for the forces; X for
     // contact positions).
     const double *const mass_column   = points.column(Index::mass);
@@ -679,10 +680,10 @@ namespace fmpm
               {
                 // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
                 // τ/ρ₀ M = σ V; F_p the traction force)
-                const Tensor<1, dim> b =
-                  uniform_body_force ? gravity :
-                                       external_acceleration(k, gravity);
-                double sigma[dim][dim];
+                const Tensor<1, dim> b = uniform_body_force ?
+                                           gravity :
+                                           external_acceleration(k, gravity);
+                double               sigma[dim][dim];
                 stress_block<dim>(stress_column, k, sigma);
                 const double   V = volume_column[k];
                 double *const *f_a =
@@ -868,7 +869,7 @@ namespace fmpm
     // (the point reads its material's field, Eq. 32).
     const bool              contact = contact_active();
     std::vector<FieldViews> views(contact ? material_fields.size() : 1);
-    const auto &needed = active_fields();
+    const auto             &needed = active_fields();
     for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
       if (needed[f])
         {
@@ -895,7 +896,7 @@ namespace fmpm
     const bool has_moving_walls        = velocity_conditions.has_moving_boxes();
     const unsigned int *const node     = supports.node.data();
     const double *const       S        = supports.S.data();
-    double *velocity_column[dim];
+    double                   *velocity_column[dim];
     for (unsigned int d = 0; d < dim; ++d)
       velocity_column[d] = points.column(Index::velocity + d);
     const double *const mass_column = points.column(Index::mass);
@@ -970,7 +971,7 @@ namespace fmpm
         if (track_dissipation)
           for (unsigned int q = 0; q < n_points; ++q)
             {
-              const double M = mass_column[first_point + q];
+              const double         M = mass_column[first_point + q];
               const Tensor<1, dim> a_dt =
                 batch.grid[ParticleUpdate::acceleration][q] * time_step;
               const Tensor<1, dim> &v_g =
@@ -1005,8 +1006,10 @@ namespace fmpm
             if (has_moving_walls)
               velocity_conditions.push_out_of_walls(batch.position[q]);
             points.position[k] = batch.position[q];
-            const Point<dim> xi = GridTransfer<dim>::reference_point(
-              data, batch.position[q], points.reference_position[k]);
+            const Point<dim> xi =
+              GridTransfer<dim>::reference_point(data,
+                                                 batch.position[q],
+                                                 points.reference_position[k]);
             if (GridTransfer<dim>::is_inside(xi))
               points.reference_position[k] = xi;
             else
@@ -1055,11 +1058,11 @@ namespace fmpm
     // USF/USAVG: f from the new stresses in this sweep when the points are
     // visited in cache order (one material: the sums are those of
     // compute_forces()); else compute_forces() after it.
-    const bool     forces_here = with_forces && n_materials == 1 && !contact;
+    const bool forces_here = with_forces && n_materials == 1 && !contact;
     const ForceColumns force_columns(points);
-    double        *f[dim];
-    Tensor<1, dim> gravity;
-    const bool     uniform_body_force = !has_point_body_force();
+    double            *f[dim];
+    Tensor<1, dim>     gravity;
+    const bool         uniform_body_force = !has_point_body_force();
     if (forces_here)
       {
         force = 0;
@@ -1098,8 +1101,8 @@ namespace fmpm
       F_column[c] = points.column(Index::deformation_gradient + c);
     for (unsigned int c = 0; c < 6; ++c)
       stress_column[c] = points.column(Index::stress + c);
-    double *const       energy_column = points.column(Index::strain_energy_density);
-    double *const       volume_column = points.column(Index::volume);
+    double *const energy_column = points.column(Index::strain_energy_density);
+    double *const volume_column = points.column(Index::volume);
     const double *const initial_volume_column =
       points.column(Index::initial_volume);
 
@@ -1154,9 +1157,9 @@ namespace fmpm
                   {
                     // F^{n+1} = ΔF F^n on the 2x2 block; F_33 and the zero
                     // entries kept (plane strain), written in place.
-                    const unsigned int  k  = group_points[q];
-                    const Tensor<2, 3> &d  = dF[q];
-                    const double        a  = F_column[0][k], b = F_column[1][k],
+                    const unsigned int  k = group_points[q];
+                    const Tensor<2, 3> &d = dF[q];
+                    const double        a = F_column[0][k], b = F_column[1][k],
                                  c = F_column[3][k], e = F_column[4][k];
                     Tensor<2, 3> &F = inputs.deformation_gradient[q];
                     F[0][0]         = d[0][0] * a + d[0][1] * c;
@@ -1201,10 +1204,10 @@ namespace fmpm
 
             for (unsigned int q = 0; q < n_group; ++q)
               {
-                const unsigned int     k     = group_points[q];
-                const Tensor<2, 3>    &F     = inputs.deformation_gradient[q];
-                const auto            &sigma = outputs.cauchy_stress[q];
-                const double           J     = J_new[q];
+                const unsigned int  k     = group_points[q];
+                const Tensor<2, 3> &F     = inputs.deformation_gradient[q];
+                const auto         &sigma = outputs.cauchy_stress[q];
+                const double        J     = J_new[q];
                 for (unsigned int a = 0; a < 3; ++a)
                   for (unsigned int b = 0; b < 3; ++b)
                     if (dim == 3 || (a < 2) == (b < 2))
@@ -1390,14 +1393,13 @@ namespace fmpm
     // Per receiving rank, per point: id, x, the new cell's CellId (binary),
     // the properties.
     const unsigned int n_properties = points.n_properties();
-    for (auto &buffer : points_sent)
-      buffer.second.clear();
+    std::map<unsigned int, std::vector<double>> sent;
     for (const PointMove &move : point_moves)
       if (move.cell->is_locally_owned())
         points.move(move.k, move.cell, move.xi);
       else
         {
-          std::vector<double> &buffer = points_sent[move.cell->subdomain_id()];
+          std::vector<double> &buffer = sent[move.cell->subdomain_id()];
           buffer.push_back(points.id[move.k]);
           for (unsigned int d = 0; d < dim; ++d)
             buffer.push_back(points.position[move.k][d]);
@@ -1414,10 +1416,6 @@ namespace fmpm
     // may receive without sending).
     if (global_counts[2] != 0)
       {
-        std::map<unsigned int, std::vector<double>> sent;
-        for (const auto &buffer : points_sent)
-          if (!buffer.second.empty())
-            sent.insert(buffer);
         const std::map<unsigned int, std::vector<double>> received =
           Utilities::MPI::some_to_some(mpi_communicator, sent);
         const unsigned int record = 1 + dim + 4 + n_properties;
