@@ -36,12 +36,13 @@ namespace fmpm
         return NormalMethod::logistic_regression;
       }
 
-      /** "coulomb 0.2", "perfect", "frictionless" → Law: a registered
-       * name, then a number if the law takes one; @p where names the
-       * parameter in errors. */
+      /** "coulomb 0.2", "perfect", "imperfect 1e9 5e8" → Law: a registered
+       * name, then its numbers (or none: @p defaults, the numbers of
+       * 'Friction coefficient' and the interface stiffnesses); @p where
+       * names the parameter in errors. */
       Law
       parse_law(const std::string &text,
-                const double       default_coefficient,
+                const Parameters  &defaults,
                 const std::string &where)
       {
         std::vector<std::string> words;
@@ -50,27 +51,25 @@ namespace fmpm
             words.push_back(w);
         const std::string allowed =
           " (allowed: " + law_names() +
-          ", with a number after a law that takes one, e.g. 'coulomb 0.2').";
+          ", with the law's numbers after it, e.g. 'coulomb 0.2' or "
+          "'imperfect 1e9 5e8').";
         AssertThrow(!words.empty(),
                     ExcMessage(where + ": a law is missing" + allowed));
-        Law law;
-        law.coefficient = default_coefficient;
-        // A last word that is a number is the law's coefficient.
-        bool has_number = false;
-        if (words.size() > 1)
+        // The last words that are numbers are the law's numbers.
+        std::vector<double> numbers;
+        while (words.size() > 1)
           {
             char        *end   = nullptr;
             const double value = std::strtod(words.back().c_str(), &end);
-            if (end != words.back().c_str() && *end == '\0')
-              {
-                AssertThrow(std::isfinite(value) && value >= 0,
-                            ExcMessage(where + ": '" + words.back() +
-                                       "' must be a number >= 0."));
-                law.coefficient = value;
-                has_number      = true;
-                words.pop_back();
-              }
+            if (end == words.back().c_str() || *end != '\0')
+              break;
+            AssertThrow(std::isfinite(value) && value >= 0,
+                        ExcMessage(where + ": '" + words.back() +
+                                   "' must be a number >= 0."));
+            numbers.insert(numbers.begin(), value);
+            words.pop_back();
           }
+        Law law;
         law.name = words[0];
         for (unsigned int w = 1; w < words.size(); ++w)
           law.name += " " + words[w];
@@ -78,9 +77,15 @@ namespace fmpm
         AssertThrow(names.find("|" + law.name + "|") != std::string::npos,
                     ExcMessage(where + ": unknown law '" + law.name + "'" +
                                allowed));
-        AssertThrow(!has_number || create_law<2>(law)->takes_coefficient(),
+        law.coefficients =
+          numbers.empty() ? defaults.default_coefficients(law.name) : numbers;
+        const unsigned int n = create_law<2>(law)->n_coefficients();
+        AssertThrow(numbers.empty() || numbers.size() == n,
                     ExcMessage(where + ": '" + text + "': the law '" +
-                               law.name + "' takes no number" + allowed));
+                               law.name + "' takes " +
+                               (n == 0 ? std::string("no number") :
+                                         std::to_string(n) + " number(s)") +
+                               allowed));
         return law;
       }
     } // namespace
@@ -143,31 +148,54 @@ namespace fmpm
                         "The contact law of every pair of materials unless "
                         "'Pair laws' overrides it (a plugin system): "
                         "'perfect' (no slip, no separation), 'frictionless', "
-                        "'coulomb' (Eqs. 7-10, mu = 'Friction coefficient'). "
-                        "Units: none.");
+                        "'coulomb' (Eqs. 7-10, mu = 'Friction coefficient'), "
+                        "'imperfect' (a bonded interface with the interface "
+                        "stiffnesses). Units: none.");
       prm.declare_entry("Friction coefficient",
                         "0.3",
                         Patterns::Double(0),
                         "mu of 'Law = coulomb'. Units: none.");
       prm.declare_entry(
+        "Interface normal stiffness",
+        "1e12",
+        Patterns::Double(0),
+        "D_n of 'Law = imperfect': the normal traction of a bonded interface "
+        "per unit opening, D_n [u]_n, in tension and compression "
+        "([Nairn2013]). A stiffness the time step cannot resolve (D A_c dt^2 "
+        "> 2.25 m_red at a node) acts as a perfect interface there; 0 "
+        "transmits nothing (a debonded interface). Units: Pa/m.");
+      prm.declare_entry(
+        "Interface tangential stiffness",
+        "1e12",
+        Patterns::Double(0),
+        "D_t of 'Law = imperfect': the shear traction per unit slip, "
+        "D_t [u]_t (the same limits as the normal stiffness). Units: Pa/m.");
+      prm.declare_entry(
         "Pair laws",
         "",
         Patterns::Anything(),
         "Overrides by material index, separated by ';': 'a b: law', e.g. "
-        "'0 1: coulomb 0.2; 1 2: perfect'. Units: none.");
-      prm.declare_entry("Corrections per step",
-                        "2",
-                        Patterns::Integer(1, 2),
-                        "2: after the extrapolation and after the momentum "
-                        "update ([NHS2020-contact] §3.2); 1: after the momentum update "
-                        "only (the 'LR once' comparison). Units: none.");
-      prm.declare_entry("Three or more materials",
-                        "lumped",
-                        Patterns::Selection("lumped|pairwise"),
-                        "Nodes with 3+ materials ([NHS2020-contact] §3.4): 'lumped' "
-                        "treats each material against the sum of the others "
-                        "(Eq. 50); 'pairwise' corrects every pair in turn "
-                        "(conserves momentum). Units: none.");
+        "'0 1: coulomb 0.2; 1 2: perfect; 0 2: imperfect 1e9 5e8' (a law's "
+        "numbers after its name; without them 'Friction coefficient' and the "
+        "interface stiffnesses). Units: none.");
+      prm.declare_entry(
+        "Corrections per step",
+        "2",
+        Patterns::Integer(1, 2),
+        "2: after the extrapolation and after the momentum "
+        "update ([NHS2020-contact] §3.2); 1: after the momentum update "
+        "only (the 'LR once' comparison). Units: none.");
+      prm.declare_entry(
+        "Three or more materials",
+        "lumped",
+        Patterns::Selection("lumped|pairwise|explicit"),
+        "Nodes with 3+ materials ([NHS2020-contact] §3.4): 'lumped' treats "
+        "each material against the sum of the others (Eq. 50; the paper's "
+        "recommendation); 'pairwise' corrects every pair in turn (conserves "
+        "momentum); 'explicit' finds the pairs in contact (their own normals "
+        "and separations): one pair is corrected alone, two pairs together "
+        "(both contact laws hold at once, momentum conserved), three or more "
+        "lumped (the algorithm at the paper's Fig. 4). Units: none.");
       prm.declare_entry(
         "XPIC contact term",
         "corrected",
@@ -209,10 +237,14 @@ namespace fmpm
         specified_normal.assign(3, 0.);
         std::copy(values.begin(), values.end(), specified_normal.begin());
       }
-      critical_separation     = prm.get_double("Critical separation");
-      touching_tolerance      = prm.get_double("Touching tolerance");
-      default_law.name        = prm.get("Law");
-      default_law.coefficient = prm.get_double("Friction coefficient");
+      critical_separation        = prm.get_double("Critical separation");
+      touching_tolerance         = prm.get_double("Touching tolerance");
+      friction_coefficient       = prm.get_double("Friction coefficient");
+      interface_normal_stiffness = prm.get_double("Interface normal stiffness");
+      interface_tangential_stiffness =
+        prm.get_double("Interface tangential stiffness");
+      default_law.name         = prm.get("Law");
+      default_law.coefficients = default_coefficients(default_law.name);
       pair_laws.clear();
       const std::string pairs = prm.get("Pair laws");
       for (const auto &entry : Utilities::split_string_list(pairs, ';'))
@@ -244,18 +276,19 @@ namespace fmpm
                                    std::to_string(n_materials) +
                                    " material(s), 0 to " +
                                    std::to_string(n_materials - 1) + ")."));
-          pair_laws.push_back({std::min(ab[0], ab[1]),
-                               std::max(ab[0], ab[1]),
-                               parse_law(entry.substr(colon + 1),
-                                         default_law.coefficient,
-                                         where)});
+          pair_laws.push_back(
+            {std::min(ab[0], ab[1]),
+             std::max(ab[0], ab[1]),
+             parse_law(entry.substr(colon + 1), *this, where)});
         }
-      corrections_per_step = prm.get_integer("Corrections per step");
-      lumped_three_or_more = prm.get("Three or more materials") == "lumped";
-      const std::string term = prm.get("XPIC contact term");
-      xpic_contact_term      = term == "uncorrected" ?
-                                 XpicContactTerm::uncorrected :
-                               term == "series" ? XpicContactTerm::series :
+      corrections_per_step    = prm.get_integer("Corrections per step");
+      const std::string three = prm.get("Three or more materials");
+      three_or_more           = three == "lumped"   ? ThreeOrMore::lumped :
+                                three == "pairwise" ? ThreeOrMore::pairwise :
+                                                      ThreeOrMore::explicit_pairs;
+      const std::string term  = prm.get("XPIC contact term");
+      xpic_contact_term = term == "uncorrected" ? XpicContactTerm::uncorrected :
+                          term == "series"      ? XpicContactTerm::series :
                                                   XpicContactTerm::corrected;
       net_incremental =
         prm.get("Contact in mass-matrix iterations") == "net incremental";
@@ -284,6 +317,17 @@ namespace fmpm
 
 
 
+    std::vector<double>
+    Parameters::default_coefficients(const std::string &name) const
+    {
+      ParameterHandler unused; // laws read no subsection of their own
+      return Plugins::Registry<LawInterface<2>>::instance()
+        .create(name, unused)
+        ->default_coefficients(*this);
+    }
+
+
+
     template <int dim>
     std::unique_ptr<LawInterface<dim>>
     create_law(const Law &law)
@@ -292,8 +336,14 @@ namespace fmpm
       auto             result =
         Plugins::Registry<LawInterface<dim>>::instance().create(law.name,
                                                                 unused);
-      if (result->takes_coefficient())
-        result->set_coefficient(law.coefficient);
+      if (result->n_coefficients() > 0)
+        {
+          AssertThrow(law.coefficients.size() == result->n_coefficients(),
+                      ExcMessage("The contact law '" + law.name + "' takes " +
+                                 std::to_string(result->n_coefficients()) +
+                                 " number(s)."));
+          result->set_coefficients(law.coefficients);
+        }
       return result;
     }
 
@@ -342,16 +392,22 @@ namespace fmpm
       class Coulomb : public LawInterface<dim>
       {
       public:
-        bool
-        takes_coefficient() const override
+        unsigned int
+        n_coefficients() const override
         {
-          return true;
+          return 1;
         }
 
         void
-        set_coefficient(const double mu) override
+        set_coefficients(const std::vector<double> &mu) override
         {
-          friction = mu;
+          friction = mu[0];
+        }
+
+        std::vector<double>
+        default_coefficients(const Parameters &contact) const override
+        {
+          return {contact.friction_coefficient};
         }
 
         Correction<dim>
@@ -394,22 +450,114 @@ namespace fmpm
       class Frictionless : public Coulomb<dim>
       {
       public:
-        bool
-        takes_coefficient() const override
+        unsigned int
+        n_coefficients() const override
         {
-          return false;
+          return 0;
         }
+
+        std::vector<double>
+        default_coefficients(const Parameters &) const override
+        {
+          return {};
+        }
+      };
+
+      /**
+       * A bonded imperfect interface ([Nairn2013]): the traction
+       * D_n [u]_n n̂ + D_t [u]_t on α, [u] = u^β − u^α the jump of the
+       * extrapolated displacements, gives the impulse A_c Δt (D_n [u]_n n̂ +
+       * D_t [u]_t) in the correction of the updated momenta (the interface
+       * force acts once per step). A direction whose stiffness the time step
+       * cannot resolve, D A_c Δt² > 2.25 m_red (the oscillator of the
+       * reduced mass on that spring takes more than 1.5 radians per step),
+       * is perfect there: its part of Δp^α(0) in every correction. D → ∞ is
+       * the perfect interface; D = 0 transmits nothing.
+       */
+      template <int dim>
+      class ImperfectInterface : public LawInterface<dim>
+      {
+      public:
+        unsigned int
+        n_coefficients() const override
+        {
+          return 2;
+        }
+
+        void
+        set_coefficients(const std::vector<double> &D) override
+        {
+          normal_stiffness     = D[0];
+          tangential_stiffness = D[1];
+        }
+
+        std::vector<double>
+        default_coefficients(const Parameters &contact) const override
+        {
+          return {contact.interface_normal_stiffness,
+                  contact.interface_tangential_stiffness};
+        }
+
+        bool
+        interface_state() const override
+        {
+          return true;
+        }
+
+        Correction<dim>
+        correct(const NodePair<dim> &node) const override
+        {
+          Correction<dim>       result;
+          const Tensor<1, dim>  dp0 = centre_of_mass_change(node);
+          const Tensor<1, dim> &n   = node.normal;
+          const double          m_a = node.mass_alpha, m_b = node.mass_beta;
+          const double          m_red = m_a * m_b / (m_a + m_b);
+          const double          area_dt2 =
+            node.contact_area * node.time_step * node.time_step;
+          const bool stiff_normal = normal_stiffness * area_dt2 > 2.25 * m_red;
+          const bool stiff_tangential =
+            tangential_stiffness * area_dt2 > 2.25 * m_red;
+          result.in_contact          = true;
+          const double         dp0_n = dp0 * n;
+          const Tensor<1, dim> dp0_t = dp0 - dp0_n * n;
+          if (stiff_normal)
+            result.delta_momentum += dp0_n * n;
+          if (stiff_tangential)
+            result.delta_momentum += dp0_t;
+          if (node.stage != NodePair<dim>::Stage::updated)
+            return result;
+          const Tensor<1, dim> &jump   = node.displacement_jump;
+          const double          jump_n = jump * n;
+          const double impulse_scale   = node.contact_area * node.time_step;
+          if (!stiff_normal)
+            result.delta_momentum +=
+              impulse_scale * normal_stiffness * jump_n * n;
+          if (!stiff_tangential)
+            result.delta_momentum +=
+              impulse_scale * tangential_stiffness * (jump - jump_n * n);
+          return result;
+        }
+
+      private:
+        double normal_stiffness = 0, tangential_stiffness = 0;
       };
     } // namespace
 
-    FMPM_REGISTER_CONTACT_LAW(PerfectInterface,
-                              "perfect",
-                              "No slip and no separation: both materials move "
-                              "with the centre of mass ([NHS2020-contact] Eq. 7).")
+    FMPM_REGISTER_CONTACT_LAW(
+      PerfectInterface,
+      "perfect",
+      "No slip and no separation: both materials move "
+      "with the centre of mass ([NHS2020-contact] Eq. 7).")
     FMPM_REGISTER_CONTACT_LAW(Frictionless,
                               "frictionless",
                               "Stops the normal approach of touching "
                               "materials, free slip (Eqs. 7-9).")
+    FMPM_REGISTER_CONTACT_LAW(
+      ImperfectInterface,
+      "imperfect",
+      "A bonded interface with normal and tangential stiffnesses D_n, D_t: "
+      "traction D [u] from the jump of the extrapolated displacements "
+      "([Nairn2013]); the numbers are D_n and D_t in Pa/m.")
     FMPM_REGISTER_CONTACT_LAW(Coulomb,
                               "coulomb",
                               "Stops the normal approach, tangential impulse "

@@ -64,12 +64,13 @@ namespace fmpm
     };
 
     /** The contact law of a pair of materials: the name of a registered
-     * law and its number ('Friction coefficient' or the number after the
-     * name in 'Pair laws'; what it means is the law's). */
+     * law and its numbers ('Friction coefficient', the interface
+     * stiffnesses, or the numbers after the name in 'Pair laws'; what they
+     * mean is the law's). */
     struct Law
     {
-      std::string name        = "coulomb";
-      double      coefficient = 0.3;
+      std::string         name = "coulomb";
+      std::vector<double> coefficients{0.3};
     };
 
     /** @brief The subsection Contact. */
@@ -97,9 +98,24 @@ namespace fmpm
         Law          law;
       };
       std::vector<PairLaw> pair_laws;
-      unsigned int         corrections_per_step = 2;
-      /** 'Three or more materials = lumped' (else pairwise). */
-      bool lumped_three_or_more = true;
+      /** μ of 'coulomb', D_n and D_t of 'imperfect' (the numbers of a law
+       * named without numbers). */
+      double       friction_coefficient           = 0.3;
+      double       interface_normal_stiffness     = 1e12;
+      double       interface_tangential_stiffness = 1e12;
+      unsigned int corrections_per_step           = 2;
+      /** 'Three or more materials' ([NHS2020-contact] §3.4). */
+      enum class ThreeOrMore
+      {
+        /** Each material against the sum of the others (Eq. 50). */
+        lumped,
+        /** Every pair in turn. */
+        pairwise,
+        /** The pairs in contact: one pair alone, two pairs solved
+         * together, three or more lumped (the algorithm at Fig. 4). */
+        explicit_pairs
+      };
+      ThreeOrMore three_or_more = ThreeOrMore::lumped;
       /** 'XPIC contact term'. */
       XpicContactTerm xpic_contact_term = XpicContactTerm::corrected;
       /** 'Contact in mass-matrix iterations = net incremental': the laws
@@ -112,6 +128,11 @@ namespace fmpm
        * values. */
       void
       parse_parameters(ParameterHandler &prm, const unsigned int n_materials);
+
+      /** @brief The numbers of the law @p name when the scene names it
+       * without any (the law's default_coefficients()). */
+      std::vector<double>
+      default_coefficients(const std::string &name) const;
 
       /** @brief The law between materials @p a and @p b. */
       const Law &
@@ -139,6 +160,28 @@ namespace fmpm
        * of contact acting across it (0 when touching).
        */
       double allowed_approach = 0;
+      /** Which momenta the correction changes. */
+      enum class Stage
+      {
+        /** The extrapolated momenta (the first correction, or before the
+         * USL+/USAVG+ stresses). */
+        extrapolated,
+        /** The updated momenta p + f Δt (the second correction). */
+        updated,
+        /** An increment of the FMPM(k)/XPIC(k) series. */
+        increment
+      };
+      Stage stage = Stage::updated;
+      /** Laws with interface_state(): u^β − u^α, the extrapolated
+       * displacements' jump (u_p = x_p − X_p). Units: m. */
+      Tensor<1, dim> displacement_jump;
+      /** Laws with interface_state(): the contact area A_c of the node
+       * ([Nairn2013] sqrt(2 min(V^α, V^β)(V^α + V^β))/h with the nodal
+       * volumes V^α = Σ S V_p). Units: m^(dim-1) (per unit thickness in
+       * 2D). */
+      double contact_area = 0;
+      /** The time step. Units: s. */
+      double time_step = 0;
     };
 
     /**
@@ -259,25 +302,42 @@ namespace fmpm
      *
      * Laws are called once per pair at each contact node (not per point).
      * Registered: 'perfect', 'frictionless', 'coulomb' (Eqs. 7-10, the
-     * corrected sign of Eq. 10). A new law (e.g. an imperfect interface)
-     * derives from this class and registers with
-     * FMPM_REGISTER_CONTACT_LAW.
+     * corrected sign of Eq. 10) and 'imperfect' (a bonded interface with
+     * normal and tangential stiffnesses, [Nairn2013]). A new law derives
+     * from this class and registers with FMPM_REGISTER_CONTACT_LAW.
      */
     template <int dim>
     class LawInterface : public Plugins::InterfaceBase
     {
     public:
-      /** Whether the law reads a number ('coulomb 0.2'). */
+      /** How many numbers the law reads ('coulomb 0.2': one). */
+      virtual unsigned int
+      n_coefficients() const
+      {
+        return 0;
+      }
+
+      /** The law's numbers (n_coefficients() of them). */
+      virtual void
+      set_coefficients(const std::vector<double> &)
+      {}
+
+      /** The law's numbers when the scene names it without numbers (from
+       * the subsection Contact). */
+      virtual std::vector<double>
+      default_coefficients(const Parameters &) const
+      {
+        return {};
+      }
+
+      /** Whether correct() reads NodePair::displacement_jump and
+       * contact_area (bonded interfaces): the Simulator extrapolates the
+       * displacements and volumes of each material only then. */
       virtual bool
-      takes_coefficient() const
+      interface_state() const
       {
         return false;
       }
-
-      /** The law's number (called when takes_coefficient()). */
-      virtual void
-      set_coefficient(const double)
-      {}
 
       virtual Correction<dim>
       correct(const NodePair<dim> &node) const = 0;

@@ -417,11 +417,28 @@ namespace fmpm
      * positions only). */
     void
     compute_contact_geometry();
-    /** Calls visit(i, slot, lumped, x, α, β, partner) for every pair the
-     * corrections handle at owned node i, in the order of the geometry
-     * slots (pairs in turn; with 3+ materials lumped, material x of the
-     * node against the others, partner the heaviest of them), then
-     * node_done(i, materials present). */
+    /** One pair the contact corrections may handle at an owned node. */
+    struct ContactSlot
+    {
+      unsigned int node;
+      /** Index into contact_geometry and contact_state. */
+      unsigned int slot;
+      /** Material x of the node against the sum of the others (Eq. 50),
+       * partner the heaviest of them; else α and β are one material each. */
+      bool lumped;
+      /** The node has 3+ materials and 'Three or more materials =
+       * explicit': its slots are its pairs, then its lumped slots, and
+       * apply_contact() chooses among them. */
+      bool                             explicit_node;
+      unsigned int                     x;
+      const std::vector<unsigned int> &alpha;
+      const std::vector<unsigned int> &beta;
+      unsigned int                     partner;
+    };
+    /** Calls visit(ContactSlot) for every pair the corrections may handle
+     * at owned node i, in the order of the geometry slots (pairs in turn;
+     * with 3+ materials lumped, material x of the node against the others;
+     * explicit: both), then node_done(i, materials present). */
     template <class Visit, class NodeDone>
     void
     for_each_contact_pair(Visit &&visit, NodeDone &&node_done);
@@ -541,6 +558,9 @@ namespace fmpm
       GridVectorField updated_momentum; // p^α+ (Eq. 31)
       GridVectorField volume_gradient;  // g^α = Σ G V (Eq. 11)
       GridVectorField position_moment;  // Σ S M X: x^α = S^{+α}X (Eq. 11)
+      // Interface laws: Σ S M (X − X₀) (u^α = S^{+α}U) and Σ S V.
+      GridVectorField displacement_moment;
+      GridScalar      volume;
       GridVectorField delta_velocity;   // Δv^α of the first correction
       GridVectorField series_product;   // m̃^α z (multimaterial XPIC(k))
       GridVectorField series_increment; // m^α δz^α (net incremental contact)
@@ -560,6 +580,8 @@ namespace fmpm
      * the node positions. */
     bool contact_needs_gradients = false, contact_needs_positions = false,
          contact_needs_cell_size = false, contact_needs_node_positions = false;
+    /** Whether a contact law needs u^α and V^α (interface_state()). */
+    bool contact_needs_interface = false;
     /** The geometry of every pair apply_contact corrects, in its order;
      * invalid after every extrapolation. */
     std::vector<Contact::NodeGeometry<dim>> contact_geometry;

@@ -3,7 +3,6 @@
 
 #include <fmpm/constitutive_model/linear_elastic.h>
 #include <fmpm/parameters.h>
-#include <fmpm/particle_properties.h>
 
 #include <cmath>
 
@@ -11,6 +10,104 @@ namespace fmpm
 {
   namespace ConstitutiveModel
   {
+    namespace
+    {
+      constexpr unsigned int n = StressUpdateInputs::capacity;
+
+      // The kernels loop over the batch's whole capacity, on restrict
+      // parameters: GCC vectorizes them at -O2. Entries past n_points are
+      // finite and are not read back. The entries are in the stored order
+      // (xx, yy, zz, xy, xz, yz; L and F row major), and the sums in the
+      // order of deal.II's SymmetricTensor operations (the same results).
+
+      /** σ += Δt (λ tr(D) I + 2μ D), D = sym(L); W += J σ_mid : D Δt. */
+      inline void
+      incremental_stress(const double (*__restrict L)[n],
+                         const double (*__restrict old_sigma)[n],
+                         const double *__restrict old_energy,
+                         const double *__restrict J,
+                         double (*__restrict sigma)[n],
+                         double *__restrict energy,
+                         const double lambda,
+                         const double mu,
+                         const double dt)
+      {
+        const double two_mu = 2 * mu;
+        for (unsigned int q = 0; q < n; ++q)
+          {
+            const double D_xx = L[0][q], D_yy = L[4][q], D_zz = L[8][q];
+            const double D_xy         = (L[1][q] + L[3][q]) * 0.5;
+            const double D_xz         = (L[2][q] + L[6][q]) * 0.5;
+            const double D_yz         = (L[5][q] + L[7][q]) * 0.5;
+            const double lambda_trace = lambda * (D_xx + D_yy + D_zz);
+            const double xx =
+              old_sigma[0][q] + dt * (lambda_trace + two_mu * D_xx);
+            const double yy =
+              old_sigma[1][q] + dt * (lambda_trace + two_mu * D_yy);
+            const double zz =
+              old_sigma[2][q] + dt * (lambda_trace + two_mu * D_zz);
+            const double xy   = old_sigma[3][q] + dt * (two_mu * D_xy);
+            const double xz   = old_sigma[4][q] + dt * (two_mu * D_xz);
+            const double yz   = old_sigma[5][q] + dt * (two_mu * D_yz);
+            double       work = (old_sigma[3][q] + xy) * D_xy;
+            work += (old_sigma[4][q] + xz) * D_xz;
+            work += (old_sigma[5][q] + yz) * D_yz;
+            work += work;
+            work += (old_sigma[0][q] + xx) * D_xx;
+            work += (old_sigma[1][q] + yy) * D_yy;
+            work += (old_sigma[2][q] + zz) * D_zz;
+            sigma[0][q] = xx;
+            sigma[1][q] = yy;
+            sigma[2][q] = zz;
+            sigma[3][q] = xy;
+            sigma[4][q] = xz;
+            sigma[5][q] = yz;
+            energy[q]   = old_energy[q] + 0.5 * J[q] * work * dt;
+          }
+      }
+
+      /** ε = sym(F) − I, σ = λ tr(ε) I + 2μ ε, W = σ:ε / 2. */
+      inline void
+      total_strain_stress(const double (*__restrict F)[n],
+                          double (*__restrict sigma)[n],
+                          double *__restrict energy,
+                          const double lambda,
+                          const double mu)
+      {
+        const double two_mu = 2 * mu;
+        for (unsigned int q = 0; q < n; ++q)
+          {
+            const double e_xx = F[0][q] - 1, e_yy = F[4][q] - 1,
+                         e_zz         = F[8][q] - 1;
+            const double e_xy         = (F[1][q] + F[3][q]) * 0.5,
+                         e_xz         = (F[2][q] + F[6][q]) * 0.5,
+                         e_yz         = (F[5][q] + F[7][q]) * 0.5;
+            const double lambda_trace = lambda * (e_xx + e_yy + e_zz);
+            const double xx           = lambda_trace + two_mu * e_xx;
+            const double yy           = lambda_trace + two_mu * e_yy;
+            const double zz           = lambda_trace + two_mu * e_zz;
+            const double xy = two_mu * e_xy, xz = two_mu * e_xz,
+                         yz = two_mu * e_yz;
+            double work     = xy * e_xy;
+            work += xz * e_xz;
+            work += yz * e_yz;
+            work += work;
+            work += xx * e_xx;
+            work += yy * e_yy;
+            work += zz * e_zz;
+            sigma[0][q] = xx;
+            sigma[1][q] = yy;
+            sigma[2][q] = zz;
+            sigma[3][q] = xy;
+            sigma[4][q] = xz;
+            sigma[5][q] = yz;
+            energy[q]   = 0.5 * work;
+          }
+      }
+    } // namespace
+
+
+
     template <int dim>
     void
     LinearElastic<dim>::declare_parameters(ParameterHandler &prm)
@@ -75,77 +172,21 @@ namespace fmpm
       const double lambda = youngs_modulus * poissons_ratio /
                             ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
       if (strain_measure == StrainMeasure::incremental)
-        {
-          // σ += Δt (λ tr(D) I + 2μ D), D = sym(L), and the energy from the
-          // midpoint stress, entry by entry (the sums in the order of
-          // deal.II's SymmetricTensor operations: the same results).
-          using Index         = PropertyIndex<dim>;
-          const double two_mu = 2 * mu;
-          const double dt     = inputs.time_step;
-          for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
-            {
-              const PointRecord  &p = inputs.properties[q];
-              const Tensor<2, 3> &L = inputs.velocity_gradient[q];
-              // Voigt-like order xx, yy, zz, xy, xz, yz (the stored order).
-              const double D[6] = {L[0][0],
-                                   L[1][1],
-                                   L[2][2],
-                                   (L[0][1] + L[1][0]) * 0.5,
-                                   (L[0][2] + L[2][0]) * 0.5,
-                                   (L[1][2] + L[2][1]) * 0.5};
-              const double lambda_trace = lambda * (D[0] + D[1] + D[2]);
-              double       old_stress[6], stress[6];
-              for (unsigned int c = 0; c < 6; ++c)
-                {
-                  old_stress[c] = p[Index::stress + c];
-                  const double rate =
-                    c < 3 ? lambda_trace + two_mu * D[c] : two_mu * D[c];
-                  stress[c] = old_stress[c] + dt * rate;
-                }
-              double work = (old_stress[3] + stress[3]) * D[3];
-              work += (old_stress[4] + stress[4]) * D[4];
-              work += (old_stress[5] + stress[5]) * D[5];
-              work += work;
-              work += (old_stress[0] + stress[0]) * D[0];
-              work += (old_stress[1] + stress[1]) * D[1];
-              work += (old_stress[2] + stress[2]) * D[2];
-              SymmetricTensor<2, 3> &sigma = outputs.cauchy_stress[q];
-              for (unsigned int c = 0; c < 6; ++c)
-                sigma[stress_component_i[c]][stress_component_j[c]] = stress[c];
-              const double J = determinant(inputs.deformation_gradient[q]);
-              outputs.strain_energy_density[q] =
-                p[Index::strain_energy_density] + 0.5 * J * work * dt;
-            }
-          return;
-        }
-      // ε = sym(F) − I, σ = λ tr(ε) I + 2μ ε, W = σ:ε / 2, entry by entry
-      // (the sums in the order of deal.II's SymmetricTensor operations).
-      const double two_mu = 2 * mu;
-      for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
-        {
-          const Tensor<2, 3> &F    = inputs.deformation_gradient[q];
-          const double        e_xx = F[0][0] - 1, e_yy = F[1][1] - 1,
-                       e_zz = F[2][2] - 1;
-          const double e_xy = (F[0][1] + F[1][0]) * 0.5,
-                       e_xz = (F[0][2] + F[2][0]) * 0.5,
-                       e_yz = (F[1][2] + F[2][1]) * 0.5;
-          const double lambda_trace = lambda * (e_xx + e_yy + e_zz);
-          SymmetricTensor<2, 3> &sigma = outputs.cauchy_stress[q];
-          sigma[0][0] = lambda_trace + two_mu * e_xx;
-          sigma[1][1] = lambda_trace + two_mu * e_yy;
-          sigma[2][2] = lambda_trace + two_mu * e_zz;
-          sigma[0][1] = two_mu * e_xy;
-          sigma[0][2] = two_mu * e_xz;
-          sigma[1][2] = two_mu * e_yz;
-          double work = sigma[0][1] * e_xy;
-          work += sigma[0][2] * e_xz;
-          work += sigma[1][2] * e_yz;
-          work += work;
-          work += sigma[0][0] * e_xx;
-          work += sigma[1][1] * e_yy;
-          work += sigma[2][2] * e_zz;
-          outputs.strain_energy_density[q] = 0.5 * work;
-        }
+        incremental_stress(inputs.velocity_gradient,
+                           inputs.old_stress,
+                           inputs.old_strain_energy_density,
+                           inputs.volume_ratio,
+                           outputs.cauchy_stress,
+                           outputs.strain_energy_density,
+                           lambda,
+                           mu,
+                           inputs.time_step);
+      else
+        total_strain_stress(inputs.deformation_gradient,
+                            outputs.cauchy_stress,
+                            outputs.strain_energy_density,
+                            lambda,
+                            mu);
     }
 
 

@@ -16,17 +16,19 @@ namespace fmpm
     MieGruneisen<dim>::declare_parameters(ParameterHandler &prm)
     {
       const MieGruneisen<dim> defaults;
-      prm.declare_entry("Bulk modulus",
-                        format_number(defaults.bulk_modulus),
-                        Patterns::Double(),
-                        "K of [NHS2020-contact] Eq. (51) (K = ρ0 C0², C0 the bulk "
-                        "sound speed of the Hugoniot U_s = C0 + S1 u_p). "
-                        "Must be positive. Units: Pa.");
-      prm.declare_entry("Shear modulus",
-                        format_number(defaults.shear_modulus),
-                        Patterns::Double(),
-                        "G of the shear term of [NHS2020-contact] Eq. (18). Must not "
-                        "be negative. Units: Pa.");
+      prm.declare_entry(
+        "Bulk modulus",
+        format_number(defaults.bulk_modulus),
+        Patterns::Double(),
+        "K of [NHS2020-contact] Eq. (51) (K = ρ0 C0², C0 the bulk "
+        "sound speed of the Hugoniot U_s = C0 + S1 u_p). "
+        "Must be positive. Units: Pa.");
+      prm.declare_entry(
+        "Shear modulus",
+        format_number(defaults.shear_modulus),
+        Patterns::Double(),
+        "G of the shear term of [NHS2020-contact] Eq. (18). Must not "
+        "be negative. Units: Pa.");
       prm.declare_entry("Gruneisen gamma",
                         format_number(defaults.gruneisen_gamma),
                         Patterns::Double(),
@@ -218,10 +220,11 @@ namespace fmpm
       const double                sqrt_2_3 = std::sqrt(2. / 3.);
       const SymmetricTensor<2, 3> I        = unit_symmetric_tensor<3>();
 
-      for (unsigned int q = 0; q < inputs.deformation_gradient.size(); ++q)
+      for (unsigned int q = 0; q < inputs.n_points; ++q)
         {
-          const PointRecord       &P  = inputs.properties[q];
-          const Tensor<2, 3>      &F1 = inputs.deformation_gradient[q];
+          const PointRecord &P  = inputs.properties[q];
+          const Tensor<2, 3> F1 = inputs.deformation_gradient_tensor(q);
+          const Tensor<2, 3> L  = inputs.velocity_gradient_tensor(q);
           const Tensor<2, 3> F0 = get_tensor3(P, Index::deformation_gradient);
           const SymmetricTensor<2, 3> sigma0 =
             get_symmetric_tensor3(P, Index::stress);
@@ -239,7 +242,7 @@ namespace fmpm
                   outputs.failed_point = q;
                   outputs.failure      = message.str();
                 }
-              outputs.cauchy_stress[q]         = sigma0;
+              outputs.set_stress(q, sigma0);
               outputs.strain_energy_density[q] = rho0 * P[energy_slot];
               outputs.wave_speed[q]            = 0;
               continue;
@@ -288,7 +291,7 @@ namespace fmpm
           const double K_t =
             tangent_bulk_modulus(J1, p_cold + energy_on * rho0 * g0 * U0);
           const double C   = std::sqrt(std::max(K_t, 0.) / rho);
-          const double Dkk = trace(inputs.velocity_gradient[q]);
+          const double Dkk = trace(L);
           // Artificial viscosity, Eq. (52), in compression only.
           double q_visc = 0;
           if (viscous && Dkk < 0)
@@ -302,10 +305,9 @@ namespace fmpm
           // dU = σ : D dt / ρ, midpoint in σ and J; the volumetric part
           // from J (ρ0 dU = −p̄ ΔJ), the deviatoric part from dev(D) dt.
           const SymmetricTensor<2, 3> s_cauchy = s / J1;
-          const SymmetricTensor<2, 3> D_dev =
-            deviator(symmetrize(inputs.velocity_gradient[q]));
-          const double J_mid = 0.5 * (J0 + J1), dJ = J1 - J0;
-          const double shear_work =
+          const SymmetricTensor<2, 3> D_dev    = deviator(symmetrize(L));
+          const double                J_mid = 0.5 * (J0 + J1), dJ = J1 - J0;
+          const double                shear_work =
             0.5 * J_mid * ((deviator(sigma0) + s_cauchy) * D_dev) * dt;
           const double pressure_work =
             0.5 * (trace(sigma0) / 3. - p_cold - q_visc) * dJ;
@@ -313,8 +315,8 @@ namespace fmpm
                             (1. + 0.5 * energy_on * g0 * dJ);
           P[energy_slot] = U1;
 
-          const double p           = p_cold + energy_on * rho0 * g0 * U1;
-          outputs.cauchy_stress[q] = s_cauchy - (p + q_visc) * I;
+          const double p = p_cold + energy_on * rho0 * g0 * U1;
+          outputs.set_stress(q, s_cauchy - (p + q_visc) * I);
           outputs.strain_energy_density[q] = rho0 * U1;
           outputs.wave_speed[q]            = std::sqrt(
             std::max(tangent_bulk_modulus(J1, p) + 4. / 3. * shear_modulus,

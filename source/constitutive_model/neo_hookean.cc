@@ -20,11 +20,12 @@ namespace fmpm
                         Patterns::Double(),
                         "Bulk modulus K of [NHS2020-contact] Eq. (18). Must be "
                         "positive. Units: Pa.");
-      prm.declare_entry("Shear modulus",
-                        format_number(defaults.shear_modulus),
-                        Patterns::Double(),
-                        "Shear modulus G of [NHS2020-contact] Eq. (18). Must be "
-                        "positive. Units: Pa.");
+      prm.declare_entry(
+        "Shear modulus",
+        format_number(defaults.shear_modulus),
+        Patterns::Double(),
+        "Shear modulus G of [NHS2020-contact] Eq. (18). Must be "
+        "positive. Units: Pa.");
     }
 
 
@@ -86,37 +87,38 @@ namespace fmpm
     NeoHookean<dim>::update_stress(const StressUpdateInputs &inputs,
                                    StressUpdateOutputs      &outputs) const
     {
-      const unsigned int n_points = inputs.deformation_gradient.size();
+      const unsigned int n = inputs.n_points;
       if constexpr (dim == 2)
         {
           // Plane strain (F₃₃ = 1, no out-of-plane shear): J is the 2x2
           // block's determinant and b̄ = J^{-2/3} F Fᵀ has four entries;
           // otherwise the same Eq. 18 as stress_and_energy().
           const double K = bulk_modulus, G = shear_modulus;
-          for (unsigned int q = 0; q < n_points; ++q)
+          const auto  &F     = inputs.deformation_gradient;
+          auto        &sigma = outputs.cauchy_stress;
+          for (unsigned int q = 0; q < n; ++q)
             {
-              const Tensor<2, 3> &F      = inputs.deformation_gradient[q];
-              const double        F_xx   = F[0][0];
-              const double        F_xy   = F[0][1];
-              const double        F_yx   = F[1][0];
-              const double        F_yy   = F[1][1];
-              const double        J      = F_xx * F_yy - F_xy * F_yx;
-              const double        log_J  = std::log(J);
-              const double        J_m23  = std::exp(-2.0 / 3.0 * log_J);
-              const double        b_xx   = J_m23 * (F_xx * F_xx + F_xy * F_xy);
-              const double        b_yy   = J_m23 * (F_yx * F_yx + F_yy * F_yy);
-              const double        b_xy   = J_m23 * (F_xx * F_yx + F_xy * F_yy);
-              const double        b_zz   = J_m23;
-              const double        I1_bar = b_xx + b_yy + b_zz;
+              const double F_xx   = F[0][q];
+              const double F_xy   = F[1][q];
+              const double F_yx   = F[3][q];
+              const double F_yy   = F[4][q];
+              const double J      = F_xx * F_yy - F_xy * F_yx;
+              const double log_J  = std::log(J);
+              const double J_m23  = std::exp(-2.0 / 3.0 * log_J);
+              const double b_xx   = J_m23 * (F_xx * F_xx + F_xy * F_xy);
+              const double b_yy   = J_m23 * (F_yx * F_yx + F_yy * F_yy);
+              const double b_xy   = J_m23 * (F_xx * F_yx + F_xy * F_yy);
+              const double b_zz   = J_m23;
+              const double I1_bar = b_xx + b_yy + b_zz;
               // τ = G b̄ + (K (J² − 1)/2 − G Ī₁/3) I, σ = τ/J.
               const double pressure_part =
                 0.5 * K * (J * J - 1) - G * I1_bar / 3.0;
-              SymmetricTensor<2, 3> &sigma = outputs.cauchy_stress[q];
-              sigma                        = SymmetricTensor<2, 3>();
-              sigma[0][0]                  = (G * b_xx + pressure_part) / J;
-              sigma[1][1]                  = (G * b_yy + pressure_part) / J;
-              sigma[2][2]                  = (G * b_zz + pressure_part) / J;
-              sigma[0][1]                  = G * b_xy / J;
+              sigma[0][q] = (G * b_xx + pressure_part) / J;
+              sigma[1][q] = (G * b_yy + pressure_part) / J;
+              sigma[2][q] = (G * b_zz + pressure_part) / J;
+              sigma[3][q] = G * b_xy / J;
+              sigma[4][q] = 0;
+              sigma[5][q] = 0;
               outputs.strain_energy_density[q] =
                 0.5 * G * (I1_bar - 3) + 0.5 * K * (0.5 * (J * J - 1) - log_J);
             }
@@ -124,11 +126,11 @@ namespace fmpm
       else
         {
           SymmetricTensor<2, 3> tau;
-          for (unsigned int q = 0; q < n_points; ++q)
+          for (unsigned int q = 0; q < n; ++q)
             {
-              const Tensor<2, 3> &F = inputs.deformation_gradient[q];
+              const Tensor<2, 3> F = inputs.deformation_gradient_tensor(q);
               stress_and_energy(F, tau, outputs.strain_energy_density[q]);
-              outputs.cauchy_stress[q] = tau / determinant(F);
+              outputs.set_stress(q, tau / determinant(F));
             }
         }
     }

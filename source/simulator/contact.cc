@@ -53,13 +53,23 @@ namespace fmpm
       }
 
     const unsigned int n_materials = parameters.size.n_materials;
-    increment_law = Contact::create_law<dim>(Contact::Law{"perfect", 0});
+    increment_law = Contact::create_law<dim>(Contact::Law{"perfect", {}});
     contact_laws.clear();
     contact_laws.resize(n_materials * n_materials);
+    contact_needs_interface = false;
     for (unsigned int a = 0; a < n_materials; ++a)
       for (unsigned int b = a + 1; b < n_materials; ++b)
-        contact_laws[a * n_materials + b] =
-          Contact::create_law<dim>(contact.law(a, b));
+        {
+          contact_laws[a * n_materials + b] =
+            Contact::create_law<dim>(contact.law(a, b));
+          contact_needs_interface =
+            contact_needs_interface ||
+            contact_laws[a * n_materials + b]->interface_state();
+        }
+    // (The contact area of interface laws is measured in the local cell
+    // size.)
+    contact_needs_cell_size =
+      contact_needs_cell_size || contact_needs_interface;
 
     const auto partitioner = lumped_mass.get_partitioner();
     auto       reinit      = [&](GridVectorField &field) {
@@ -95,6 +105,11 @@ namespace fmpm
           reinit(material.volume_gradient);
         if (contact_needs_positions)
           reinit(material.position_moment);
+        if (contact_needs_interface)
+          {
+            reinit(material.displacement_moment);
+            material.volume.reinit(partitioner);
+          }
         for (auto &field : material.fields)
           reinit(field);
       }
@@ -274,10 +289,11 @@ namespace fmpm
   void
   Simulator<dim>::for_each_contact_pair(Visit &&visit, NodeDone &&node_done)
   {
-    const unsigned int n_materials  = material_fields.size();
-    const unsigned int n_owned      = lumped_mass.locally_owned_size();
-    const double       floor        = mass_floor_value;
-    const bool lumped_three_or_more = parameters.contact.lumped_three_or_more;
+    using ThreeOrMore                = Contact::Parameters::ThreeOrMore;
+    const unsigned int n_materials   = material_fields.size();
+    const unsigned int n_owned       = lumped_mass.locally_owned_size();
+    const double       floor         = mass_floor_value;
+    const ThreeOrMore  three_or_more = parameters.contact.three_or_more;
     std::vector<const double *> m(n_materials);
     for (unsigned int a = 0; a < n_materials; ++a)
       m[a] = material_fields[a].mass.begin();
@@ -291,16 +307,20 @@ namespace fmpm
             present.push_back(a);
         if (present.size() < 2)
           continue;
-        if (present.size() == 2 || !lumped_three_or_more)
+        const bool three_plus = present.size() > 2;
+        const bool explicit_node =
+          three_plus && three_or_more == ThreeOrMore::explicit_pairs;
+        if (!three_plus || three_or_more != ThreeOrMore::lumped)
           // Each pair in turn (one pair at most 3+ nodes apart).
           for (unsigned int x = 0; x < present.size(); ++x)
             for (unsigned int y = x + 1; y < present.size(); ++y)
               {
                 alpha.assign(1, present[x]);
                 beta.assign(1, present[y]);
-                visit(i, slot++, false, x, alpha, beta, present[y]);
+                visit(ContactSlot{
+                  i, slot++, false, explicit_node, x, alpha, beta, present[y]});
               }
-        else
+        if (three_plus && three_or_more != ThreeOrMore::pairwise)
           // 3+ materials, lumped (Eq. 50): each against the sum of the
           // others, with the law of the heaviest other material.
           for (unsigned int x = 0; x < present.size(); ++x)
@@ -315,7 +335,8 @@ namespace fmpm
                     if (m[b][i] > m[heaviest][i])
                       heaviest = b;
                   }
-              visit(i, slot++, true, x, alpha, beta, heaviest);
+              visit(ContactSlot{
+                i, slot++, true, explicit_node, x, alpha, beta, heaviest});
             }
         node_done(i, present);
       }
@@ -498,14 +519,8 @@ namespace fmpm
 
     contact_geometry.clear();
     for_each_contact_pair(
-      [&](const unsigned int i,
-          const unsigned int,
-          const bool,
-          const unsigned int,
-          const std::vector<unsigned int> &alpha,
-          const std::vector<unsigned int> &beta,
-          const unsigned int) {
-        contact_geometry.push_back(geometry(alpha, beta, i));
+      [&](const ContactSlot &s) {
+        contact_geometry.push_back(geometry(s.alpha, s.beta, s.node));
       },
       [](const unsigned int, const std::vector<unsigned int> &) {});
     logistic_fits += fits;
@@ -575,6 +590,41 @@ namespace fmpm
       node.normal     = geometry.normal;
       node.touching   = geometry.touching;
       node.separation = geometry.separation;
+      node.stage      = stage == ContactStage::updated ?
+                          Contact::NodePair<dim>::Stage::updated :
+                        stage == ContactStage::increment ?
+                          Contact::NodePair<dim>::Stage::increment :
+                          Contact::NodePair<dim>::Stage::extrapolated;
+      node.time_step  = time_step;
+      if (contact_needs_interface)
+        {
+          // u^β − u^α and A_c = sqrt(2 min(V^α, V^β)(V^α + V^β))/h.
+          double         volume_alpha = 0, volume_beta = 0;
+          Tensor<1, dim> moment_alpha, moment_beta;
+          for (const unsigned int a : alpha)
+            {
+              volume_alpha += material_fields[a].volume.local_element(i);
+              for (unsigned int d = 0; d < dim; ++d)
+                moment_alpha[d] +=
+                  material_fields[a].displacement_moment.block(d).local_element(
+                    i);
+            }
+          for (const unsigned int b : beta)
+            {
+              volume_beta += material_fields[b].volume.local_element(i);
+              for (unsigned int d = 0; d < dim; ++d)
+                moment_beta[d] +=
+                  material_fields[b].displacement_moment.block(d).local_element(
+                    i);
+            }
+          if (node.mass_alpha > 0 && node.mass_beta > 0)
+            node.displacement_jump =
+              moment_beta / node.mass_beta - moment_alpha / node.mass_alpha;
+          node.contact_area =
+            std::sqrt(2 * std::min(volume_alpha, volume_beta) *
+                      (volume_alpha + volume_beta)) /
+            node_cell_size.local_element(i);
+        }
       if (measures_gap && !node.touching && node.mass_alpha > 0 &&
           node.mass_beta > 0)
         {
@@ -639,39 +689,158 @@ namespace fmpm
     bool                        in_contact    = false;
     double                      work          = 0;
     unsigned long long          contact_nodes = 0;
-    for_each_contact_pair(
-      [&](const unsigned int               i,
-          const unsigned int               slot,
-          const bool                       lumped,
-          const unsigned int               x,
-          const std::vector<unsigned int> &alpha,
-          const std::vector<unsigned int> &beta,
-          const unsigned int               partner) {
-        ++n_slots;
-        if (lumped)
-          changes[x] = Tensor<1, dim>();
-        if (increments && !contact_state[slot])
+    // One correction of α (one material) against β at node i, recorded.
+    auto correct = [&](const unsigned int               a,
+                       const std::vector<unsigned int> &alpha,
+                       const std::vector<unsigned int> &beta,
+                       const unsigned int               partner,
+                       const unsigned int               i,
+                       const unsigned int               slot) {
+      const auto node = node_pair(alpha, beta, i, contact_geometry[slot]);
+      // Increments: the same in both materials ('perfect'), or the
+      // interface law's perfect directions.
+      const Contact::LawInterface<dim> &pair_law = law(a, partner);
+      const auto                        c =
+        (increments && !pair_law.interface_state() ? *increment_law : pair_law)
+          .correct(node);
+      if (stage == ContactStage::updated && c.in_contact && !in_contact)
+        record(i, node);
+      in_contact = in_contact || c.in_contact;
+      return c;
+    };
+
+    // 'Three or more materials = explicit': the slots of a 3+ node, handled
+    // when the node is done.
+    struct PendingSlot
+    {
+      unsigned int              slot;
+      bool                      lumped;
+      unsigned int              x, a, partner;
+      std::vector<unsigned int> beta;
+    };
+    std::vector<PendingSlot>  pending;
+    std::vector<unsigned int> one_alpha(1), one_beta(1);
+    // The pairs in contact (each pair's law on the momenta as they are;
+    // for the series increments, the pairs in contact at the last
+    // correction): none, one or two are corrected together, by turns
+    // until neither pair's law changes the momenta (Eq. 49: both laws hold
+    // and momentum is conserved); three or more lumped (Eq. 50).
+    auto correct_explicit_node = [&](const unsigned int i) {
+      std::vector<const PendingSlot *> pairs;
+      bool                             lumped_at_last = false;
+      for (const PendingSlot &pending_slot : pending)
+        {
+          if (pending_slot.lumped)
+            {
+              lumped_at_last = lumped_at_last ||
+                               (increments && contact_state[pending_slot.slot]);
+              continue;
+            }
+          bool touching = increments && contact_state[pending_slot.slot];
+          if (!increments)
+            {
+              one_alpha[0] = pending_slot.a;
+              one_beta[0]  = pending_slot.partner;
+              touching =
+                law(pending_slot.a, pending_slot.partner)
+                  .correct(node_pair(one_alpha,
+                                     one_beta,
+                                     i,
+                                     contact_geometry[pending_slot.slot]))
+                  .in_contact;
+            }
+          if (touching)
+            pairs.push_back(&pending_slot);
+        }
+      if (!increments)
+        for (const PendingSlot &pending_slot : pending)
+          contact_state[pending_slot.slot] = 0;
+
+      if (pairs.size() >= 3 || lumped_at_last)
+        {
+          for (const PendingSlot &pending_slot : pending)
+            if (pending_slot.lumped)
+              {
+                one_alpha[0] = pending_slot.a;
+                const auto c = correct(pending_slot.a,
+                                       one_alpha,
+                                       pending_slot.beta,
+                                       pending_slot.partner,
+                                       i,
+                                       pending_slot.slot);
+                if (!increments)
+                  contact_state[pending_slot.slot] = c.in_contact;
+                changes[pending_slot.x] = c.delta_momentum;
+                work += 0.5 * c.friction_work;
+              }
+          for (const PendingSlot &pending_slot : pending)
+            if (pending_slot.lumped)
+              add_momentum(pending_slot.a, i, changes[pending_slot.x]);
           return;
-        const unsigned int a = alpha.front();
-        const auto node = node_pair(alpha, beta, i, contact_geometry[slot]);
-        const auto c =
-          (increments ? *increment_law : law(a, partner)).correct(node);
+        }
+      constexpr unsigned int max_turns = 100;
+      for (unsigned int turn = 0; turn < max_turns && !pairs.empty(); ++turn)
+        {
+          double change = 0, scale = 0;
+          for (const PendingSlot *pair : pairs)
+            {
+              one_alpha[0] = pair->a;
+              one_beta[0]  = pair->partner;
+              const auto c = correct(
+                pair->a, one_alpha, one_beta, pair->partner, i, pair->slot);
+              if (c.in_contact)
+                {
+                  if (!increments)
+                    contact_state[pair->slot] = 1;
+                  add_momentum(pair->a, i, c.delta_momentum);
+                  add_momentum(pair->partner, i, -c.delta_momentum);
+                }
+              work += c.friction_work;
+              change += c.delta_momentum.norm();
+              for (unsigned int d = 0; d < dim; ++d)
+                scale += std::abs(p[pair->a * dim + d][i]) +
+                         std::abs(p[pair->partner * dim + d][i]);
+            }
+          if (pairs.size() == 1 || change <= 1e-14 * scale)
+            break;
+        }
+    };
+
+    for_each_contact_pair(
+      [&](const ContactSlot &s) {
+        ++n_slots;
+        if (s.explicit_node)
+          {
+            pending.push_back(
+              {s.slot, s.lumped, s.x, s.alpha.front(), s.partner, s.beta});
+            return;
+          }
+        if (s.lumped)
+          changes[s.x] = Tensor<1, dim>();
+        if (increments && !contact_state[s.slot])
+          return;
+        const unsigned int a = s.alpha.front();
+        const auto c = correct(a, s.alpha, s.beta, s.partner, s.node, s.slot);
         if (!increments)
-          contact_state[slot] = c.in_contact;
-        if (lumped) // the change goes to α only, after all of the node's
-          changes[x] = c.delta_momentum;
+          contact_state[s.slot] = c.in_contact;
+        if (s.lumped) // the change goes to α only, after all of the node's
+          changes[s.x] = c.delta_momentum;
         else // α gets Δp^α, β gets −Δp^α (Eq. 7)
           {
-            add_momentum(a, i, c.delta_momentum);
-            add_momentum(partner, i, -c.delta_momentum);
+            add_momentum(a, s.node, c.delta_momentum);
+            add_momentum(s.partner, s.node, -c.delta_momentum);
           }
-        if (stage == ContactStage::updated && c.in_contact && !in_contact)
-          record(i, node);
-        in_contact = in_contact || c.in_contact;
-        work += (lumped ? 0.5 : 1.) * c.friction_work;
+        work += (s.lumped ? 0.5 : 1.) * c.friction_work;
       },
       [&](const unsigned int i, const std::vector<unsigned int> &present) {
-        if (present.size() > 2 && contact.lumped_three_or_more)
+        if (!pending.empty())
+          {
+            correct_explicit_node(i);
+            pending.clear();
+          }
+        else if (present.size() > 2 &&
+                 contact.three_or_more ==
+                   Contact::Parameters::ThreeOrMore::lumped)
           for (unsigned int x = 0; x < present.size(); ++x)
             add_momentum(present[x], i, changes[x]);
         if (in_contact)
@@ -724,7 +893,8 @@ namespace fmpm
                                                material.momentum,
                                                target,
                                                mass_floor_value);
-              if (field == velocity && parameters.contact.xpic_contact_term ==
+              if (field == velocity &&
+                  parameters.contact.xpic_contact_term ==
                     Contact::XpicContactTerm::uncorrected &&
                   mass_matrix->order() > 1)
                 {
@@ -943,7 +1113,7 @@ namespace fmpm
       for (unsigned int k = 0; k < supports.n_points(); ++k)
         {
           double *const d = diagonal[supports.material[k]];
-          const double M = mass_column[k];
+          const double  M = mass_column[k];
           for (unsigned int j = supports.support_begin[k];
                j < supports.support_begin[k + 1];
                ++j)
@@ -957,20 +1127,14 @@ namespace fmpm
     // last correction's contact states.
     contact_groups.clear();
     for_each_contact_pair(
-      [&](const unsigned int i,
-          const unsigned int slot,
-          const bool,
-          const unsigned int,
-          const std::vector<unsigned int> &alpha,
-          const std::vector<unsigned int> &beta,
-          const unsigned int) {
-        if (!contact_state[slot])
+      [&](const ContactSlot &s) {
+        if (!contact_state[s.slot])
           return;
-        if (contact_groups.empty() || contact_groups.back().first != i)
-          contact_groups.emplace_back(i, 0u);
-        for (const unsigned int a : alpha)
+        if (contact_groups.empty() || contact_groups.back().first != s.node)
+          contact_groups.emplace_back(s.node, 0u);
+        for (const unsigned int a : s.alpha)
           contact_groups.back().second |= 1u << a;
-        for (const unsigned int b : beta)
+        for (const unsigned int b : s.beta)
           contact_groups.back().second |= 1u << b;
       },
       [](const unsigned int, const std::vector<unsigned int> &) {});
@@ -1292,13 +1456,13 @@ namespace fmpm
       }
     const double *const mass_column = points.column(Index::mass);
     const unsigned int *node        = supports.node.data();
-    const double       *S    = supports.S.data();
+    const double       *S           = supports.S.data();
     for (unsigned int k = 0; k < supports.n_points(); ++k)
       {
-        const unsigned int a     = supports.material[k];
-        const unsigned int begin = supports.support_begin[k];
-        const unsigned int end   = supports.support_begin[k + 1];
-        const double M = mass_column[k];
+        const unsigned int   a      = supports.material[k];
+        const unsigned int   begin  = supports.support_begin[k];
+        const unsigned int   end    = supports.support_begin[k + 1];
+        const double         M      = mass_column[k];
         const double *const *xa     = &x[a * dim];
         double *const       *ya     = &y[a * dim];
         double               s[dim] = {};

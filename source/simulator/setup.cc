@@ -835,7 +835,6 @@ namespace fmpm
         inputs.time_step         = 1;
         inputs.reference_density = density;
         inputs.resize(1);
-        outputs.resize(1);
         for (unsigned int k = 0; k < points.n_points(); ++k)
           {
             const PointRecord p = points.record(k);
@@ -848,9 +847,12 @@ namespace fmpm
               for (unsigned int j = 0; j < dim; ++j)
                 strain[i][j] = epsilon * down[i] * down[j];
             const Tensor<2, 3> F = unit_symmetric_tensor<3>() + strain;
-            inputs.deformation_gradient[0] = F;
-            inputs.velocity_gradient[0]    = strain;
-            inputs.properties[0]           = p;
+            inputs.set_deformation_gradient(0, F);
+            inputs.set_velocity_gradient(0, strain);
+            inputs.set_old_stress(0, get_symmetric_tensor3(p, Index::stress));
+            inputs.old_strain_energy_density[0] =
+              p[Index::strain_energy_density];
+            inputs.properties[0] = p;
             constitutive_models[material]->update_stress(inputs, outputs);
             // (In 2D the plane-strain zero entries are not stored.)
             for (unsigned int a = 0; a < 3; ++a)
@@ -858,9 +860,7 @@ namespace fmpm
                 if (dim == 3 || (a < 2) == (c < 2))
                   p[Index::deformation_gradient + 3 * a + c] = F[a][c];
             for (unsigned int c = 0; c < (dim == 3 ? 6 : 4); ++c)
-              p[Index::stress + c] =
-                outputs.cauchy_stress[0][stress_component_i[c]]
-                                        [stress_component_j[c]];
+              p[Index::stress + c] = outputs.cauchy_stress[c][0];
             p[Index::strain_energy_density] = outputs.strain_energy_density[0];
             p[Index::volume] = determinant(F) * p[Index::initial_volume];
           }

@@ -52,104 +52,123 @@ namespace fmpm
             sigma[stress_component_j[c]][stress_component_i[c]] = stress[c][k];
     }
 
+    using BatchEntries =
+      double[9][ConstitutiveModel::StressUpdateInputs::capacity];
+
     /**
-     * ΔF with F^{n+1} = ΔF F^n for each velocity gradient L[q] over Δt,
-     * ΔF ≈ exp(L Δt) for L constant over the step (seed 001,
-     * computeDeformationGradientFromVelocity). The method is chosen once
-     * for the batch. In 2D (plane strain) L and ΔF live in the 2x2 block
-     * (ΔF_33 = 1): the arithmetic is done on that block.
+     * ΔF with F^{n+1} = ΔF F^n for the velocity gradients L (entry (a, b)
+     * of point q at L[3a + b][q]) over Δt, ΔF ≈ exp(L Δt) for L constant
+     * over the step (seed 001, computeDeformationGradientFromVelocity). The
+     * method is chosen once for the batch. In 2D (plane strain) L and ΔF
+     * live in the 2x2 block (ΔF_33 = 1): only that block is computed.
+     * First order and Cayley are written entry by entry (one loop over the
+     * points that vectorizes; the operations and their order are those of
+     * deal.II's Tensor invert() and product).
      */
     template <int n>
     void
-    increments(const DeformationGradientUpdate  update,
-               const MethodParameters          &method,
-               const std::vector<Tensor<2, 3>> &L,
-               const double                     dt,
-               const unsigned int               n_points,
-               std::vector<Tensor<2, 3>>       &dF)
+    increments(const DeformationGradientUpdate update,
+               const MethodParameters         &method,
+               const BatchEntries             &L,
+               const double                    dt,
+               const unsigned int              n_points,
+               BatchEntries                   &dF)
     {
+      if (update == DeformationGradientUpdate::first_order)
+        {
+          for (unsigned int a = 0; a < n; ++a)
+            for (unsigned int b = 0; b < n; ++b)
+              for (unsigned int q = 0; q < n_points; ++q)
+                dF[3 * a + b][q] = (a == b ? 1.0 : 0.0) + L[3 * a + b][q] * dt;
+          return;
+        }
+      if (update == DeformationGradientUpdate::cayley)
+        {
+          // ΔF = (I − L Δt/2)⁻¹ (I + L Δt/2).
+          for (unsigned int q = 0; q < n_points; ++q)
+            {
+              double A[3][3], B[3][3], R[3][3];
+              for (unsigned int a = 0; a < n; ++a)
+                for (unsigned int b = 0; b < n; ++b)
+                  {
+                    const double half = 0.5 * (L[3 * a + b][q] * dt);
+                    const double I_ab = a == b ? 1.0 : 0.0;
+                    A[a][b]           = I_ab - half;
+                    B[a][b]           = I_ab + half;
+                  }
+              if constexpr (n == 2)
+                {
+                  const double inverse_determinant =
+                    1.0 / (A[0][0] * A[1][1] - A[1][0] * A[0][1]);
+                  R[0][0] = A[1][1] * inverse_determinant;
+                  R[0][1] = -A[0][1] * inverse_determinant;
+                  R[1][0] = -A[1][0] * inverse_determinant;
+                  R[1][1] = A[0][0] * inverse_determinant;
+                }
+              else
+                {
+                  R[0][0] = A[1][1] * A[2][2] - A[1][2] * A[2][1];
+                  R[0][1] = A[0][2] * A[2][1] - A[0][1] * A[2][2];
+                  R[0][2] = A[0][1] * A[1][2] - A[0][2] * A[1][1];
+                  R[1][0] = A[1][2] * A[2][0] - A[1][0] * A[2][2];
+                  R[1][1] = A[0][0] * A[2][2] - A[0][2] * A[2][0];
+                  R[1][2] = A[0][2] * A[1][0] - A[0][0] * A[1][2];
+                  R[2][0] = A[1][0] * A[2][1] - A[1][1] * A[2][0];
+                  R[2][1] = A[0][1] * A[2][0] - A[0][0] * A[2][1];
+                  R[2][2] = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+                  const double inverse_determinant =
+                    1.0 /
+                    (A[0][0] * R[0][0] + A[0][1] * R[1][0] + A[0][2] * R[2][0]);
+                  for (unsigned int a = 0; a < 3; ++a)
+                    for (unsigned int b = 0; b < 3; ++b)
+                      R[a][b] *= inverse_determinant;
+                }
+              for (unsigned int a = 0; a < n; ++a)
+                for (unsigned int b = 0; b < n; ++b)
+                  {
+                    double sum = R[a][0] * B[0][b];
+                    for (unsigned int c = 1; c < n; ++c)
+                      sum += R[a][c] * B[c][b];
+                    dF[3 * a + b][q] = sum;
+                  }
+            }
+          return;
+        }
       const Tensor<2, n> I = unit_symmetric_tensor<n>();
       for (unsigned int q = 0; q < n_points; ++q)
         {
           Tensor<2, n> L_dt;
           for (unsigned int a = 0; a < n; ++a)
             for (unsigned int b = 0; b < n; ++b)
-              L_dt[a][b] = L[q][a][b] * dt;
+              L_dt[a][b] = L[3 * a + b][q] * dt;
           Tensor<2, n> increment;
-          switch (update)
+          if (update == DeformationGradientUpdate::taylor)
             {
-              case DeformationGradientUpdate::first_order:
-                increment = I + L_dt;
-                break;
-              case DeformationGradientUpdate::cayley:
+              Tensor<2, n> term = I;
+              increment         = I;
+              for (unsigned int k = 1; k <= method.taylor_terms; ++k)
                 {
-                  const Tensor<2, n> half_L_dt = 0.5 * L_dt;
-                  increment = invert(I - half_L_dt) * (I + half_L_dt);
-                  break;
-                }
-              case DeformationGradientUpdate::taylor:
-                {
-                  Tensor<2, n> term = I;
-                  increment         = I;
-                  for (unsigned int k = 1; k <= method.taylor_terms; ++k)
-                    {
-                      term = term * L_dt / static_cast<double>(k);
-                      increment += term;
-                    }
-                  break;
-                }
-              case DeformationGradientUpdate::subcycle:
-                {
-                  // First-order substeps with |L Δt_sub| below the bound.
-                  const unsigned int n_sub =
-                    std::max(1u,
-                             static_cast<unsigned int>(
-                               std::ceil(L_dt.norm() /
-                                         method.subcycle_strain_increment)));
-                  const Tensor<2, n> step =
-                    I + L_dt / static_cast<double>(n_sub);
-                  increment = I;
-                  for (unsigned int k = 0; k < n_sub; ++k)
-                    increment = step * increment;
-                  break;
+                  term = term * L_dt / static_cast<double>(k);
+                  increment += term;
                 }
             }
-          if constexpr (n == 3)
-            dF[q] = increment;
           else
             {
-              dF[q]       = Tensor<2, 3>();
-              dF[q][2][2] = 1;
-              for (unsigned int a = 0; a < n; ++a)
-                for (unsigned int b = 0; b < n; ++b)
-                  dF[q][a][b] = increment[a][b];
+              // Subcycles: first-order substeps with |L Δt_sub| below the
+              // bound.
+              const unsigned int n_sub =
+                std::max(1u,
+                         static_cast<unsigned int>(std::ceil(
+                           L_dt.norm() / method.subcycle_strain_increment)));
+              const Tensor<2, n> step = I + L_dt / static_cast<double>(n_sub);
+              increment               = I;
+              for (unsigned int k = 0; k < n_sub; ++k)
+                increment = step * increment;
             }
+          for (unsigned int a = 0; a < n; ++a)
+            for (unsigned int b = 0; b < n; ++b)
+              dF[3 * a + b][q] = increment[a][b];
         }
-    }
-
-    /**
-     * F^{n+1} = ΔF F^n of point k, F^n read from the nine (row-major)
-     * columns @p F; in 2D ΔF is the identity outside its 2x2 block.
-     */
-    template <int dim>
-    inline Tensor<2, 3>
-    updated_deformation_gradient(const Tensor<2, 3>  &dF,
-                                 const double *const *F_old,
-                                 const unsigned int   k)
-    {
-      Tensor<2, 3> F;
-      for (unsigned int a = 0; a < dim; ++a)
-        for (unsigned int b = 0; b < 3; ++b)
-          {
-            double sum = 0;
-            for (unsigned int c = 0; c < dim; ++c)
-              sum += dF[a][c] * F_old[3 * c + b][k];
-            F[a][b] = sum;
-          }
-      for (unsigned int a = dim; a < 3; ++a)
-        for (unsigned int b = 0; b < 3; ++b)
-          F[a][b] = F_old[3 * a + b][k];
-      return F;
     }
 
     /**
@@ -190,7 +209,8 @@ namespace fmpm
                       const unsigned int          begin,
                       const unsigned int          end,
                       const double *const *const  v,
-                      Tensor<2, 3>               &L)
+                      BatchEntries               &L,
+                      const unsigned int          q)
     {
       double xx = 0, xy = 0, xz = 0, yx = 0, yy = 0, yz = 0, zx = 0, zy = 0,
              zz = 0;
@@ -212,23 +232,24 @@ namespace fmpm
               zz += vz * G[j][2];
             }
         }
-      L       = Tensor<2, 3>();
-      L[0][0] = xx;
-      L[0][1] = xy;
-      L[1][0] = yx;
-      L[1][1] = yy;
+      // (In 2D the other entries stay zero.)
+      L[0][q] = xx;
+      L[1][q] = xy;
+      L[3][q] = yx;
+      L[4][q] = yy;
       if constexpr (dim == 3)
         {
-          L[0][2] = xz;
-          L[1][2] = yz;
-          L[2][0] = zx;
-          L[2][1] = zy;
-          L[2][2] = zz;
+          L[2][q] = xz;
+          L[5][q] = yz;
+          L[6][q] = zx;
+          L[7][q] = zy;
+          L[8][q] = zz;
         }
     }
 
     /** Points per batch of the strain update (constitutive model calls). */
-    constexpr unsigned int stress_batch_size = 64;
+    constexpr unsigned int stress_batch_size =
+      ConstitutiveModel::StressUpdateInputs::capacity;
 
   } // namespace
 
@@ -567,11 +588,16 @@ namespace fmpm
     contact_geometry_valid            = false;
     const unsigned int    n_materials = material_fields.size();
     std::vector<double *> m_alpha(n_materials), p_alpha(n_materials * dim),
-      f_alpha(n_materials * dim), g_alpha, x_alpha;
+      f_alpha(n_materials * dim), g_alpha, x_alpha, u_alpha, volume_alpha;
     if (contact_needs_gradients)
       g_alpha.resize(n_materials * dim);
     if (contact_needs_positions)
       x_alpha.resize(n_materials * dim);
+    if (contact_needs_interface)
+      {
+        u_alpha.resize(n_materials * dim);
+        volume_alpha.resize(n_materials);
+      }
     for (unsigned int a = 0; a < n_materials; ++a)
       {
         MaterialField &field = material_fields[a];
@@ -583,6 +609,12 @@ namespace fmpm
           field.volume_gradient = 0;
         if (contact_needs_positions)
           field.position_moment = 0;
+        if (contact_needs_interface)
+          {
+            field.displacement_moment = 0;
+            field.volume              = 0;
+            volume_alpha[a]           = field.volume.begin();
+          }
         m_alpha[a] = field.mass.begin();
         for (unsigned int d = 0; d < dim; ++d)
           {
@@ -592,6 +624,8 @@ namespace fmpm
               g_alpha[a * dim + d] = field.volume_gradient.block(d).begin();
             if (contact_needs_positions)
               x_alpha[a * dim + d] = field.position_moment.block(d).begin();
+            if (contact_needs_interface)
+              u_alpha[a * dim + d] = field.displacement_moment.block(d).begin();
           }
       }
 
@@ -715,6 +749,20 @@ namespace fmpm
                       for (unsigned int d = 0; d < dim; ++d)
                         x_alpha[alpha * dim + d][node[j]] += M * S[j] * X[d];
                   }
+                if (contact_needs_interface)
+                  {
+                    // u_p = x_p − X_p (the initial position).
+                    const Point<dim> &X = points.position[k];
+                    for (unsigned int d = 0; d < dim; ++d)
+                      {
+                        const double u_d =
+                          X[d] - points.column(Index::initial_position + d)[k];
+                        for (unsigned int j = begin; j < end; ++j)
+                          u_alpha[alpha * dim + d][node[j]] += M * S[j] * u_d;
+                      }
+                    for (unsigned int j = begin; j < end; ++j)
+                      volume_alpha[alpha][node[j]] += S[j] * V;
+                  }
               }
             if (with_full_mass) // m̃ = SᵀMS (1.9)
               for (unsigned int i = begin; i < end; ++i)
@@ -762,6 +810,11 @@ namespace fmpm
           field.volume_gradient.compress(VectorOperation::add);
         if (contact_needs_positions)
           field.position_moment.compress(VectorOperation::add);
+        if (contact_needs_interface)
+          {
+            field.displacement_moment.compress(VectorOperation::add);
+            field.volume.compress(VectorOperation::add);
+          }
         field.mass.update_ghost_values();
         field.computed.fill(false);
       }
@@ -1039,15 +1092,15 @@ namespace fmpm
     const unsigned int              n_materials = constitutive_models.size();
     const DeformationGradientUpdate F_update =
       parameters.method.deformation_gradient_method();
+    // The batch's entry arrays (zero: in 2D the out-of-plane entries stay
+    // so).
     ConstitutiveModel::StressUpdateInputs  inputs;
     ConstitutiveModel::StressUpdateOutputs outputs;
     inputs.time_step = dt;
-    inputs.resize(stress_batch_size);
-    outputs.resize(stress_batch_size);
-    std::vector<Tensor<2, 3>> dF(stress_batch_size);
-    double                    wave_speed = 0;
-    const double             *v_a[dim];
-    auto                      view_velocities = [&](const GridVectorField &v) {
+    BatchEntries  dF;
+    double        wave_speed = 0;
+    const double *v_a[dim];
+    auto          view_velocities = [&](const GridVectorField &v) {
       for (unsigned int a = 0; a < dim; ++a)
         v_a[a] = v.block(a).begin();
     };
@@ -1092,11 +1145,12 @@ namespace fmpm
     for (auto &group : by_material)
       group.reserve(stress_batch_size);
     unsigned int group_points[stress_batch_size];
-    double       J_of_group[stress_batch_size], J_new[stress_batch_size];
+    double       J_of_group[stress_batch_size];
     // F (row major) and σ in the store. In 2D (plane strain) only the 2x2
     // block and F_33 of F, and σ_xx, σ_yy, σ_zz, σ_xy are stored: the other
     // entries are zero and are not written.
-    double *F_column[9], *stress_column[6];
+    double                *F_column[9], *stress_column[6];
+    constexpr unsigned int n_stress_entries = dim == 3 ? 6 : 4;
     for (unsigned int c = 0; c < 9; ++c)
       F_column[c] = points.column(Index::deformation_gradient + c);
     for (unsigned int c = 0; c < 6; ++c)
@@ -1127,13 +1181,13 @@ namespace fmpm
             if (contact)
               view_velocities(material_fields[m].fields[field]);
             inputs.resize(n_group);
-            outputs.resize(n_group);
             inputs.reference_density = parameters.materials[m].density;
             if (constitutive_models[m]->needs_cell_size())
               for (unsigned int q = 0; q < n_group; ++q)
                 inputs.cell_size[q] =
                   cell_size_by_index[points.cell[group_points[q]]];
-            // L = ∇v = Σ_i v_i ⊗ G_pi (Eqs. 2.7, 2.18), plane strain in 2D.
+            // L = ∇v = Σ_i v_i ⊗ G_pi (Eqs. 2.7, 2.18), plane strain in 2D;
+            // σ^n and W^n; the history slots.
             for (unsigned int q = 0; q < n_group; ++q)
               {
                 const unsigned int k = group_points[q];
@@ -1142,54 +1196,62 @@ namespace fmpm
                                        supports.support_begin[k],
                                        supports.support_begin[k + 1],
                                        v_a,
-                                       inputs.velocity_gradient[q]);
-                inputs.properties[q] = points.record(k);
+                                       inputs.velocity_gradient,
+                                       q);
+                for (unsigned int c = 0; c < n_stress_entries; ++c)
+                  inputs.old_stress[c][q] = stress_column[c][k];
+                inputs.old_strain_energy_density[q] = energy_column[k];
+                inputs.properties[q]                = points.record(k);
               }
-            increments<dim == 2 ? 2 : 3>(F_update,
-                                         parameters.method,
-                                         inputs.velocity_gradient,
-                                         dt,
-                                         n_group,
-                                         dF);
+            increments<dim>(F_update,
+                            parameters.method,
+                            inputs.velocity_gradient,
+                            dt,
+                            n_group,
+                            dF);
+            // F^{n+1} = ΔF F^n and J = det F^{n+1} (the operations of
+            // deal.II's Tensor product and determinant()); in 2D on the
+            // 2x2 block, F_33 kept (plane strain).
+            auto &F = inputs.deformation_gradient;
+            auto &J = inputs.volume_ratio;
             for (unsigned int q = 0; q < n_group; ++q)
               {
+                const unsigned int k = group_points[q];
                 if constexpr (dim == 2)
                   {
-                    // F^{n+1} = ΔF F^n on the 2x2 block; F_33 and the zero
-                    // entries kept (plane strain), written in place.
-                    const unsigned int  k = group_points[q];
-                    const Tensor<2, 3> &d = dF[q];
-                    const double        a = F_column[0][k], b = F_column[1][k],
+                    const double a = F_column[0][k], b = F_column[1][k],
                                  c = F_column[3][k], e = F_column[4][k];
-                    Tensor<2, 3> &F = inputs.deformation_gradient[q];
-                    F[0][0]         = d[0][0] * a + d[0][1] * c;
-                    F[0][1]         = d[0][0] * b + d[0][1] * e;
-                    F[0][2]         = 0;
-                    F[1][0]         = d[1][0] * a + d[1][1] * c;
-                    F[1][1]         = d[1][0] * b + d[1][1] * e;
-                    F[1][2]         = 0;
-                    F[2][0]         = 0;
-                    F[2][1]         = 0;
-                    F[2][2]         = F_column[8][k];
+                    F[0][q] = dF[0][q] * a + dF[1][q] * c;
+                    F[1][q] = dF[0][q] * b + dF[1][q] * e;
+                    F[3][q] = dF[3][q] * a + dF[4][q] * c;
+                    F[4][q] = dF[3][q] * b + dF[4][q] * e;
+                    F[8][q] = F_column[8][k];
                   }
                 else
-                  inputs.deformation_gradient[q] =
-                    updated_deformation_gradient<dim>(dF[q],
-                                                      F_column,
-                                                      group_points[q]);
-                const double J = determinant(inputs.deformation_gradient[q]);
-                J_new[q]       = J;
-                if (!(J > 0) && local_failure.empty())
-                  {
-                    const unsigned int k = group_points[q];
-                    std::ostringstream message;
-                    message
-                      << "material point " << points.id[k] << " at ("
-                      << points.position[k]
-                      << ") has an inverted deformation gradient, J = " << J;
-                    local_failure = message.str();
-                  }
+                  for (unsigned int a = 0; a < 3; ++a)
+                    for (unsigned int b = 0; b < 3; ++b)
+                      F[3 * a + b][q] = dF[3 * a][q] * F_column[b][k] +
+                                        dF[3 * a + 1][q] * F_column[3 + b][k] +
+                                        dF[3 * a + 2][q] * F_column[6 + b][k];
               }
+            for (unsigned int q = 0; q < n_group; ++q)
+              {
+                const double C0 = F[4][q] * F[8][q] - F[5][q] * F[7][q];
+                const double C1 = F[5][q] * F[6][q] - F[3][q] * F[8][q];
+                const double C2 = F[3][q] * F[7][q] - F[4][q] * F[6][q];
+                J[q]            = F[0][q] * C0 + F[1][q] * C1 + F[2][q] * C2;
+              }
+            for (unsigned int q = 0; q < n_group; ++q)
+              if (!(J[q] > 0) && local_failure.empty())
+                {
+                  const unsigned int k = group_points[q];
+                  std::ostringstream message;
+                  message << "material point " << points.id[k] << " at ("
+                          << points.position[k]
+                          << ") has an inverted deformation gradient, J = "
+                          << J[q];
+                  local_failure = message.str();
+                }
 
             outputs.failed_point = -1;
             constitutive_models[m]->update_stress(inputs, outputs);
@@ -1202,34 +1264,32 @@ namespace fmpm
                 local_failure = message.str();
               }
 
+            // F, σ, W and V = J V0 into the store (in 2D the plane-strain
+            // zero entries are not stored; F_33 is unchanged).
             for (unsigned int q = 0; q < n_group; ++q)
               {
-                const unsigned int  k     = group_points[q];
-                const Tensor<2, 3> &F     = inputs.deformation_gradient[q];
-                const auto         &sigma = outputs.cauchy_stress[q];
-                const double        J     = J_new[q];
-                for (unsigned int a = 0; a < 3; ++a)
-                  for (unsigned int b = 0; b < 3; ++b)
-                    if (dim == 3 || (a < 2) == (b < 2))
-                      F_column[3 * a + b][k] = F[a][b];
-                for (unsigned int c = 0; c < (dim == 3 ? 6 : 4); ++c)
-                  stress_column[c][k] =
-                    sigma[stress_component_i[c]][stress_component_j[c]];
+                const unsigned int k = group_points[q];
+                for (unsigned int c = 0; c < 9; ++c)
+                  if (dim == 3 || c == 0 || c == 1 || c == 3 || c == 4)
+                    F_column[c][k] = F[c][q];
+                for (unsigned int c = 0; c < n_stress_entries; ++c)
+                  stress_column[c][k] = outputs.cauchy_stress[c][q];
                 energy_column[k] = outputs.strain_energy_density[q];
-                volume_column[k] = J * initial_volume_column[k];
+                volume_column[k] = J[q] * initial_volume_column[k];
                 // Inverted points are reported above; they give no speed.
-                J_of_group[q] = J > 0 ? J : 1;
-                if (!std::isfinite(outputs.strain_energy_density[q]) &&
-                    local_failure.empty())
-                  {
-                    const unsigned int k = group_points[q];
-                    std::ostringstream message;
-                    message << "stress of material point " << points.id[k]
-                            << " at (" << points.position[k]
-                            << ") is not finite (NaN or Inf)";
-                    local_failure = message.str();
-                  }
+                J_of_group[q] = J[q] > 0 ? J[q] : 1;
               }
+            for (unsigned int q = 0; q < n_group; ++q)
+              if (!std::isfinite(outputs.strain_energy_density[q]) &&
+                  local_failure.empty())
+                {
+                  const unsigned int k = group_points[q];
+                  std::ostringstream message;
+                  message << "stress of material point " << points.id[k]
+                          << " at (" << points.position[k]
+                          << ") is not finite (NaN or Inf)";
+                  local_failure = message.str();
+                }
             if (forces_here)
               for (unsigned int q = 0; q < n_group; ++q)
                 scatter_point_force(group_points[q],

@@ -74,12 +74,11 @@ namespace
     inputs.resize(F.size());
     for (unsigned int q = 0; q < F.size(); ++q)
       {
-        inputs.deformation_gradient[q] = F[q];
-        inputs.velocity_gradient[q]    = Tensor<2, 3>();
+        inputs.set_deformation_gradient(q, F[q]);
+        inputs.set_velocity_gradient(q, Tensor<2, 3>());
       }
     inputs.time_step = 1e-3;
     StressUpdateOutputs outputs;
-    outputs.resize(F.size());
     model.update_stress(inputs, outputs);
     return outputs;
   }
@@ -142,7 +141,7 @@ namespace
         const double              scale = expected_sigma.norm();
         for (unsigned int i = 0; i < 3; ++i)
           for (unsigned int j = 0; j < 3; ++j)
-            EXPECT_NEAR(out.cauchy_stress[0][i][j],
+            EXPECT_NEAR(out.stress_tensor(0)[i][j],
                         expected_sigma[i][j],
                         1e-12 * scale)
               << "lambda = " << lambda << ", sigma_" << i << j;
@@ -203,16 +202,16 @@ namespace
         model.stress_and_energy(F, tau, W);
         EXPECT_LT(relative_error(tau, tau_fd), 1e-6)
           << "F = " << F << "\ntau = " << tau << "\nFD: " << tau_fd;
-        EXPECT_LT(relative_error(out.cauchy_stress[q], tau_fd / J), 1e-6)
-          << "point " << q << ": sigma = " << out.cauchy_stress[q]
+        EXPECT_LT(relative_error(out.stress_tensor(q), tau_fd / J), 1e-6)
+          << "point " << q << ": sigma = " << out.stress_tensor(q)
           << "\nFD tau/J: " << tau_fd / J;
         EXPECT_NEAR(out.strain_energy_density[q], W, 1e-14 * std::abs(W));
         EXPECT_GT(W, 0);
         if (dim == 2)
           {
             // Plane strain: no in-plane/out-of-plane shear.
-            EXPECT_EQ(out.cauchy_stress[q][0][2], 0.0);
-            EXPECT_EQ(out.cauchy_stress[q][1][2], 0.0);
+            EXPECT_EQ(out.stress_tensor(q)[0][2], 0.0);
+            EXPECT_EQ(out.stress_tensor(q)[1][2], 0.0);
           }
       }
   }
@@ -227,7 +226,7 @@ namespace
     model.shear_modulus = 1.5e6;
 
     const StressUpdateOutputs out = update(model, {unit_symmetric_tensor<3>()});
-    EXPECT_LT(out.cauchy_stress[0].norm(), 1e-12 * model.bulk_modulus);
+    EXPECT_LT(out.stress_tensor(0).norm(), 1e-12 * model.bulk_modulus);
     EXPECT_NEAR(out.strain_energy_density[0], 0.0, 1e-12 * model.bulk_modulus);
 
     const double density = 1200;
@@ -284,7 +283,7 @@ namespace
     const StressUpdateOutputs out = update(model, {F});
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = 0; j < 3; ++j)
-        EXPECT_NEAR(out.cauchy_stress[0][i][j],
+        EXPECT_NEAR(out.stress_tensor(0)[i][j],
                     sigma[i][j],
                     1e-12 * sigma.norm())
           << "sigma_" << i << j;
@@ -292,14 +291,14 @@ namespace
     if (dim == 2)
       {
         // Plane strain: eps_33 = 0 but sigma_33 = lambda tr(eps).
-        EXPECT_NEAR(out.cauchy_stress[0][2][2],
+        EXPECT_NEAR(out.stress_tensor(0)[2][2],
                     lambda * trace_eps,
                     1e-12 * sigma.norm());
       }
 
     const StressUpdateOutputs zero =
       update(model, {unit_symmetric_tensor<3>()});
-    EXPECT_EQ(zero.cauchy_stress[0].norm(), 0.0);
+    EXPECT_EQ(zero.stress_tensor(0).norm(), 0.0);
     EXPECT_EQ(zero.strain_energy_density[0], 0.0);
 
     const double density = 2700;
@@ -378,7 +377,6 @@ namespace
     fmpm::ConstitutiveModel::StressUpdateInputs  inputs;
     fmpm::ConstitutiveModel::StressUpdateOutputs outputs;
     inputs.resize(2);
-    outputs.resize(2);
     inputs.time_step = 0.01;
     std::vector<std::vector<double>> storage(
       2, std::vector<double>(Index::n_core_properties, 0.));
@@ -395,17 +393,19 @@ namespace
                                     Index::stress,
                                     sigma_old);
         inputs.properties[q][Index::strain_energy_density] = 0.1;
-        inputs.deformation_gradient[q] = unit_symmetric_tensor<3>();
+        inputs.set_old_stress(q, sigma_old);
+        inputs.old_strain_energy_density[q] = 0.1;
+        inputs.set_deformation_gradient(q, unit_symmetric_tensor<3>());
       }
     Tensor<2, 3> L;
-    L[0][0]                     = 0.3;
-    L[0][1]                     = 0.2;
-    L[1][0]                     = 0.1; // sym part 0.15, skew part 0.05
-    inputs.velocity_gradient[0] = L;
+    L[0][0] = 0.3;
+    L[0][1] = 0.2;
+    L[1][0] = 0.1; // sym part 0.15, skew part 0.05
+    inputs.set_velocity_gradient(0, L);
     Tensor<2, 3> spin; // pure rotation rate
-    spin[0][1]                  = 1.0;
-    spin[1][0]                  = -1.0;
-    inputs.velocity_gradient[1] = spin;
+    spin[0][1] = 1.0;
+    spin[1][0] = -1.0;
+    inputs.set_velocity_gradient(1, spin);
     model.update_stress(inputs, outputs);
 
     SymmetricTensor<2, 3> D;
@@ -414,12 +414,12 @@ namespace
     const SymmetricTensor<2, 3> expected =
       sigma_old +
       0.01 * (lambda * trace(D) * unit_symmetric_tensor<3>() + 2 * mu * D);
-    EXPECT_LT((outputs.cauchy_stress[0] - expected).norm(),
+    EXPECT_LT((outputs.stress_tensor(0) - expected).norm(),
               1e-12 * expected.norm());
     EXPECT_NEAR(outputs.strain_energy_density[0],
                 0.1 + 0.5 * ((sigma_old + expected) * D) * 0.01,
                 1e-14);
-    EXPECT_LT((outputs.cauchy_stress[1] - sigma_old).norm(), 1e-14);
+    EXPECT_LT((outputs.stress_tensor(1) - sigma_old).norm(), 1e-14);
     EXPECT_NEAR(outputs.strain_energy_density[1], 0.1, 1e-14);
   }
 } // namespace

@@ -71,26 +71,25 @@ namespace
       StressUpdateInputs  inputs;
       StressUpdateOutputs outputs;
       inputs.resize(1);
-      outputs.resize(1);
       const double J_old = values[Index::deformation_gradient];
       Tensor<2, 3> F     = unit_symmetric_tensor<3>();
       F[0][0]            = J;
       Tensor<2, 3> L;
-      L[0][0]                        = std::log(J / J_old) / dt;
-      inputs.deformation_gradient[0] = F;
-      inputs.velocity_gradient[0]    = L;
+      L[0][0] = std::log(J / J_old) / dt;
+      inputs.set_deformation_gradient(0, F);
+      inputs.set_velocity_gradient(0, L);
       const fmpm::RecordColumns record(
         ArrayView<double>(values.data(), values.size()));
-      inputs.properties[0] = record.record();
-      inputs.cell_size[0]  = cell_size;
-      inputs.time_step     = dt;
+      inputs.properties[0]     = record.record();
+      inputs.cell_size[0]      = cell_size;
+      inputs.time_step         = dt;
       inputs.reference_density = rho0;
       model.update_stress(inputs, outputs);
       // What the Simulator stores after the call.
       fmpm::set_tensor3(inputs.properties[0], Index::deformation_gradient, F);
       fmpm::set_symmetric_tensor3(inputs.properties[0],
                                   Index::stress,
-                                  outputs.cauchy_stress[0]);
+                                  outputs.stress_tensor(0));
       return outputs;
     }
 
@@ -145,12 +144,12 @@ namespace
     const double U = hot_point.energy(hot_point.properties);
     // The energy term makes the material stiffer and store more.
     EXPECT_GT(rho0 * U, 1.01 * stored);
-    const double p = -trace(out.cauchy_stress[0]) / 3;
+    const double p = -trace(out.stress_tensor(0)) / 3;
     EXPECT_NEAR(p, eq51(hot, eta, U), 1e-12 * p);
     // Tension: p = K η, no energy term.
     Point tension(hot);
     out = tension.compress_to(hot, 1.01, 1e-9);
-    EXPECT_NEAR(-trace(out.cauchy_stress[0]) / 3,
+    EXPECT_NEAR(-trace(out.stress_tensor(0)) / 3,
                 hot.bulk_modulus * -0.01,
                 1e-9 * hot.bulk_modulus);
   }
@@ -173,8 +172,8 @@ namespace
         Point        a(model), b(inviscid);
         const auto   with    = a.compress_to(model, J, dt, dx);
         const auto   without = b.compress_to(inviscid, J, dt, dx);
-        const double q       = -trace(with.cauchy_stress[0]) / 3 +
-                         trace(without.cauchy_stress[0]) / 3;
+        const double q       = -trace(with.stress_tensor(0)) / 3 +
+                         trace(without.stress_tensor(0)) / 3;
         if (J > 1)
           {
             EXPECT_NEAR(q, 0, 1e-6);
@@ -216,7 +215,7 @@ namespace
         EXPECT_GE(eps_p, previous_eps_p);
         previous_eps_p = eps_p;
         const SymmetricTensor<2, 3> tau_dev =
-          deviator(out.cauchy_stress[0]) * J;
+          deviator(out.stress_tensor(0)) * J;
         const double radius =
           std::sqrt(2. / 3.) *
           (model.yield_stress + model.hardening_modulus * eps_p);

@@ -26,22 +26,36 @@ namespace fmpm
     using namespace dealii;
 
     /**
-     * @brief The material points of one batch (one cell, one material) whose
-     * stress the Simulator updates.
+     * @brief The material points of one batch (up to capacity points of one
+     * material) whose stress the Simulator updates, one array per tensor
+     * entry so that a model's loop over the points vectorizes.
      *
-     * In 2D the scene is in plane strain: F and L are 3x3 with F_33 = 1.
+     * Tensor entry (a, b) of point q is at [3 a + b][q]; symmetric tensors
+     * are in the stored order xx, yy, zz, xy, xz, yz (stress_component_i/j).
+     * In 2D the scene is in plane strain: F_33 = 1 and the out-of-plane
+     * shear entries of F, L and σ are zero.
      */
     struct StressUpdateInputs
     {
-      /** Updated deformation gradient F^{n+1} of each point. */
-      std::vector<Tensor<2, 3>> deformation_gradient;
+      static constexpr unsigned int capacity = 64;
+      /** Points in the batch. */
+      unsigned int n_points = 0;
+      /** Updated deformation gradient F^{n+1}. */
+      alignas(64) double deformation_gradient[9][capacity] = {};
+      /** J = det F^{n+1}. */
+      alignas(64) double volume_ratio[capacity] = {};
       /** Spatial velocity gradient L used for the update. Units: 1/s. */
-      std::vector<Tensor<2, 3>> velocity_gradient;
+      alignas(64) double velocity_gradient[9][capacity] = {};
+      /** Cauchy stress σ^n before the update. Units: Pa. */
+      alignas(64) double old_stress[6][capacity] = {};
+      /** Stored energy per unit reference volume before the update.
+       * Units: J/m^3. */
+      alignas(64) double old_strain_energy_density[capacity] = {};
       /** All property slots of each point, for models with history state. */
-      std::vector<PointRecord> properties;
+      PointRecord properties[capacity] = {};
       /** Size of each point's cell (its smallest vertex distance), filled
        * only for models whose needs_cell_size() is true. Units: m. */
-      std::vector<double> cell_size;
+      double cell_size[capacity] = {};
       /** Time increment of this update. Units: s. */
       double time_step = 0;
       /** Reference density ρ0 of the batch's material. Units: kg/m^3. */
@@ -50,45 +64,115 @@ namespace fmpm
       void
       resize(const unsigned int n)
       {
-        deformation_gradient.resize(n);
-        velocity_gradient.resize(n);
-        properties.resize(n);
-        cell_size.resize(n);
+        AssertIndexRange(n, capacity + 1);
+        n_points = n;
+      }
+
+      Tensor<2, 3>
+      deformation_gradient_tensor(const unsigned int q) const
+      {
+        return entries_as_tensor(deformation_gradient, q);
+      }
+
+      Tensor<2, 3>
+      velocity_gradient_tensor(const unsigned int q) const
+      {
+        return entries_as_tensor(velocity_gradient, q);
+      }
+
+      /** Sets F^{n+1} of point q and its volume ratio. */
+      void
+      set_deformation_gradient(const unsigned int q, const Tensor<2, 3> &F)
+      {
+        for (unsigned int a = 0; a < 3; ++a)
+          for (unsigned int b = 0; b < 3; ++b)
+            deformation_gradient[3 * a + b][q] = F[a][b];
+        volume_ratio[q] = determinant(F);
+      }
+
+      void
+      set_velocity_gradient(const unsigned int q, const Tensor<2, 3> &L)
+      {
+        for (unsigned int a = 0; a < 3; ++a)
+          for (unsigned int b = 0; b < 3; ++b)
+            velocity_gradient[3 * a + b][q] = L[a][b];
+      }
+
+      SymmetricTensor<2, 3>
+      old_stress_tensor(const unsigned int q) const
+      {
+        SymmetricTensor<2, 3> sigma;
+        for (unsigned int c = 0; c < 6; ++c)
+          sigma[stress_component_i[c]][stress_component_j[c]] =
+            old_stress[c][q];
+        return sigma;
+      }
+
+      void
+      set_old_stress(const unsigned int q, const SymmetricTensor<2, 3> &sigma)
+      {
+        for (unsigned int c = 0; c < 6; ++c)
+          old_stress[c][q] =
+            sigma[stress_component_i[c]][stress_component_j[c]];
+      }
+
+    private:
+      static Tensor<2, 3>
+      entries_as_tensor(const double (&entries)[9][capacity],
+                        const unsigned int q)
+      {
+        Tensor<2, 3> t;
+        for (unsigned int a = 0; a < 3; ++a)
+          for (unsigned int b = 0; b < 3; ++b)
+            t[a][b] = entries[3 * a + b][q];
+        return t;
       }
     };
 
     /** @brief What a model returns for each point of the batch. */
     struct StressUpdateOutputs
     {
-      /** Cauchy stress. Units: Pa. */
-      std::vector<SymmetricTensor<2, 3>> cauchy_stress;
+      static constexpr unsigned int capacity = StressUpdateInputs::capacity;
+      /** Cauchy stress, in the stored order. Units: Pa. */
+      alignas(64) double cauchy_stress[6][capacity] = {};
       /** Stored energy per unit reference volume. Units: J/m^3. */
-      std::vector<double> strain_energy_density;
+      alignas(64) double strain_energy_density[capacity] = {};
       /** Current wave speed of each point, filled only by models whose
        * computes_wave_speed() is true. Units: m/s. */
-      std::vector<double> wave_speed;
+      alignas(64) double wave_speed[capacity] = {};
       /** The first point (index in the batch) whose state the model cannot
        * continue from, or -1; failure says why. */
       int         failed_point = -1;
       std::string failure;
 
-      void
-      resize(const unsigned int n)
+      SymmetricTensor<2, 3>
+      stress_tensor(const unsigned int q) const
       {
-        cauchy_stress.resize(n);
-        strain_energy_density.resize(n);
-        wave_speed.resize(n);
+        SymmetricTensor<2, 3> sigma;
+        for (unsigned int c = 0; c < 6; ++c)
+          sigma[stress_component_i[c]][stress_component_j[c]] =
+            cauchy_stress[c][q];
+        return sigma;
+      }
+
+      void
+      set_stress(const unsigned int q, const SymmetricTensor<2, 3> &sigma)
+      {
+        for (unsigned int c = 0; c < 6; ++c)
+          cauchy_stress[c][q] =
+            sigma[stress_component_i[c]][stress_component_j[c]];
       }
     };
 
     /**
      * @brief Interface of constitutive models.
      *
-     * The Simulator calls update_stress() for whole batches of points (all
-     * points of one cell with this material) during every strain update
-     * (once for USF/USL, twice for USAVG), and wave_speed() when it
-     * chooses the time step. A model may keep history state in property slots
-     * it requests through ParticleProperties::request() in initialize().
+     * The Simulator calls update_stress() for whole batches of points (up to
+     * StressUpdateInputs::capacity points of one material, in store order)
+     * during every strain update (once for USF/USL, twice for USAVG), and
+     * wave_speed() when it chooses the time step. A model may keep history
+     * state in property slots it requests through ParticleProperties::request()
+     * in initialize().
      *
      * @ingroup ConstitutiveModels
      * @tparam dim space dimension
@@ -128,8 +212,10 @@ namespace fmpm
       }
 
       /**
-       * @brief Stress and stored energy of each point from its state.
-       * May modify the history slots in @p inputs.properties.
+       * @brief Stress and stored energy of each point from its state: a loop
+       * over q < inputs.n_points on the entry arrays. May modify the history
+       * slots in @p inputs.properties (not σ, F, W or V: the Simulator
+       * writes those from the outputs).
        */
       virtual void
       update_stress(const StressUpdateInputs &inputs,
