@@ -142,6 +142,19 @@ namespace fmpm
         "step, d + (v^b - v^a).n dt < 0, gets contact for the approach "
         "beyond d/dt only, so that the gap closes at the end of the step. "
         "Units: cells (the local cell size at the node).");
+      prm.declare_entry(
+        "Gap closing",
+        "true",
+        Patterns::Bool(),
+        "'logistic regression' and 'd fit': true gives a gap d above the "
+        "'Touching tolerance' that the approach closes within the step, d + "
+        "(v^b - v^a).n dt < 0, contact for the approach beyond d/dt (the "
+        "surfaces meet at the end of the step, without overlap); false puts "
+        "only touching pairs in contact, after their point domains overlap "
+        "(NairnMPM). Each arriving node then stops as in a plastic impact: "
+        "with FLIP this costs energy at every impact (keep false for energy), "
+        "FMPM(k) keeps more energy with it (doc/studies/"
+        "two_disks_contact_energy.md). Units: none.");
       prm.declare_entry("Law",
                         "coulomb",
                         Patterns::Selection(law_names()),
@@ -239,6 +252,7 @@ namespace fmpm
       }
       critical_separation        = prm.get_double("Critical separation");
       touching_tolerance         = prm.get_double("Touching tolerance");
+      gap_closing                = prm.get_bool("Gap closing");
       friction_coefficient       = prm.get_double("Friction coefficient");
       interface_normal_stiffness = prm.get_double("Interface normal stiffness");
       interface_tangential_stiffness =

@@ -90,7 +90,11 @@ namespace fmpm
        * within the step get contact for the approach beyond d/Δt only.
        */
       double touching_tolerance = 1e-3;
-      Law    default_law;
+      /** 'Gap closing': whether a gap that the approach closes within the
+       * step gets contact for the approach beyond d/Δt (true), or DF and LR
+       * pairs are in contact only when they touch (false). */
+      bool gap_closing = true;
+      Law  default_law;
       /** Overrides of 'Pair laws': (material a, material b, law). */
       struct PairLaw
       {

@@ -20,7 +20,10 @@ namespace fmpm
       // (xx, yy, zz, xy, xz, yz; L and F row major), and the sums in the
       // order of deal.II's SymmetricTensor operations (the same results).
 
-      /** σ += Δt (λ tr(D) I + 2μ D), D = sym(L); W += J σ_mid : D Δt. */
+      /** σ += Δt (λ tr(D) I + 2μ D), D = sym(L), with the Jaumann rate
+       * also + Δt (Ωσ − σΩ), Ω = skew(L) (σ of the step's start); W += J
+       * σ_mid : D Δt. */
+      template <bool jaumann>
       inline void
       incremental_stress(const double (*__restrict L)[n],
                          const double (*__restrict old_sigma)[n],
@@ -40,15 +43,33 @@ namespace fmpm
             const double D_xz         = (L[2][q] + L[6][q]) * 0.5;
             const double D_yz         = (L[5][q] + L[7][q]) * 0.5;
             const double lambda_trace = lambda * (D_xx + D_yy + D_zz);
-            const double xx =
-              old_sigma[0][q] + dt * (lambda_trace + two_mu * D_xx);
-            const double yy =
-              old_sigma[1][q] + dt * (lambda_trace + two_mu * D_yy);
-            const double zz =
-              old_sigma[2][q] + dt * (lambda_trace + two_mu * D_zz);
-            const double xy   = old_sigma[3][q] + dt * (two_mu * D_xy);
-            const double xz   = old_sigma[4][q] + dt * (two_mu * D_xz);
-            const double yz   = old_sigma[5][q] + dt * (two_mu * D_yz);
+            double       r_xx         = lambda_trace + two_mu * D_xx;
+            double       r_yy         = lambda_trace + two_mu * D_yy;
+            double       r_zz         = lambda_trace + two_mu * D_zz;
+            double       r_xy = two_mu * D_xy, r_xz = two_mu * D_xz,
+                   r_yz = two_mu * D_yz;
+            if constexpr (jaumann)
+              {
+                // Ωσ − σΩ = Ωσ + (Ωσ)ᵀ with Ω = skew(L).
+                const double w_xy = (L[1][q] - L[3][q]) * 0.5;
+                const double w_xz = (L[2][q] - L[6][q]) * 0.5;
+                const double w_yz = (L[5][q] - L[7][q]) * 0.5;
+                const double s_xx = old_sigma[0][q], s_yy = old_sigma[1][q],
+                             s_zz = old_sigma[2][q], s_xy = old_sigma[3][q],
+                             s_xz = old_sigma[4][q], s_yz = old_sigma[5][q];
+                r_xx += 2 * (w_xy * s_xy + w_xz * s_xz);
+                r_yy += 2 * (w_yz * s_yz - w_xy * s_xy);
+                r_zz -= 2 * (w_xz * s_xz + w_yz * s_yz);
+                r_xy += w_xy * (s_yy - s_xx) + w_xz * s_yz + w_yz * s_xz;
+                r_xz += w_xy * s_yz + w_xz * (s_zz - s_xx) - w_yz * s_xy;
+                r_yz += w_yz * (s_zz - s_yy) - w_xy * s_xz - w_xz * s_xy;
+              }
+            const double xx   = old_sigma[0][q] + dt * r_xx;
+            const double yy   = old_sigma[1][q] + dt * r_yy;
+            const double zz   = old_sigma[2][q] + dt * r_zz;
+            const double xy   = old_sigma[3][q] + dt * r_xy;
+            const double xz   = old_sigma[4][q] + dt * r_xz;
+            const double yz   = old_sigma[5][q] + dt * r_yz;
             double       work = (old_sigma[3][q] + xy) * D_xy;
             work += (old_sigma[4][q] + xz) * D_xz;
             work += (old_sigma[5][q] + yz) * D_yz;
@@ -63,6 +84,66 @@ namespace fmpm
             sigma[4][q] = xz;
             sigma[5][q] = yz;
             energy[q]   = old_energy[q] + 0.5 * J[q] * work * dt;
+          }
+      }
+
+      /** The Kirchhoff stress τ = Jσ with the Jaumann rate: τ += Δt (λ
+       * tr(D) I + 2μ D + Ωτ − τΩ), σ = τ/J; W += τ_mid : D Δt. */
+      inline void
+      kirchhoff_stress(const double (*__restrict L)[n],
+                       const double (*__restrict old_sigma)[n],
+                       const double *__restrict old_J,
+                       const double *__restrict old_energy,
+                       const double *__restrict J,
+                       double (*__restrict sigma)[n],
+                       double *__restrict energy,
+                       const double lambda,
+                       const double mu,
+                       const double dt)
+      {
+        const double two_mu = 2 * mu;
+        for (unsigned int q = 0; q < n; ++q)
+          {
+            const double D_xx = L[0][q], D_yy = L[4][q], D_zz = L[8][q];
+            const double D_xy         = (L[1][q] + L[3][q]) * 0.5;
+            const double D_xz         = (L[2][q] + L[6][q]) * 0.5;
+            const double D_yz         = (L[5][q] + L[7][q]) * 0.5;
+            const double w_xy         = (L[1][q] - L[3][q]) * 0.5;
+            const double w_xz         = (L[2][q] - L[6][q]) * 0.5;
+            const double w_yz         = (L[5][q] - L[7][q]) * 0.5;
+            const double t_xx         = old_J[q] * old_sigma[0][q],
+                         t_yy         = old_J[q] * old_sigma[1][q],
+                         t_zz         = old_J[q] * old_sigma[2][q],
+                         t_xy         = old_J[q] * old_sigma[3][q],
+                         t_xz         = old_J[q] * old_sigma[4][q],
+                         t_yz         = old_J[q] * old_sigma[5][q];
+            const double lambda_trace = lambda * (D_xx + D_yy + D_zz);
+            const double xx = t_xx + dt * (lambda_trace + two_mu * D_xx +
+                                           2 * (w_xy * t_xy + w_xz * t_xz));
+            const double yy = t_yy + dt * (lambda_trace + two_mu * D_yy +
+                                           2 * (w_yz * t_yz - w_xy * t_xy));
+            const double zz = t_zz + dt * (lambda_trace + two_mu * D_zz -
+                                           2 * (w_xz * t_xz + w_yz * t_yz));
+            const double xy =
+              t_xy + dt * (two_mu * D_xy + w_xy * (t_yy - t_xx) + w_xz * t_yz +
+                           w_yz * t_xz);
+            const double xz = t_xz + dt * (two_mu * D_xz + w_xy * t_yz +
+                                           w_xz * (t_zz - t_xx) - w_yz * t_xy);
+            const double yz =
+              t_yz + dt * (two_mu * D_yz + w_yz * (t_zz - t_yy) - w_xy * t_xz -
+                           w_xz * t_xy);
+            const double work =
+              (t_xx + xx) * D_xx + (t_yy + yy) * D_yy + (t_zz + zz) * D_zz +
+              2 *
+                ((t_xy + xy) * D_xy + (t_xz + xz) * D_xz + (t_yz + yz) * D_yz);
+            const double inverse_J = 1 / J[q];
+            sigma[0][q]            = xx * inverse_J;
+            sigma[1][q]            = yy * inverse_J;
+            sigma[2][q]            = zz * inverse_J;
+            sigma[3][q]            = xy * inverse_J;
+            sigma[4][q]            = xz * inverse_J;
+            sigma[5][q]            = yz * inverse_J;
+            energy[q]              = old_energy[q] + 0.5 * work * dt;
           }
       }
 
@@ -123,13 +204,20 @@ namespace fmpm
                         Patterns::Double(),
                         "Poisson's ratio nu of the material, in [0, 0.5). "
                         "Units: none.");
-      prm.declare_entry("Strain measure",
-                        "incremental",
-                        Patterns::Selection("incremental|total"),
-                        "'incremental': sigma += dt C : sym(L) (classic MPM, "
-                        "no stress from rigid rotation); 'total': sigma = C : "
-                        "(sym(F) - I) (exact for small strains without "
-                        "rotation). Units: none.");
+      prm.declare_entry(
+        "Strain measure",
+        "incremental",
+        Patterns::Selection("incremental|jaumann|kirchhoff|total"),
+        "'incremental': sigma += dt C : sym(L) (classic MPM, no stress from "
+        "rigid rotation, but a stress does not turn with the material); "
+        "'jaumann': sigma += dt (C : sym(L) + W sigma - sigma W), W = "
+        "skew(L), the incremental update with the Jaumann rate (objective: a "
+        "stress turns with the material's spin, NairnMPM's hypoelastic "
+        "update of the Cauchy stress); 'kirchhoff': the same for the "
+        "Kirchhoff stress tau = J sigma, tau += dt (C : sym(L) + W tau - tau "
+        "W), sigma = tau/J (NairnMPM's isotropic material, which updates the "
+        "stress per unit mass); 'total': sigma = C : (sym(F) - I) (exact for "
+        "small strains without rotation). Units: none.");
     }
 
 
@@ -138,11 +226,13 @@ namespace fmpm
     void
     LinearElastic<dim>::parse_parameters(ParameterHandler &prm)
     {
-      youngs_modulus = prm.get_double("Young's modulus");
-      poissons_ratio = prm.get_double("Poisson's ratio");
-      strain_measure = prm.get("Strain measure") == "incremental" ?
-                         StrainMeasure::incremental :
-                         StrainMeasure::total;
+      youngs_modulus            = prm.get_double("Young's modulus");
+      poissons_ratio            = prm.get_double("Poisson's ratio");
+      const std::string measure = prm.get("Strain measure");
+      strain_measure = measure == "incremental" ? StrainMeasure::incremental :
+                       measure == "jaumann"     ? StrainMeasure::jaumann :
+                       measure == "kirchhoff"   ? StrainMeasure::kirchhoff :
+                                                  StrainMeasure::total;
     }
 
 
@@ -171,16 +261,37 @@ namespace fmpm
       const double mu     = youngs_modulus / (2 * (1 + poissons_ratio));
       const double lambda = youngs_modulus * poissons_ratio /
                             ((1 + poissons_ratio) * (1 - 2 * poissons_ratio));
-      if (strain_measure == StrainMeasure::incremental)
-        incremental_stress(inputs.velocity_gradient,
-                           inputs.old_stress,
-                           inputs.old_strain_energy_density,
-                           inputs.volume_ratio,
-                           outputs.cauchy_stress,
-                           outputs.strain_energy_density,
-                           lambda,
-                           mu,
-                           inputs.time_step);
+      if (strain_measure == StrainMeasure::kirchhoff)
+        kirchhoff_stress(inputs.velocity_gradient,
+                         inputs.old_stress,
+                         inputs.old_volume_ratio,
+                         inputs.old_strain_energy_density,
+                         inputs.volume_ratio,
+                         outputs.cauchy_stress,
+                         outputs.strain_energy_density,
+                         lambda,
+                         mu,
+                         inputs.time_step);
+      else if (strain_measure == StrainMeasure::jaumann)
+        incremental_stress<true>(inputs.velocity_gradient,
+                                 inputs.old_stress,
+                                 inputs.old_strain_energy_density,
+                                 inputs.volume_ratio,
+                                 outputs.cauchy_stress,
+                                 outputs.strain_energy_density,
+                                 lambda,
+                                 mu,
+                                 inputs.time_step);
+      else if (strain_measure == StrainMeasure::incremental)
+        incremental_stress<false>(inputs.velocity_gradient,
+                                  inputs.old_stress,
+                                  inputs.old_strain_energy_density,
+                                  inputs.volume_ratio,
+                                  outputs.cauchy_stress,
+                                  outputs.strain_energy_density,
+                                  lambda,
+                                  mu,
+                                  inputs.time_step);
       else
         total_strain_stress(inputs.deformation_gradient,
                             outputs.cauchy_stress,

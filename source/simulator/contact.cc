@@ -630,7 +630,7 @@ namespace fmpm
         {
           if (node.separation < contact.touching_tolerance)
             node.touching = true;
-          else
+          else if (contact.gap_closing)
             {
               // d + (v^β − v^α)·n̂ Δt < 0: the gap closes within the step;
               // the laws leave the approach m_red d/Δt.

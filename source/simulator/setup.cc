@@ -852,6 +852,8 @@ namespace fmpm
             inputs.set_old_stress(0, get_symmetric_tensor3(p, Index::stress));
             inputs.old_strain_energy_density[0] =
               p[Index::strain_energy_density];
+            inputs.old_volume_ratio[0] =
+              p[Index::volume] / p[Index::initial_volume];
             inputs.properties[0] = p;
             constitutive_models[material]->update_stress(inputs, outputs);
             // (In 2D the plane-strain zero entries are not stored.)

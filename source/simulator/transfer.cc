@@ -1201,7 +1201,9 @@ namespace fmpm
                 for (unsigned int c = 0; c < n_stress_entries; ++c)
                   inputs.old_stress[c][q] = stress_column[c][k];
                 inputs.old_strain_energy_density[q] = energy_column[k];
-                inputs.properties[q]                = points.record(k);
+                inputs.old_volume_ratio[q] =
+                  volume_column[k] / initial_volume_column[k];
+                inputs.properties[q] = points.record(k);
               }
             increments<dim>(F_update,
                             parameters.method,

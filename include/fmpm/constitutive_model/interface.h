@@ -48,6 +48,8 @@ namespace fmpm
       alignas(64) double velocity_gradient[9][capacity] = {};
       /** Cauchy stress σ^n before the update. Units: Pa. */
       alignas(64) double old_stress[6][capacity] = {};
+      /** J^n = V/V0 before the update. */
+      alignas(64) double old_volume_ratio[capacity] = {};
       /** Stored energy per unit reference volume before the update.
        * Units: J/m^3. */
       alignas(64) double old_strain_energy_density[capacity] = {};

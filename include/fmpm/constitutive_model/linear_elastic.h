@@ -60,6 +60,10 @@ namespace fmpm
       enum class StrainMeasure
       {
         incremental,
+        /** Incremental with the Jaumann rate (objective). */
+        jaumann,
+        /** The Kirchhoff stress, incremental with the Jaumann rate. */
+        kirchhoff,
         total
       };
       StrainMeasure strain_measure = StrainMeasure::incremental;
