@@ -88,19 +88,21 @@ namespace fmpm
         "position from the grid ([Nairn2023-FMPM] Table 2.1). " +
           ParticleUpdate::Registry<dim>::instance().documentation() +
           "Units: none.");
-      prm.declare_entry("Grid damping",
-                        "0",
-                        Patterns::Double(),
-                        "alpha_g of [Nairn2018-extrap] Eqs. 1.17-1.24: the update "
-                        "subtracts alpha_g S v dt from the particle velocity "
-                        "(and half of it times dt from the position); for "
-                        "quasi-static scenes. Units: 1/s.");
-      prm.declare_entry("Particle damping",
-                        "0",
-                        Patterns::Double(),
-                        "alpha_p of [Nairn2018-extrap] Eqs. 1.17-1.24: the update "
-                        "subtracts alpha_p V dt from the particle velocity. "
-                        "Units: 1/s.");
+      prm.declare_entry(
+        "Grid damping",
+        "0",
+        Patterns::Double(),
+        "alpha_g of [Nairn2018-extrap] Eqs. 1.17-1.24: the update "
+        "subtracts alpha_g S v dt from the particle velocity "
+        "(and half of it times dt from the position); for "
+        "quasi-static scenes. Units: 1/s.");
+      prm.declare_entry(
+        "Particle damping",
+        "0",
+        Patterns::Double(),
+        "alpha_p of [Nairn2018-extrap] Eqs. 1.17-1.24: the update "
+        "subtracts alpha_p V dt from the particle velocity. "
+        "Units: 1/s.");
       ParticleUpdate::Registry<dim>::instance().declare_parameters(prm);
       prm.leave_subsection();
 
@@ -571,23 +573,25 @@ namespace fmpm
                         Patterns::Integer(1),
                         "The run stops after this many steps even before "
                         "'End time'. Units: none.");
-      prm.declare_entry("Strain update",
-                        "usavg+",
-                        Patterns::Selection("usf|usl|usl+|usavg|usavg+"),
-                        "When stresses are updated ([Nairn2023-FMPM] §2.1-2.2): "
-                        "'usf' before the force extrapolation with v from p; "
-                        "'usl' (USL-) after the particle update with the grid "
-                        "velocity v+; 'usl+' after re-extrapolating the "
-                        "updated point momenta; 'usavg' and 'usavg+' half a "
-                        "step (dt/2) first as USF and half last as USL- or "
-                        "USL+. Units: none.");
-      prm.declare_entry("Strain update mass matrix",
-                        "same",
-                        Patterns::Selection("same|lumped"),
-                        "Which mass matrix turns momenta into the grid "
-                        "velocities of the strain update ([Nairn2023-FMPM] §3.3 "
-                        "question 2): 'same' as the particle update, or "
-                        "'lumped'. Units: none.");
+      prm.declare_entry(
+        "Strain update",
+        "usavg+",
+        Patterns::Selection("usf|usl|usl+|usavg|usavg+"),
+        "When stresses are updated ([Nairn2023-FMPM] §2.1-2.2): "
+        "'usf' before the force extrapolation with v from p; "
+        "'usl' (USL-) after the particle update with the grid "
+        "velocity v+; 'usl+' after re-extrapolating the "
+        "updated point momenta; 'usavg' and 'usavg+' half a "
+        "step (dt/2) first as USF and half last as USL- or "
+        "USL+. Units: none.");
+      prm.declare_entry(
+        "Strain update mass matrix",
+        "same",
+        Patterns::Selection("same|lumped"),
+        "Which mass matrix turns momenta into the grid "
+        "velocities of the strain update ([Nairn2023-FMPM] §3.3 "
+        "question 2): 'same' as the particle update, or "
+        "'lumped'. Units: none.");
     }
     prm.leave_subsection();
 
@@ -810,15 +814,16 @@ namespace fmpm
         "for crack and J-integral codes; solved only in the steps before a "
         "grid output. With contact it is the centre-of-mass field (contact "
         "forces cancel in it). Units: none.");
-      prm.declare_entry("Track dissipated energy",
-                        "false",
-                        Patterns::Bool(),
-                        "Sum the energy each particle update dissipates "
-                        "compared with a non-dissipative FLIP update "
-                        "([Nairn2018-extrap] Eqs. 1.44-1.50) and write it, accumulated, as "
-                        "the column dissipated_energy of history.csv. Costs "
-                        "two extra grid-to-point interpolations. Units: "
-                        "none.");
+      prm.declare_entry(
+        "Track dissipated energy",
+        "false",
+        Patterns::Bool(),
+        "Sum the energy each particle update dissipates "
+        "compared with a non-dissipative FLIP update "
+        "([Nairn2018-extrap] Eqs. 1.44-1.50) and write it, accumulated, as "
+        "the column dissipated_energy of history.csv. Costs "
+        "two extra grid-to-point interpolations. Units: "
+        "none.");
       prm.declare_entry("Progress interval",
                         format_number(output.progress_seconds),
                         Patterns::Double(0),
@@ -1088,12 +1093,13 @@ namespace fmpm
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
-    time.end_time        = prm.get_double("End time");
-    time.time_step       = prm.get_double("Time step");
-    time.courant_number  = prm.get_double("Courant number");
-    time.max_steps       = prm.get_integer("Maximum number of steps");
-    method.strain_update = prm.get("Strain update");
-    time.check_stability = prm.get_bool("Check stability limit");
+    time.end_time               = prm.get_double("End time");
+    time.time_step              = prm.get_double("Time step");
+    time.courant_number         = prm.get_double("Courant number");
+    time.max_steps              = prm.get_integer("Maximum number of steps");
+    method.strain_update        = prm.get("Strain update");
+    method.strain_update_scheme = StrainUpdateScheme::of(method.strain_update);
+    time.check_stability        = prm.get_bool("Check stability limit");
     const std::string courant_limit = prm.get("Courant number limit");
     prm.leave_subsection();
     if (courant_limit == "auto")
@@ -1406,15 +1412,14 @@ namespace fmpm
       if (const auto at = message.find(entry_marker); at != std::string::npos)
         {
           const auto begin = at + entry_marker.size();
-          written          = message.substr(begin, message.find('>', begin) -
-                                                   begin);
+          written = message.substr(begin, message.find('>', begin) - begin);
         }
       else if (const auto at = message.find(section_marker);
                at != std::string::npos)
         {
-          written    = Utilities::trim(message.substr(
-            at + section_marker.size(),
-            message.find('\n', at) - at - section_marker.size()));
+          written = Utilities::trim(message.substr(at + section_marker.size(),
+                                                   message.find('\n', at) - at -
+                                                     section_marker.size()));
           // deal.II names the subsection with its path: "Mass matrix.Fmmp".
           if (written.find('.') != std::string::npos)
             written = written.substr(written.rfind('.') + 1);
@@ -1446,12 +1451,10 @@ namespace fmpm
       for (const auto &name : names)
         {
           const unsigned int distance = edit_distance(written, name);
-          const bool contains =
+          const bool         contains =
             !lower_written.empty() &&
-            (lower_case(name).find(lower_written) !=
-               std::string::npos ||
-             lower_written.find(lower_case(name)) !=
-               std::string::npos);
+            (lower_case(name).find(lower_written) != std::string::npos ||
+             lower_written.find(lower_case(name)) != std::string::npos);
           if (contains ||
               distance <= std::max<std::size_t>(2, written.size() / 3))
             ranked.emplace_back(contains ? 0 : distance, name);
@@ -1472,8 +1475,9 @@ namespace fmpm
         }
       else
         {
-          hint = "\n    " + std::string(subsection ? "Subsections" : "Parameters") +
-                 " " + where + ": ";
+          hint = "\n    " +
+                 std::string(subsection ? "Subsections" : "Parameters") + " " +
+                 where + ": ";
           for (unsigned int i = 0; i < names.size(); ++i)
             hint += (i > 0 ? ", '" : "'") + names[i] + "'";
           hint += ".";
@@ -1532,9 +1536,9 @@ namespace fmpm
         {
           const std::string code =
             Utilities::trim(line.substr(0, line.find('#')));
-          const std::string comment =
-            line.find('#') == std::string::npos ? "" :
-                                                  line.substr(line.find('#'));
+          const std::string comment = line.find('#') == std::string::npos ?
+                                        "" :
+                                        line.substr(line.find('#'));
           if (code.rfind("subsection ", 0) == 0)
             path.push_back(Utilities::trim(code.substr(11)));
           else if (code == "end" && !path.empty())

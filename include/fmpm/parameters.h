@@ -152,6 +152,38 @@ namespace fmpm
     cayley
   };
 
+  /**
+   * @brief Which stress updates a time step makes (seed 000 §2.2), resolved
+   * from 'Time/Strain update' when the scene is read.
+   */
+  struct StrainUpdateScheme
+  {
+    /** Stresses from the extrapolated velocities, before the momentum
+     * update (USF, USAVG±). */
+    bool update_first = false;
+    /** Stresses after the momentum update (USL±, USAVG±). */
+    bool update_last = true;
+    /** From momenta re-extrapolated from the updated points (USL+,
+     * USAVG+). */
+    bool re_extrapolate = true;
+    /** Half a step in each of the two updates (USAVG±). */
+    bool average = true;
+
+    /** The scheme of 'usf', 'usl' (= usl-), 'usl+', 'usavg' (= usavg-) or
+     * 'usavg+'. */
+    static StrainUpdateScheme
+    of(const std::string &name)
+    {
+      StrainUpdateScheme scheme;
+      scheme.update_first =
+        name == "usf" || name == "usavg" || name == "usavg+";
+      scheme.update_last    = name != "usf";
+      scheme.re_extrapolate = name == "usl+" || name == "usavg+";
+      scheme.average        = name == "usavg" || name == "usavg+";
+      return scheme;
+    }
+  };
+
   /** @brief Choice of the MPM algorithm. */
   struct MethodParameters
   {
@@ -159,6 +191,8 @@ namespace fmpm
     std::string mass_matrix     = "lumped";
     /** usf, usl (= usl-), usl+, usavg (= usavg-), usavg+ */
     std::string strain_update = "usavg+";
+    /** strain_update, resolved when the scene is read. */
+    StrainUpdateScheme strain_update_scheme = StrainUpdateScheme::of("usavg+");
     /** same or lumped */
     std::string strain_update_mass_matrix = "same";
     /** classic, ugimp, cpgimp or cpdi (ShapeFunction::Type) */

@@ -6,7 +6,6 @@
 // stress and particle updates read.
 
 #include <fmpm/contact.h>
-#include <fmpm/mass_matrix/full.h>
 #include <fmpm/simulator.h>
 
 #include <algorithm>
@@ -37,14 +36,13 @@ namespace fmpm
     contact_needs_node_positions = contact.normals == Method::d_fit;
 
     // The exact solve: CG settings of the single-material one.
-    const auto *full =
-      dynamic_cast<const MassMatrix::Full<dim> *>(mass_matrix.get());
-    material_exact_solve = full && parameters.method.mass_matrix == "full";
+    const auto exact_solve = mass_matrix->exact_solve();
+    material_exact_solve   = exact_solve.has_value();
     if (material_exact_solve)
       {
-        material_solve_tolerance      = full->tolerance;
-        material_solve_max_iterations = full->max_iterations;
-        material_weak_threshold       = full->weak_node_threshold;
+        material_solve_tolerance      = exact_solve->tolerance;
+        material_solve_max_iterations = exact_solve->max_iterations;
+        material_weak_threshold       = exact_solve->weak_node_threshold;
         AssertThrow(parameters.size.n_materials <= 32,
                     ExcMessage("'Mass matrix/Model name = full' with contact "
                                "supports up to 32 materials; this scene has " +

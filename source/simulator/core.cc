@@ -515,16 +515,12 @@ namespace fmpm
   Simulator<dim>::do_time_step()
   {
     using namespace ParticleUpdate;
-    const std::string &strain_update = parameters.method.strain_update;
-    const bool         update_first =
-      (strain_update == "usf" || strain_update == "usavg" ||
-       strain_update == "usavg+");
-    const bool update_last = (strain_update != "usf");
-    const bool re_extrapolate =
-      (strain_update == "usl+" || strain_update == "usavg+");
-    const bool average =
-      (strain_update == "usavg" || strain_update == "usavg+");
-    const bool lumped_strain_velocity =
+    const StrainUpdateScheme &scheme = parameters.method.strain_update_scheme;
+    const bool                update_first   = scheme.update_first;
+    const bool                update_last    = scheme.update_last;
+    const bool                re_extrapolate = scheme.re_extrapolate;
+    const bool                average        = scheme.average;
+    const bool                lumped_strain_velocity =
       (parameters.method.strain_update_mass_matrix == "lumped");
     // Adapt the mesh every 'Mesh refinement/Interval' steps (before the
     // time step, which depends on the smallest cell).

@@ -1201,10 +1201,13 @@ namespace fmpm
                 for (unsigned int c = 0; c < n_stress_entries; ++c)
                   inputs.old_stress[c][q] = stress_column[c][k];
                 inputs.old_strain_energy_density[q] = energy_column[k];
-                inputs.old_volume_ratio[q] =
-                  volume_column[k] / initial_volume_column[k];
-                inputs.properties[q] = points.record(k);
+                inputs.properties[q]                = points.record(k);
               }
+            if (constitutive_models[m]->needs_old_volume_ratio())
+              for (unsigned int q = 0; q < n_group; ++q)
+                inputs.old_volume_ratio[q] =
+                  volume_column[group_points[q]] /
+                  initial_volume_column[group_points[q]];
             increments<dim>(F_update,
                             parameters.method,
                             inputs.velocity_gradient,

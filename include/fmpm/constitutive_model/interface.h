@@ -48,7 +48,8 @@ namespace fmpm
       alignas(64) double velocity_gradient[9][capacity] = {};
       /** Cauchy stress σ^n before the update. Units: Pa. */
       alignas(64) double old_stress[6][capacity] = {};
-      /** J^n = V/V0 before the update. */
+      /** J^n = V/V0 before the update, filled only for models whose
+       * needs_old_volume_ratio() is true. */
       alignas(64) double old_volume_ratio[capacity] = {};
       /** Stored energy per unit reference volume before the update.
        * Units: J/m^3. */
@@ -200,6 +201,15 @@ namespace fmpm
        * (the Simulator fills it only then). */
       virtual bool
       needs_cell_size() const
+      {
+        return false;
+      }
+
+      /** @brief Whether update_stress() reads
+       * StressUpdateInputs::old_volume_ratio (the Simulator fills it only
+       * then). */
+      virtual bool
+      needs_old_volume_ratio() const
       {
         return false;
       }

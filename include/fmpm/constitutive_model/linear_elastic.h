@@ -52,6 +52,12 @@ namespace fmpm
       void
       check_parameters(const std::string &where) const override;
 
+      bool
+      needs_old_volume_ratio() const override
+      {
+        return strain_measure == StrainMeasure::kirchhoff;
+      }
+
       /** Young's modulus E. Units: Pa. */
       double youngs_modulus = 1.0e6;
       /** Poisson's ratio nu. */

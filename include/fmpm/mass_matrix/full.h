@@ -138,6 +138,14 @@ namespace fmpm
         return true;
       }
 
+      std::optional<typename Interface<dim>::ExactSolveSettings>
+      exact_solve() const override
+      {
+        return typename Interface<dim>::ExactSolveSettings{tolerance,
+                                                           max_iterations,
+                                                           weak_node_threshold};
+      }
+
       void
       solve(const GridVectorField &momentum,
             GridVectorField       &velocity) const override;
@@ -244,6 +252,13 @@ namespace fmpm
       needs_full_mass_matrix() const override
       {
         return false;
+      }
+
+      /** (Solves the FE mass matrix, not m̃.) */
+      std::optional<typename Interface<dim>::ExactSolveSettings>
+      exact_solve() const override
+      {
+        return {};
       }
 
       void

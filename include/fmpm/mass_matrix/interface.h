@@ -9,6 +9,7 @@
 #include <fmpm/simulator_access.h>
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,20 @@ namespace fmpm
       accepts_cellwise_full_mass_matrix() const
       {
         return false;
+      }
+
+      /** @brief The CG settings of an exact solve v = m̃⁻¹p (the
+       * multimaterial exact solve uses them), or none. */
+      struct ExactSolveSettings
+      {
+        double       tolerance;
+        unsigned int max_iterations;
+        double       weak_node_threshold;
+      };
+      virtual std::optional<ExactSolveSettings>
+      exact_solve() const
+      {
+        return {};
       }
 
       /** @brief Called once per step after the masses are extrapolated. */
