@@ -546,9 +546,15 @@ namespace fmpm
           if (!stiff_normal)
             result.delta_momentum +=
               impulse_scale * normal_stiffness * jump_n * n;
+          const Tensor<1, dim> jump_t = jump - jump_n * n;
           if (!stiff_tangential)
             result.delta_momentum +=
-              impulse_scale * tangential_stiffness * (jump - jump_n * n);
+              impulse_scale * tangential_stiffness * jump_t;
+          result.interface_energy =
+            0.5 * node.contact_area *
+            ((stiff_normal ? 0. : normal_stiffness * jump_n * jump_n) +
+             (stiff_tangential ? 0. :
+                                 tangential_stiffness * jump_t.norm_square()));
           return result;
         }
 

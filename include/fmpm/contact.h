@@ -297,6 +297,10 @@ namespace fmpm
       bool in_contact = false;
       /** The tangential impulse's energy loss (friction work). */
       double friction_work = 0;
+      /** Interface laws, correction of the updated momenta: the energy the
+       * interface stores at the node, ½ A_c (D_n [u]_n² + D_t |[u]_t|²)
+       * over the directions it does not treat as perfect. */
+      double interface_energy = 0;
     };
 
     /**

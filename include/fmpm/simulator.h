@@ -640,10 +640,15 @@ namespace fmpm
     /** The local cell size at each node (separations in cells). */
     GridScalar node_cell_size;
     /** Friction work since the start; contact nodes of the last step. */
-    double             friction_work           = 0;
-    double             local_friction_work     = 0;
-    unsigned long long local_contact_nodes     = 0;
-    unsigned long long contact_nodes_last_step = 0;
+    double friction_work       = 0;
+    double local_friction_work = 0;
+    /** ½ A_c Σ D [u]² of the imperfect interfaces at the owned nodes, from
+     * the last correction of the updated momenta; per slot while it is
+     * found. */
+    double              local_interface_energy = 0;
+    std::vector<double> slot_interface_energy;
+    unsigned long long  local_contact_nodes     = 0;
+    unsigned long long  contact_nodes_last_step = 0;
     /** Every locally owned material point: its state, in cell order. */
     MaterialPoints<dim> points;
     /** The number of points on all ranks (set when the store is filled). */

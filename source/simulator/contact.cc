@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <limits>
 #include <map>
+#include <numeric>
 
 namespace fmpm
 {
@@ -524,6 +525,8 @@ namespace fmpm
     logistic_fits += fits;
     logistic_iterations += iterations;
     contact_state.assign(contact_geometry.size(), 0);
+    if (contact_needs_interface)
+      slot_interface_energy.assign(contact_geometry.size(), 0.);
     contact_geometry_valid = true;
   }
 
@@ -703,6 +706,10 @@ namespace fmpm
           .correct(node);
       if (stage == ContactStage::updated && c.in_contact && !in_contact)
         record(i, node);
+      if (stage == ContactStage::updated && contact_needs_interface)
+        // (a lumped slot, α against the others, counts each pair twice)
+        slot_interface_energy[slot] =
+          (beta.size() > 1 ? 0.5 : 1.) * c.interface_energy;
       in_contact = in_contact || c.in_contact;
       return c;
     };
@@ -847,6 +854,10 @@ namespace fmpm
       });
 
     AssertDimension(n_slots, contact_geometry.size());
+    if (stage == ContactStage::updated && contact_needs_interface)
+      local_interface_energy = std::accumulate(slot_interface_energy.begin(),
+                                               slot_interface_energy.end(),
+                                               0.);
     if (stage == ContactStage::updated)
       {
         local_friction_work += work;

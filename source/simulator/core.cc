@@ -1025,6 +1025,9 @@ namespace fmpm
             s.displacement_reference_squared += M * u_ref.norm_square();
           }
       }
+    // The energy stored in imperfect interfaces (their springs) at the last
+    // correction of the updated momenta.
+    s.strain_energy += local_interface_energy;
 
     // One reduction for all sums.
     std::vector<double> values = {s.mass,
