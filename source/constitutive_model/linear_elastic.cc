@@ -272,26 +272,18 @@ namespace fmpm
                          lambda,
                          mu,
                          inputs.time_step);
-      else if (strain_measure == StrainMeasure::jaumann)
-        incremental_stress<true>(inputs.velocity_gradient,
-                                 inputs.old_stress,
-                                 inputs.old_strain_energy_density,
-                                 inputs.volume_ratio,
-                                 outputs.cauchy_stress,
-                                 outputs.strain_energy_density,
-                                 lambda,
-                                 mu,
-                                 inputs.time_step);
-      else if (strain_measure == StrainMeasure::incremental)
-        incremental_stress<false>(inputs.velocity_gradient,
-                                  inputs.old_stress,
-                                  inputs.old_strain_energy_density,
-                                  inputs.volume_ratio,
-                                  outputs.cauchy_stress,
-                                  outputs.strain_energy_density,
-                                  lambda,
-                                  mu,
-                                  inputs.time_step);
+      else if (strain_measure != StrainMeasure::total)
+        (strain_measure == StrainMeasure::jaumann ?
+           incremental_stress<true> :
+           incremental_stress<false>)(inputs.velocity_gradient,
+                                      inputs.old_stress,
+                                      inputs.old_strain_energy_density,
+                                      inputs.volume_ratio,
+                                      outputs.cauchy_stress,
+                                      outputs.strain_energy_density,
+                                      lambda,
+                                      mu,
+                                      inputs.time_step);
       else
         total_strain_stress(inputs.deformation_gradient,
                             outputs.cauchy_stress,

@@ -599,25 +599,24 @@ namespace fmpm
       node.time_step  = time_step;
       if (contact_needs_interface)
         {
-          // u^β − u^α and A_c = sqrt(2 min(V^α, V^β)(V^α + V^β))/h.
+          // u^β − u^α and A_c = sqrt(2 min(V^α, V^β)(V^α + V^β))/h, from
+          // the sums of V and Σ S M u over each side's materials.
+          auto sum_side = [&](const std::vector<unsigned int> &materials,
+                              double                          &volume,
+                              Tensor<1, dim>                  &moment) {
+            for (const unsigned int a : materials)
+              {
+                volume += material_fields[a].volume.local_element(i);
+                for (unsigned int d = 0; d < dim; ++d)
+                  moment[d] += material_fields[a]
+                                 .displacement_moment.block(d)
+                                 .local_element(i);
+              }
+          };
           double         volume_alpha = 0, volume_beta = 0;
           Tensor<1, dim> moment_alpha, moment_beta;
-          for (const unsigned int a : alpha)
-            {
-              volume_alpha += material_fields[a].volume.local_element(i);
-              for (unsigned int d = 0; d < dim; ++d)
-                moment_alpha[d] +=
-                  material_fields[a].displacement_moment.block(d).local_element(
-                    i);
-            }
-          for (const unsigned int b : beta)
-            {
-              volume_beta += material_fields[b].volume.local_element(i);
-              for (unsigned int d = 0; d < dim; ++d)
-                moment_beta[d] +=
-                  material_fields[b].displacement_moment.block(d).local_element(
-                    i);
-            }
+          sum_side(alpha, volume_alpha, moment_alpha);
+          sum_side(beta, volume_beta, moment_beta);
           if (node.mass_alpha > 0 && node.mass_beta > 0)
             node.displacement_jump =
               moment_beta / node.mass_beta - moment_alpha / node.mass_alpha;
