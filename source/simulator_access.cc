@@ -111,6 +111,62 @@ namespace fmpm
     return get_simulator().timestep_number;
   }
 
+  template <int dim>
+  double
+  SimulatorAccess<dim>::get_momentum_time() const
+  {
+    return get_simulator().momentum_time;
+  }
+
+  template <int dim>
+  double
+  SimulatorAccess<dim>::get_mass_floor() const
+  {
+    return get_simulator().mass_floor_value;
+  }
+
+  template <int dim>
+  bool
+  SimulatorAccess<dim>::has_hanging_nodes() const
+  {
+    return get_simulator().has_hanging_nodes;
+  }
+
+  template <int dim>
+  ShapeFunction::Type
+  SimulatorAccess<dim>::get_shape_function_type() const
+  {
+    return get_simulator().shape_function;
+  }
+
+  template <int dim>
+  const SupportCache<dim> &
+  SimulatorAccess<dim>::get_support_cache() const
+  {
+    return get_simulator().supports;
+  }
+
+  template <int dim>
+  const VelocityConditions<dim> &
+  SimulatorAccess<dim>::get_velocity_conditions() const
+  {
+    return get_simulator().velocity_conditions;
+  }
+
+  template <int dim>
+  const MassMatrix::Interface<dim> &
+  SimulatorAccess<dim>::get_mass_matrix() const
+  {
+    return *get_simulator().mass_matrix;
+  }
+
+  template <int dim>
+  TimerOutput &
+  SimulatorAccess<dim>::get_computing_timer() const
+  {
+    return get_simulator().computing_timer;
+  }
+
   template class SimulatorAccess<2>;
   template class SimulatorAccess<3>;
 } // namespace fmpm

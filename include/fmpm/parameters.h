@@ -4,7 +4,7 @@
 #ifndef fmpm_parameters_h
 #define fmpm_parameters_h
 
-#include <fmpm/contact.h>
+#include <fmpm/contact/parameters.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>

@@ -5,6 +5,7 @@
 #define fmpm_simulator_h
 
 #include <fmpm/constitutive_model/interface.h>
+#include <fmpm/contact/manager.h>
 #include <fmpm/grid_transfer.h>
 #include <fmpm/grid_vectors.h>
 #include <fmpm/mass_matrix/interface.h>
@@ -381,87 +382,16 @@ namespace fmpm
                     const double                    dt,
                     const bool                      with_forces = false);
 
-    // --- multimaterial contact (simulator/contact.cc, seed 004) ---
-    /** The stages at which contact corrects the material momenta. */
-    enum class ContactStage
-    {
-      /** after the extrapolation: p^α = p^α0 + Δp^α (Eq. 26), Δv^α kept */
-      extrapolated,
-      /** after the momentum update: p^α+ = p^α0+ + Δp^α+ (Eq. 31) */
-      updated,
-      /** after the re-extrapolation of USL+/USAVG+ */
-      re_extrapolated,
-      /** on the increments m^α δz^α of the FMPM(k)/XPIC(k) series (net
-       * incremental contact) */
-      increment
-    };
-    /** Allocate the per-material fields (Contact/Model name =
-     * multimaterial and 2+ materials; nothing otherwise). */
+    // --- multimaterial contact (Contact::Manager, seed 004) ---
+    /** Allocate the contact manager's fields on the current mesh (with
+     * contact only). */
     void
     setup_contact();
     bool
     contact_active() const
     {
-      return !material_fields.empty();
+      return contact != nullptr;
     }
-    /** Velocity conditions on material α's momenta @p q at time @p t. */
-    void
-    impose_material_conditions(const unsigned int alpha,
-                               GridVectorField   &q,
-                               const double       t);
-    /** The contact corrections at every owned node with 2+ materials. */
-    void
-    apply_contact(const ContactStage stage);
-    /** n̂, touching and separation of every pair apply_contact corrects,
-     * in its order: once per extrapolation (they depend on the points'
-     * positions only). */
-    void
-    compute_contact_geometry();
-    /** One pair the contact corrections may handle at an owned node. */
-    struct ContactSlot
-    {
-      unsigned int node;
-      /** Index into contact_geometry and contact_state. */
-      unsigned int slot;
-      /** Material x of the node against the sum of the others (Eq. 50),
-       * partner the heaviest of them; else α and β are one material each. */
-      bool lumped;
-      /** The node has 3+ materials and 'Three or more materials =
-       * explicit': its slots are its pairs, then its lumped slots, and
-       * apply_contact() chooses among them. */
-      bool                             explicit_node;
-      unsigned int                     x;
-      const std::vector<unsigned int> &alpha;
-      const std::vector<unsigned int> &beta;
-      unsigned int                     partner;
-    };
-    /** Calls visit(ContactSlot) for every pair the corrections may handle
-     * at owned node i, in the order of the geometry slots (pairs in turn;
-     * with 3+ materials lumped, material x of the node against the others;
-     * explicit: both), then node_done(i, materials present). */
-    template <class Visit, class NodeDone>
-    void
-    for_each_contact_pair(Visit &&visit, NodeDone &&node_done);
-    /** LR: the point cloud of every owned node with 2+ materials, the
-     * points of other ranks included (seed 004 §3.1). */
-    void
-    gather_point_clouds();
-    /** Material fields v^α, v^α+, a^α (lumped: seed 004 Eqs. 26, 31-34;
-     * with the FMPM(k) mass matrix, v^α of multimaterial XPIC(k), Eq. 37). */
-    void
-    compute_material_field(const ParticleUpdate::GridField field);
-    /** out^α = m̃^α in^α = Σ_{p∈α} S_ip M_p Σ_j S_jp in^α_j for every
-     * material in one sweep over the support cache (in: ghosted). */
-    void
-    apply_material_full_mass(const std::vector<GridVectorField *> &in,
-                             const std::vector<GridVectorField *> &out);
-    /** The exact full-mass solve with per-material fields: the k → ∞ limit
-     * of multimaterial FMPM(k) with net incremental contact, solved by
-     * conjugate gradients in the increments the contact law of the
-     * increments allows (doc/contact.md). On entry @p field holds the
-     * contact-corrected lumped velocities z₁^α. */
-    void
-    solve_material_full_mass(const ParticleUpdate::GridField field);
     void
     update_particles();
     void
@@ -548,107 +478,14 @@ namespace fmpm
     GridTransfer<dim>   transfer;
     ShapeFunction::Type shape_function = ShapeFunction::Type::classic;
 
-    /** One velocity field per material (seed 004 Eqs. 5-6); empty without
-     * contact. */
-    struct MaterialField
-    {
-      GridScalar      mass;             // m^α
-      GridVectorField momentum;         // p^α0, then p^α (Eq. 26)
-      GridVectorField force;            // f^α0 (Eq. 29)
-      GridVectorField updated_momentum; // p^α+ (Eq. 31)
-      GridVectorField volume_gradient;  // g^α = Σ G V (Eq. 11)
-      GridVectorField position_moment;  // Σ S M X: x^α = S^{+α}X (Eq. 11)
-      // Interface laws: Σ S M (X − X₀) (u^α = S^{+α}U) and Σ S V.
-      GridVectorField displacement_moment;
-      GridScalar      volume;
-      GridVectorField delta_velocity;   // Δv^α of the first correction
-      GridVectorField series_product;   // m̃^α z (multimaterial XPIC(k))
-      GridVectorField series_increment; // m^α δz^α (net incremental contact)
-      // The exact solve with contact: residual, direction, free components.
-      GridVectorField series_residual, series_direction, series_free;
-      GridScalar      weak_coupling; // c^α = m̃^α 1_W
-      std::array<GridVectorField, ParticleUpdate::n_grid_fields> fields;
-      std::array<bool, ParticleUpdate::n_grid_fields>            computed{};
-    };
-    std::vector<MaterialField> material_fields;
+    /** Multimaterial contact: the per-material fields and the corrections
+     * (null without contact). */
+    std::unique_ptr<Contact::Manager<dim>> contact;
     /** The locally owned cells in the order of the passes: sorted by
      * CellId on adapted meshes, else in storage order (set at set-up and
      * after remeshing). */
     std::vector<typename Triangulation<dim>::active_cell_iterator>
       owned_cells_in_id_order;
-    /** Whether the normal method needs g^α, x^α, the local cell size and
-     * the node positions. */
-    bool contact_needs_gradients = false, contact_needs_positions = false,
-         contact_needs_cell_size = false, contact_needs_node_positions = false;
-    /** Whether a contact law needs u^α and V^α (interface_state()). */
-    bool contact_needs_interface = false;
-    /** The geometry of every pair apply_contact corrects, in its order;
-     * invalid after every extrapolation. */
-    std::vector<Contact::NodeGeometry<dim>> contact_geometry;
-    /** The law of materials a < b at [a * n_materials + b]. */
-    std::vector<std::unique_ptr<Contact::LawInterface<dim>>> contact_laws;
-    /** Net incremental contact: the law of the increments at pairs in
-     * contact (perfect: the same increment in both materials). */
-    std::unique_ptr<Contact::LawInterface<dim>> increment_law;
-    bool                                        contact_geometry_valid = false;
-    /** Whether each pair was in contact at the last correction (the pairs
-     * net incremental contact corrects). */
-    std::vector<char> contact_state;
-    /** DF: d(x) per material (its points' half-length). */
-    std::vector<Contact::EdgeDistance> edge_distance;
-    /** DF: the position of each node. */
-    GridVectorField node_position;
-    /** LR: a point of the cloud of a node (plain data: sent between
-     * ranks). */
-    struct CloudPoint
-    {
-      types::global_dof_index node;
-      unsigned int            material;
-      double                  position[dim];
-      double                  F_inverse[dim * dim];
-      double                  initial_radii[dim];
-
-      template <class Archive>
-      void
-      serialize(Archive &archive, const unsigned int)
-      {
-        archive &node &material &position &F_inverse &initial_radii;
-      }
-    };
-    /** LR: the cloud of owned node i is cloud[cloud_begin[i],
-     * cloud_begin[i + 1]). */
-    std::vector<unsigned int> cloud_begin;
-    std::vector<CloudPoint>   cloud;
-    /** LR: fits and NLLS iterations since the start (benchmark figures). */
-    unsigned long long logistic_fits = 0, logistic_iterations = 0;
-    /** The exact solve with contact (Mass matrix = full): its settings,
-     * taken from the mass matrix, and its CG figures since the start. */
-    bool material_exact_solve = false;
-    /** The exact solve with contact: the owned nodes with materials in
-     * contact and those materials (bit a: material a). */
-    std::vector<std::pair<unsigned int, unsigned int>> contact_groups;
-    /** The exact solve with contact: weak nodes, material by material. */
-    std::vector<char>  material_weak;
-    double             material_solve_tolerance      = 1e-10;
-    double             material_weak_threshold       = 0.1;
-    unsigned int       material_solve_max_iterations = 1000;
-    unsigned long long material_solves = 0, material_solve_iterations = 0,
-                       material_solve_failures = 0;
-    /** n̂ and the separation (cells) at contact nodes (grid output). */
-    GridVectorField contact_normal;
-    GridScalar      contact_separation;
-    /** The local cell size at each node (separations in cells). */
-    GridScalar node_cell_size;
-    /** Friction work since the start; contact nodes of the last step. */
-    double friction_work       = 0;
-    double local_friction_work = 0;
-    /** ½ A_c Σ D [u]² of the imperfect interfaces at the owned nodes, from
-     * the last correction of the updated momenta; per slot while it is
-     * found. */
-    double              local_interface_energy = 0;
-    std::vector<double> slot_interface_energy;
-    unsigned long long  local_contact_nodes     = 0;
-    unsigned long long  contact_nodes_last_step = 0;
     /** Every locally owned material point: its state, in cell order. */
     MaterialPoints<dim> points;
     /** The number of points on all ranks (set when the store is filled). */

@@ -5,11 +5,13 @@
 #define fmpm_simulator_access_h
 
 #include <fmpm/grid_vectors.h>
-#include <fmpm/parameters.h>
 #include <fmpm/material_points.h>
+#include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
+#include <fmpm/shape_function.h>
 
 #include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/affine_constraints.h>
@@ -20,6 +22,15 @@ namespace fmpm
 {
   template <int dim>
   class Simulator;
+  template <int dim>
+  class SupportCache;
+  template <int dim>
+  class VelocityConditions;
+  namespace MassMatrix
+  {
+    template <int dim>
+    class Interface;
+  }
 
   /**
    * @brief Read-only view of the Simulator's state for plugins.
@@ -87,6 +98,29 @@ namespace fmpm
     get_timestep() const;
     unsigned int
     get_timestep_number() const;
+    /** Time of the current momenta p (t^n, or t^{n+1} after the
+     * re-extrapolation of USL+/USAVG+). */
+    double
+    get_momentum_time() const;
+    /** Nodes with mass below this are empty. */
+    double
+    get_mass_floor() const;
+    /** Whether any rank has hanging nodes (constraints to distribute). */
+    bool
+    has_hanging_nodes() const;
+    /** The shape functions' type. */
+    ShapeFunction::Type
+    get_shape_function_type() const;
+    /** S and G of every point of the store this step. */
+    const SupportCache<dim> &
+    get_support_cache() const;
+    const VelocityConditions<dim> &
+    get_velocity_conditions() const;
+    const MassMatrix::Interface<dim> &
+    get_mass_matrix() const;
+    /** The run's timer (sections of a subsystem). */
+    TimerOutput &
+    get_computing_timer() const;
 
   private:
     const Simulator<dim> *simulator = nullptr;

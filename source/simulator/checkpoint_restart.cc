@@ -135,9 +135,9 @@ namespace fmpm
         &initial_energy_scale &external_work &external_work_scale &mesh_diameter
           &max_condition_error &reaction_forces &total_lost_points
             &dissipated_energy &particle_pvd_records &grid_pvd_records
-              &particle_steps &mesh_adaptations &cell_steps &max_cells
-                &friction_work &material_solves
-                  &material_solve_iterations &material_solve_failures;
+              &particle_steps &mesh_adaptations &cell_steps &max_cells;
+    if (contact)
+      archive &*contact;
     for (double &sum : error_sums)
       archive &sum;
     velocity_conditions.serialize_state(archive);

@@ -69,6 +69,14 @@ namespace fmpm
     shape_function = ShapeFunction::parse(parameters.method.shape_function);
     make_grid();
     setup_plugins(prm);
+    // Multimaterial contact: its laws and normal method (its fields follow
+    // the mesh, setup_contact()).
+    if (parameters.contact.multimaterial && parameters.size.n_materials > 1)
+      {
+        contact = std::make_unique<Contact::Manager<dim>>();
+        contact->initialize_simulator(*this);
+        contact->initialize();
+      }
     if (resume_from_checkpoint)
       {
         load_checkpoint();
@@ -559,16 +567,8 @@ namespace fmpm
     impose_velocity_conditions(momentum, time, nullptr);
     // Contact: conditions on every material field, then the first
     // correction p^α = p^α0 + Δp^α (seed 004 Eq. 26, §3.2).
-    if (contact_active())
-      {
-        for (unsigned int a = 0; a < material_fields.size(); ++a)
-          impose_material_conditions(a, material_fields[a].momentum, time);
-        if (parameters.contact.corrections_per_step == 2)
-          apply_contact(ContactStage::extrapolated);
-        else
-          for (auto &field : material_fields)
-            field.momentum.update_ghost_values();
-      }
+    if (contact)
+      contact->correct_extrapolated_momenta(time, Contact::Stage::extrapolated);
 
     // 2. USF / USAVG: update stresses with v = m̃ₖ⁻¹p (Δt/2 for USAVG),
     //    then extrapolate the forces.
@@ -597,16 +597,11 @@ namespace fmpm
         !velocity_conditions.labels().empty();
       // Contact: p^α0+ = p^α + f^α0Δt (Eq. 30), the conditions, then the
       // second correction p^α+ = p^α0+ + Δp^α+ (Eq. 31).
-      for (unsigned int a = 0; a < material_fields.size(); ++a)
-        {
-          MaterialField &field   = material_fields[a];
-          field.updated_momentum = field.momentum;
-          field.updated_momentum.add(dt, field.force);
-          impose_material_conditions(a, field.updated_momentum, time + dt);
-        }
-      timer.stop(); // compute_field() and apply_contact() time themselves
-      if (contact_active())
-        apply_contact(ContactStage::updated);
+      if (contact)
+        contact->update_momenta(dt, time + dt);
+      timer.stop(); // compute_field() and the corrections time themselves
+      if (contact)
+        contact->apply(Contact::Stage::updated);
       // With contact the points read their material's fields; the centre-
       // of-mass series (m̃ₖ⁻¹ of the total momenta) is then needed only
       // for the grid output that follows this step and the velocity
@@ -621,10 +616,10 @@ namespace fmpm
             (velocity_method_reactions &&
              (f == updated_velocity || f == velocity)))
           compute_field(static_cast<GridField>(f));
-      if (contact_active())
+      if (contact)
         for (unsigned int f = 0; f < n_grid_fields; ++f)
           if (needed[f])
-            compute_material_field(static_cast<GridField>(f));
+            contact->compute_field(static_cast<GridField>(f));
       // Seed 000 Eq. 4.1: f holds the conditions' forces, and the solve
       // sets the known accelerations of the corrected nodes (Δv⁺/Δt).
       if (parameters.output.write_grid_acceleration &&
@@ -680,14 +675,9 @@ namespace fmpm
             impose_velocity_conditions(momentum, time + dt, nullptr);
             field_computed[velocity] = field_computed[lumped_velocity] = false;
             // Contact: a third correction of the re-extrapolated momenta.
-            if (contact_active())
-              {
-                for (unsigned int a = 0; a < material_fields.size(); ++a)
-                  impose_material_conditions(a,
-                                             material_fields[a].momentum,
-                                             time + dt);
-                apply_contact(ContactStage::re_extrapolated);
-              }
+            if (contact)
+              contact->correct_extrapolated_momenta(
+                time + dt, Contact::Stage::re_extrapolated);
             const GridField v =
               lumped_strain_velocity ? lumped_velocity : velocity;
             update_stresses(v, dt_last); // solves v itself
@@ -1027,7 +1017,8 @@ namespace fmpm
       }
     // The energy stored in imperfect interfaces (their springs) at the last
     // correction of the updated momenta.
-    s.strain_energy += local_interface_energy;
+    if (contact)
+      s.strain_energy += contact->local_interface_energy();
 
     // One reduction for all sums.
     std::vector<double> values = {s.mass,

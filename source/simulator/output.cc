@@ -190,49 +190,49 @@ namespace fmpm
           }
 
         for (unsigned int k = 0; k < points.n_points(); ++k)
-            {
-              DataOutBase::Patch<0, dim> patch;
-              patch.vertices[0] = points.position[k];
-              patch.patch_index = patches.size();
-              const PointRecord values = points.record(k);
-              patch.data.reinit(names.size(), 1);
-              patch.data(0, 0)          = points.id[k];
-              unsigned int tensor_entry = 0;
-              Tensor<2, 3> sigma;
-              for (unsigned int f = 0; f < fields.size(); ++f)
-                {
-                  const Field &field = fields[f];
-                  double       value = 0;
-                  switch (field.kind)
-                    {
-                      case Kind::copy:
-                        value = values[field.first];
+          {
+            DataOutBase::Patch<0, dim> patch;
+            patch.vertices[0]        = points.position[k];
+            patch.patch_index        = patches.size();
+            const PointRecord values = points.record(k);
+            patch.data.reinit(names.size(), 1);
+            patch.data(0, 0)          = points.id[k];
+            unsigned int tensor_entry = 0;
+            Tensor<2, 3> sigma;
+            for (unsigned int f = 0; f < fields.size(); ++f)
+              {
+                const Field &field = fields[f];
+                double       value = 0;
+                switch (field.kind)
+                  {
+                    case Kind::copy:
+                      value = values[field.first];
+                      break;
+                    case Kind::stress_tensor:
+                    case Kind::deformation_tensor:
+                      {
+                        const unsigned int i = tensor_entry / dim,
+                                           j = tensor_entry % dim;
+                        if (field.kind == Kind::stress_tensor &&
+                            tensor_entry == 0)
+                          sigma = get_symmetric_tensor3(values, field.first);
+                        tensor_entry = (tensor_entry + 1) % (dim * dim);
+                        value        = field.kind == Kind::deformation_tensor ?
+                                         values[field.first + 3 * i + j] :
+                                         sigma[i][j];
                         break;
-                      case Kind::stress_tensor:
-                      case Kind::deformation_tensor:
-                        {
-                          const unsigned int i = tensor_entry / dim,
-                                             j = tensor_entry % dim;
-                          if (field.kind == Kind::stress_tensor &&
-                              tensor_entry == 0)
-                            sigma = get_symmetric_tensor3(values, field.first);
-                          tensor_entry = (tensor_entry + 1) % (dim * dim);
-                          value = field.kind == Kind::deformation_tensor ?
-                                    values[field.first + 3 * i + j] :
-                                    sigma[i][j];
-                          break;
-                        }
-                      case Kind::stress_zz:
-                        value = values[field.first + 2];
-                        break;
-                      case Kind::deformation_zz:
-                        value = values[field.first + 8];
-                        break;
-                    }
-                  patch.data(f + 1, 0) = value;
-                }
-              patches.push_back(std::move(patch));
-            }
+                      }
+                    case Kind::stress_zz:
+                      value = values[field.first + 2];
+                      break;
+                    case Kind::deformation_zz:
+                      value = values[field.first + 8];
+                      break;
+                  }
+                patch.data(f + 1, 0) = value;
+              }
+            patches.push_back(std::move(patch));
+          }
       }
     };
 
@@ -372,12 +372,10 @@ namespace fmpm
             row.extra.push_back(sums[stride - 2]);
             row.extra.push_back(sums[stride - 1]);
           }
-        friction_work +=
-          Utilities::MPI::sum(local_friction_work, mpi_communicator);
-        local_friction_work = 0;
+        const auto [friction_work, contact_nodes] =
+          contact ? contact->history_values() : std::make_pair(0., 0.);
         row.extra.push_back(friction_work);
-        row.extra.push_back(static_cast<double>(
-          Utilities::MPI::sum(local_contact_nodes, mpi_communicator)));
+        row.extra.push_back(contact_nodes);
       }
     for (const double value : mass_matrix->history_values())
       row.extra.push_back(value);
@@ -455,8 +453,8 @@ namespace fmpm
                          "acceleration");
       if (contact_active())
         {
-          grid->add_vector(contact_normal, "contact_normal");
-          grid->add_scalar(contact_separation, "contact_separation");
+          grid->add_vector(contact->normal_field(), "contact_normal");
+          grid->add_scalar(contact->separation_field(), "contact_separation");
         }
       grid->build_patches(dof_handler, triangulation.locally_owned_subdomain());
     }
@@ -573,7 +571,7 @@ namespace fmpm
     for (unsigned int k = 0; k < points.n_points(); ++k)
       {
         const PointRecord   p = points.record(k);
-        std::vector<double>           row;
+        std::vector<double> row;
         row.reserve(n_columns);
         row.push_back(p[Index::body_id]);
         row.push_back(p[Index::material_id]);
@@ -647,19 +645,17 @@ namespace fmpm
       Utilities::MPI::max(max_condition_error, mpi_communicator);
     // Load balance: the largest number of points on one rank against the
     // mean.
-    const double local_points =
-      static_cast<double>(points.n_points());
+    const double local_points = static_cast<double>(points.n_points());
     const double max_rank_points =
       Utilities::MPI::max(local_points, mpi_communicator);
     const double mean_rank_points =
       Utilities::MPI::sum(local_points, mpi_communicator) /
       Utilities::MPI::n_mpi_processes(mpi_communicator);
-    // LR (seed 004 §3.1): fits and NLLS iterations on all ranks.
-    const double fits =
-      Utilities::MPI::sum(static_cast<double>(logistic_fits), mpi_communicator);
-    const double fit_iterations =
-      Utilities::MPI::sum(static_cast<double>(logistic_iterations),
-                          mpi_communicator);
+    // Contact: the normal method's figures (LR: fits and NLLS iterations
+    // on all ranks) and the exact solve's.
+    const std::vector<std::pair<std::string, double>> contact_figures =
+      contact ? contact->summary_entries() :
+                std::vector<std::pair<std::string, double>>();
     // Memory: the resident-set high-water mark of every rank (VmHWM), and
     // the support cache's entries and bytes (issue 12's figures).
     Utilities::System::MemoryStats memory_stats;
@@ -688,8 +684,7 @@ namespace fmpm
     out << "  \"dimension\": " << dim << ",\n";
     out << "  \"n_mpi_ranks\": "
         << Utilities::MPI::n_mpi_processes(mpi_communicator) << ",\n";
-    out << "  \"n_particles\": " << n_global_material_points
-        << ",\n";
+    out << "  \"n_particles\": " << n_global_material_points << ",\n";
     out << "  \"n_cells\": " << triangulation.n_global_active_cells() << ",\n";
     out << "  \"point_imbalance\": "
         << number(mean_rank_points > 0 ? max_rank_points / mean_rank_points :
@@ -760,17 +755,8 @@ namespace fmpm
       {
         out << "  \"contact_normals\": "
             << quoted(parameters.contact.normals_name) << ",\n";
-        if (fits > 0)
-          out << "  \"logistic_regression_fits\": " << number(fits)
-              << ",\n  \"logistic_regression_iterations_mean\": "
-              << number(fit_iterations / fits) << ",\n";
-        if (material_solves > 0) // the same on every rank (CG is global)
-          out << "  \"contact_cg_solves\": " << material_solves
-              << ",\n  \"contact_cg_iterations_mean\": "
-              << number(static_cast<double>(material_solve_iterations) /
-                        material_solves)
-              << ",\n  \"contact_cg_failures\": " << material_solve_failures
-              << ",\n";
+        for (const auto &[key, value] : contact_figures)
+          out << "  " << quoted(key) << ": " << number(value) << ",\n";
       }
     if (!velocity_conditions.labels().empty())
       {

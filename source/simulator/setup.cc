@@ -871,6 +871,16 @@ namespace fmpm
 
 
 
+  template <int dim>
+  void
+  Simulator<dim>::setup_contact()
+  {
+    if (contact)
+      contact->reinit();
+  }
+
+
+
   template class Simulator<2>;
   template class Simulator<3>;
 } // namespace fmpm

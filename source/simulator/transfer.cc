@@ -584,8 +584,18 @@ namespace fmpm
       cellwise_full_mass.clear();
 
     // Per-material fields (contact): m^α, p^α0, f^α0, g^α, Σ S M X.
-    const bool contact                = contact_active();
-    contact_geometry_valid            = false;
+    const bool contact = contact_active();
+    if (contact)
+      this->contact->invalidate_geometry();
+    std::vector<Contact::MaterialField<dim>>  no_material_fields;
+    std::vector<Contact::MaterialField<dim>> &material_fields =
+      contact ? this->contact->material_fields() : no_material_fields;
+    const bool contact_needs_gradients =
+      contact && this->contact->normal_needs().volume_gradients;
+    const bool contact_needs_positions =
+      contact && this->contact->normal_needs().positions;
+    const bool contact_needs_interface =
+      contact && this->contact->needs_interface_state();
     const unsigned int    n_materials = material_fields.size();
     std::vector<double *> m_alpha(n_materials), p_alpha(n_materials * dim),
       f_alpha(n_materials * dim), g_alpha, x_alpha, u_alpha, volume_alpha;
@@ -600,9 +610,9 @@ namespace fmpm
       }
     for (unsigned int a = 0; a < n_materials; ++a)
       {
-        MaterialField &field = material_fields[a];
-        field.mass           = 0;
-        field.momentum       = 0;
+        Contact::MaterialField<dim> &field = material_fields[a];
+        field.mass                         = 0;
+        field.momentum                     = 0;
         if (with_forces)
           field.force = 0;
         if (contact_needs_gradients)
@@ -838,7 +848,10 @@ namespace fmpm
     double *f[dim];
     for (unsigned int d = 0; d < dim; ++d)
       f[d] = force.block(d).begin();
-    const bool            contact = contact_active();
+    const bool                                contact = contact_active();
+    std::vector<Contact::MaterialField<dim>>  no_material_fields;
+    std::vector<Contact::MaterialField<dim>> &material_fields =
+      contact ? this->contact->material_fields() : no_material_fields;
     std::vector<double *> f_alpha(material_fields.size() * dim);
     for (unsigned int a = 0; a < material_fields.size(); ++a)
       {
@@ -921,8 +934,9 @@ namespace fmpm
     // The fields of the centre of mass, or with contact of each material
     // (the point reads its material's field, Eq. 32).
     const bool              contact = contact_active();
-    std::vector<FieldViews> views(contact ? material_fields.size() : 1);
-    const auto             &needed = active_fields();
+    std::vector<FieldViews> views(
+      contact ? this->contact->material_fields().size() : 1);
+    const auto &needed = active_fields();
     for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
       if (needed[f])
         {
@@ -930,7 +944,8 @@ namespace fmpm
           for (unsigned int a = 0; a < views.size(); ++a)
             for (unsigned int d = 0; d < dim; ++d)
               views[a][f][d] =
-                (contact ? material_fields[a].fields[f] : grid_fields[f])
+                (contact ? this->contact->material_fields()[a].fields[f] :
+                           grid_fields[f])
                   .block(d)
                   .begin();
         }
@@ -1084,7 +1099,7 @@ namespace fmpm
     // material (Eq. 28); their solves time themselves.
     const bool contact = contact_active();
     if (contact)
-      compute_material_field(field);
+      this->contact->compute_field(field);
     else
       compute_field(field);
     TimerOutput::Scope timer(computing_timer, "stress update");
@@ -1179,7 +1194,8 @@ namespace fmpm
                       by_material[m].end(),
                       group_points);
             if (contact)
-              view_velocities(material_fields[m].fields[field]);
+              view_velocities(
+                this->contact->material_fields()[m].fields[field]);
             inputs.resize(n_group);
             inputs.reference_density = parameters.materials[m].density;
             if (constitutive_models[m]->needs_cell_size())

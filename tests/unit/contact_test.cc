@@ -1604,7 +1604,7 @@ namespace
        {" set Pair laws = 0 1 perfect\n", {"Contact/Pair laws", "a b: law"}},
        {" set Pair laws = 0 1: frictionless 0.3\n",
         {"Contact/Pair laws", "takes no number", "coulomb"}},
-       {" set Normals = nearest node\n", {"Normals", "logistic regression"}}};
+       {" set Normals = nearest node\n", {"Normals", "logistic", "specified"}}};
     for (const auto &[setting, words] : cases)
       {
         ParameterHandler prm;

@@ -1,0 +1,283 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// The contact manager: set-up, the material fields' conditions and
+// momentum update, history and summary figures.
+
+#include <fmpm/contact/manager.h>
+#include <fmpm/mass_matrix/interface.h>
+#include <fmpm/material_points.h>
+#include <fmpm/support_cache.h>
+#include <fmpm/velocity_conditions.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <algorithm>
+#include <limits>
+#include <map>
+#include <numeric>
+
+namespace fmpm
+{
+  namespace Contact
+  {
+    template <int dim>
+    void
+    Manager<dim>::initialize()
+    {
+      const ::fmpm::Parameters &parameters  = this->get_parameters();
+      const Parameters         &contact     = parameters.contact;
+      const unsigned int        n_materials = parameters.size.n_materials;
+      const MassMatrix::Interface<dim> &mass_matrix = this->get_mass_matrix();
+
+      normal_method = create_normal_method<dim>(contact.normals_name);
+      // DF: d(x) of each material from the half-length of its points (the
+      // first body made of it; 2 points per cell if none).
+      NormalSetup setup;
+      setup.type = this->get_shape_function_type();
+      setup.points_per_cell.assign(n_materials, 2);
+      for (unsigned int a = 0; a < n_materials; ++a)
+        for (const auto &body : parameters.bodies)
+          if (body.material == a)
+            {
+              setup.points_per_cell[a] = body.points_per_cell;
+              break;
+            }
+      normal_method->set_up(contact, setup);
+      needs = normal_method->needs();
+
+      // The exact solve: CG settings of the single-material one.
+      const auto exact_solve = mass_matrix.exact_solve();
+      material_exact_solve   = exact_solve.has_value();
+      if (material_exact_solve)
+        {
+          material_solve_tolerance      = exact_solve->tolerance;
+          material_solve_max_iterations = exact_solve->max_iterations;
+          material_weak_threshold       = exact_solve->weak_node_threshold;
+          AssertThrow(n_materials <= 32,
+                      ExcMessage(
+                        "'Mass matrix/Model name = full' with contact "
+                        "supports up to 32 materials; this scene has " +
+                        std::to_string(n_materials) + "."));
+        }
+
+      increment_law = create_law<dim>(Law{"perfect", {}});
+      laws.clear();
+      laws.resize(n_materials * n_materials);
+      needs_interface = false;
+      for (unsigned int a = 0; a < n_materials; ++a)
+        for (unsigned int b = a + 1; b < n_materials; ++b)
+          {
+            laws[a * n_materials + b] = create_law<dim>(contact.law(a, b));
+            needs_interface =
+              needs_interface || laws[a * n_materials + b]->interface_state();
+          }
+      // (The contact area of interface laws is measured in the local cell
+      // size.)
+      needs.cell_size = needs.cell_size || needs_interface;
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::reinit()
+    {
+      const ::fmpm::Parameters         &parameters  = this->get_parameters();
+      const MassMatrix::Interface<dim> &mass_matrix = this->get_mass_matrix();
+      const DoFHandler<dim>            &dof_handler = this->get_dof_handler();
+      geometry_valid                                = false;
+
+      const auto partitioner = this->get_lumped_mass().get_partitioner();
+      auto       reinit      = [&](GridVectorField &field) {
+        field.reinit(dim);
+        for (unsigned int d = 0; d < dim; ++d)
+          field.block(d).reinit(partitioner);
+        field.collect_sizes();
+      };
+      reinit(contact_normal);
+      contact_separation.reinit(partitioner);
+      fields.clear();
+      fields.resize(parameters.size.n_materials);
+      for (auto &material : fields)
+        {
+          material.mass.reinit(partitioner);
+          reinit(material.momentum);
+          reinit(material.force);
+          reinit(material.updated_momentum);
+          reinit(material.delta_velocity);
+          if (mass_matrix.order() > 1)
+            {
+              reinit(material.series_product);
+              if (parameters.contact.net_incremental)
+                reinit(material.series_increment);
+            }
+          if (material_exact_solve)
+            {
+              reinit(material.series_residual);
+              reinit(material.series_direction);
+              reinit(material.series_free);
+              material.weak_coupling.reinit(partitioner);
+            }
+          if (needs.volume_gradients)
+            reinit(material.volume_gradient);
+          if (needs.positions)
+            reinit(material.position_moment);
+          if (needs_interface)
+            {
+              reinit(material.displacement_moment);
+              material.volume.reinit(partitioner);
+            }
+          for (auto &field : material.fields)
+            reinit(field);
+        }
+      if (material_exact_solve)
+        {
+          known_velocity_mask.resize(dim);
+          known_velocity_value.resize(dim);
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              known_velocity_mask[d].reinit(partitioner);
+              known_velocity_value[d].reinit(partitioner);
+            }
+        }
+
+      // The local cell size at a node: the smallest vertex distance of the
+      // cells around it (separations are measured in cells, also on adapted
+      // and unstructured meshes); DF also needs the node positions.
+      if (needs.cell_size)
+        {
+          node_cell_size.reinit(partitioner);
+          const double large = std::numeric_limits<double>::max();
+          for (auto &value : node_cell_size)
+            value = large;
+          node_cell_size.update_ghost_values();
+          if (needs.node_positions)
+            reinit(node_position);
+          std::vector<types::global_dof_index> dofs(
+            dof_handler.get_fe().n_dofs_per_cell());
+          for (const auto &cell : dof_handler.active_cell_iterators())
+            if (cell->is_locally_owned())
+              {
+                const double h = cell->minimum_vertex_distance();
+                cell->get_dof_indices(dofs);
+                for (unsigned int v = 0; v < dofs.size(); ++v)
+                  {
+                    const unsigned int i =
+                      partitioner->global_to_local(dofs[v]);
+                    double &value = node_cell_size.local_element(i);
+                    value         = std::min(value, h);
+                    if (needs.node_positions) // FE_Q(1): dof v at vertex v
+                      for (unsigned int d = 0; d < dim; ++d)
+                        node_position.block(d).local_element(i) =
+                          cell->vertex(v)[d];
+                  }
+              }
+          node_cell_size.compress(VectorOperation::min);
+          if (needs.node_positions)
+            for (unsigned int d = 0; d < dim; ++d)
+              node_position.block(d).compress(VectorOperation::insert);
+        }
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::correct_extrapolated_momenta(const double t,
+                                               const Stage  stage)
+    {
+      for (unsigned int a = 0; a < fields.size(); ++a)
+        impose_material_conditions(a, fields[a].momentum, t);
+      if (stage == Stage::re_extrapolated ||
+          this->get_parameters().contact.corrections_per_step == 2)
+        apply(stage);
+      else
+        for (auto &field : fields)
+          field.momentum.update_ghost_values();
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::update_momenta(const double dt, const double t_end)
+    {
+      for (unsigned int a = 0; a < fields.size(); ++a)
+        {
+          MaterialField<dim> &field = fields[a];
+          field.updated_momentum    = field.momentum;
+          field.updated_momentum.add(dt, field.force);
+          impose_material_conditions(a, field.updated_momentum, t_end);
+        }
+    }
+
+
+
+    template <int dim>
+    std::pair<double, double>
+    Manager<dim>::history_values()
+    {
+      const MPI_Comm comm = this->get_mpi_communicator();
+      friction_work += Utilities::MPI::sum(local_friction_work, comm);
+      local_friction_work = 0;
+      return {friction_work,
+              static_cast<double>(
+                Utilities::MPI::sum(local_contact_nodes, comm))};
+    }
+
+
+
+    template <int dim>
+    std::vector<std::pair<std::string, double>>
+    Manager<dim>::summary_entries() const
+    {
+      auto entries = normal_method->statistics(this->get_mpi_communicator());
+      if (material_solves > 0) // the same on every rank (CG is global)
+        {
+          entries.emplace_back("contact_cg_solves", material_solves);
+          entries.emplace_back("contact_cg_iterations_mean",
+                               static_cast<double>(material_solve_iterations) /
+                                 material_solves);
+          entries.emplace_back("contact_cg_failures", material_solve_failures);
+        }
+      return entries;
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::impose_material_conditions(const unsigned int alpha,
+                                             GridVectorField   &q,
+                                             const double       t) const
+    {
+      const double                   mass_floor = this->get_mass_floor();
+      const VelocityConditions<dim> &velocity_conditions =
+        this->get_velocity_conditions();
+      // The conditions act on every material field with that material's
+      // lumped masses (contact requires the lumped mass matrix).
+      const GridScalar                           &m = fields[alpha].mass;
+      typename VelocityConditions<dim>::Operators operators;
+      operators.lumped_mass = &m;
+      operators.mass_floor  = mass_floor;
+      operators.solve       = [&m, mass_floor](const GridVectorField &p,
+                                         GridVectorField       &v) {
+        MassMatrix::apply_lumped_inverse(m, p, v, mass_floor);
+      };
+      operators.forward = [&m](const GridVectorField &v, GridVectorField &p) {
+        for (unsigned int d = 0; d < dim; ++d)
+          for (unsigned int i = 0; i < m.locally_owned_size(); ++i)
+            p.block(d).local_element(i) =
+              m.local_element(i) * v.block(d).local_element(i);
+      };
+      operators.full_mass = operators.forward;
+      velocity_conditions.impose_on_momenta(q, t, operators, nullptr);
+    }
+
+
+
+    template class Manager<2>;
+    template class Manager<3>;
+  } // namespace Contact
+} // namespace fmpm
