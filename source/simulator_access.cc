@@ -94,21 +94,21 @@ namespace fmpm
   double
   SimulatorAccess<dim>::get_time() const
   {
-    return get_simulator().time;
+    return get_simulator().control.time();
   }
 
   template <int dim>
   double
   SimulatorAccess<dim>::get_timestep() const
   {
-    return get_simulator().time_step;
+    return get_simulator().control.time_step();
   }
 
   template <int dim>
   unsigned int
   SimulatorAccess<dim>::get_timestep_number() const
   {
-    return get_simulator().timestep_number;
+    return get_simulator().control.step_number();
   }
 
   template <int dim>

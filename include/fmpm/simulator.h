@@ -15,6 +15,7 @@
 #include <fmpm/particle_update/interface.h>
 #include <fmpm/postprocess/history.h>
 #include <fmpm/shape_function.h>
+#include <fmpm/simulation_control.h>
 #include <fmpm/simulator_access.h>
 #include <fmpm/support_cache.h>
 #include <fmpm/time_step_stability.h>
@@ -298,12 +299,6 @@ namespace fmpm
     compute_time_step() const;
     double
     compute_max_signal_speed() const;
-    /** Whether the output schedule writes at time t after step number
-     * step (Output/Interval, or every Output/Step interval steps). */
-    bool
-    output_due(const double t, const unsigned int step) const;
-    bool
-    is_output_step();
 
     /**
      * @brief Whether the grid VTU is written after the step of length dt
@@ -312,8 +307,72 @@ namespace fmpm
      */
     bool
     grid_output_follows_step(const double dt) const;
+    /** One time step (seed 000 §2.2): begin_step(), the stages of
+     * step_stages, finish_step() and check_step_failures(). */
     void
     do_time_step();
+    /** A stage of the time step: a name for the run's header and the
+     * member function that runs it. */
+    struct StepStage
+    {
+      const char *name;
+      void (Simulator::*run)();
+    };
+    /** The stages the scene's strain-update scheme runs, in order (chosen
+     * once, at set-up). */
+    std::vector<StepStage> step_stages;
+    void
+    choose_step_stages();
+    /** Mesh adaptation when due, Δt, the load curves at t + Δt/2, the
+     * supports S and G. */
+    void
+    begin_step();
+    /** m, p (and f unless the stresses come first), the conditions, the
+     * first contact correction. */
+    void
+    extrapolate();
+    /** USF/USAVG: stresses from v = m̃ₖ⁻¹p, then f. */
+    void
+    update_stresses_first();
+    /** p⁺ = p + (f + f^(BC))Δt, the second contact correction. */
+    void
+    update_grid_momenta();
+    /** The grid fields the particle update reads. */
+    void
+    solve_grid_fields();
+    /** The particle update and its dissipation. */
+    void
+    update_points();
+    /** USL+/USAVG+: p from the updated points, the conditions, the third
+     * contact correction. */
+    void
+    re_extrapolate();
+    /** USL/USAVG: stresses from v⁺ or the re-extrapolated v. */
+    void
+    update_stresses_last();
+    /** Reaction forces, external work, the walls, t += Δt. */
+    void
+    finish_step();
+    /** Failures any rank found in the step stop every rank; the signal
+     * speed of the next Δt. */
+    void
+    check_step_failures();
+    /** Whether the stresses read lumped velocities (Time/Strain update mass
+     * matrix = lumped). */
+    bool
+    lumped_strain_velocity() const
+    {
+      return parameters.method.strain_update_mass_matrix == "lumped";
+    }
+    /** Whether the velocity method's reactions are measured (they need v
+     * and v⁺ of the centre of mass). */
+    bool
+    velocity_method_reactions() const
+    {
+      return velocity_conditions.get_method() ==
+               VelocityConditions<dim>::Method::velocity &&
+             !velocity_conditions.labels().empty();
+    }
     /** The support cache: S and G (S̄, Ḡ) of every point for this step. */
     void
     compute_supports();
@@ -593,18 +652,14 @@ namespace fmpm
 
     History<dim> history;
 
-    double time = 0;
+    /** Time, step, Δt and the output and checkpoint schedules. */
+    SimulationControl control;
+
     /** The method's stability factor of the automatic time step (set-up,
      * from Time/Stability factor or stability_limit()). */
     StabilityLimit stability;
-    double         time_step        = 0;
-    unsigned int   timestep_number  = 0;
-    double         next_output_time = 0;
-    unsigned int   n_output         = 0;
-    /** The step of the newest output (the last step is always written). */
-    unsigned int last_output_step  = std::numeric_limits<unsigned int>::max();
-    double       mass_floor_value  = 0;
-    double       minimum_cell_size = 0;
+    double         mass_floor_value  = 0;
+    double         minimum_cell_size = 0;
     /** Largest wave speed + point speed over all points. Units: m/s. */
     double max_signal_speed = 0;
     /** First numerical failure this rank saw in the current step. */
@@ -650,8 +705,6 @@ namespace fmpm
     /** The newest complete checkpoint of this run (or the one it resumed
      * from); summary.json names it. */
     std::string latest_checkpoint;
-    /** MPI_Wtime() of the start or the last checkpoint. */
-    double last_checkpoint_wall = 0;
     /** A signal asked to checkpoint and stop; the run stopped so. */
     bool stop_requested    = false;
     bool stopped_on_signal = false;

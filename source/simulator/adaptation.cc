@@ -234,8 +234,8 @@ namespace fmpm
           format_number(stable, 6) +
           " s of the adapted mesh. Choose a smaller time step, a lower Mesh "
           "refinement/Maximum level, or Time/Courant number.",
-        timestep_number,
-        time);
+        control.step_number(),
+        control.time());
     return true;
   }
 
@@ -255,7 +255,7 @@ namespace fmpm
           break;
         // The points are created anew in the finer cells.
         points.initialize(particle_properties.n_properties(),
-                      MaterialPoints<dim>::plane_strain_zero_slots());
+                          MaterialPoints<dim>::plane_strain_zero_slots());
         triangulation.prepare_coarsening_and_refinement();
         triangulation.execute_coarsening_and_refinement();
         setup_after_mesh_change();

@@ -130,12 +130,11 @@ namespace fmpm
     // Everything run() changes besides the mesh, the points and the grid
     // fields. The values are the same on every rank (sums and maxima were
     // reduced), so rank 0's copy serves any number of ranks on resume.
-    archive &time &time_step &timestep_number &next_output_time &n_output
-      &mass_floor_value &max_signal_speed &initial_total_energy
-        &initial_energy_scale &external_work &external_work_scale &mesh_diameter
-          &max_condition_error &reaction_forces &total_lost_points
-            &dissipated_energy &particle_pvd_records &grid_pvd_records
-              &particle_steps &mesh_adaptations &cell_steps &max_cells;
+    archive &control &mass_floor_value &max_signal_speed &initial_total_energy
+      &initial_energy_scale &external_work &external_work_scale &mesh_diameter
+        &max_condition_error &reaction_forces &total_lost_points
+          &dissipated_energy &particle_pvd_records &grid_pvd_records
+            &particle_steps &mesh_adaptations &cell_steps &max_cells;
     if (contact)
       archive &*contact;
     for (double &sum : error_sums)
@@ -168,24 +167,20 @@ namespace fmpm
     static const char *test_signal_step =
       std::getenv("FMPM_TEST_SIGNAL_AT_STEP");
     if (test_signal_step != nullptr &&
-        timestep_number == std::strtoul(test_signal_step, nullptr, 10) &&
+        control.step_number() == std::strtoul(test_signal_step, nullptr, 10) &&
         Utilities::MPI::this_mpi_process(mpi_communicator) ==
           Utilities::MPI::n_mpi_processes(mpi_communicator) - 1)
       std::raise(SIGTERM);
 
-    const CheckpointParameters &checkpoint = parameters.checkpoint;
-    int request = checkpoint_signal_received != 0 ? 2 : 0;
-    if (checkpoint.wall_time_interval > 0 &&
-        MPI_Wtime() - last_checkpoint_wall >=
-          60 * checkpoint.wall_time_interval)
-      request = std::max(request, 1);
+    int request = checkpoint_signal_received != 0               ? 2 :
+                  control.checkpoint_wall_time_due(MPI_Wtime()) ? 1 :
+                                                                  0;
     // One reduction of a flag: every rank checkpoints (and stops) together.
     if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
       request = Utilities::MPI::max(request, mpi_communicator);
     if (request == 2)
       stop_requested = true;
-    return request > 0 || (checkpoint.step_interval > 0 &&
-                           timestep_number % checkpoint.step_interval == 0);
+    return request > 0 || control.checkpoint_step_due();
   }
 
 
@@ -200,7 +195,7 @@ namespace fmpm
       Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
     const fs::path directory =
       fs::path(parameters.output.directory) / "checkpoint";
-    const std::string name      = checkpoint_name(timestep_number);
+    const std::string name      = checkpoint_name(control.step_number());
     const fs::path    temporary = directory / (name + ".tmp");
     const fs::path    complete  = directory / name;
 
@@ -297,7 +292,7 @@ namespace fmpm
     static const char *test_stop_step =
       std::getenv("FMPM_TEST_STOP_DURING_CHECKPOINT");
     if (test_stop_step != nullptr &&
-        timestep_number == std::strtoul(test_stop_step, nullptr, 10))
+        control.step_number() == std::strtoul(test_stop_step, nullptr, 10))
       {
         MPI_Barrier(mpi_communicator);
         std::_Exit(3);
@@ -318,11 +313,12 @@ namespace fmpm
              ++i)
           fs::remove_all(checkpoints[i].second);
       }
-    last_checkpoint_wall = MPI_Wtime();
-    latest_checkpoint    = complete.string();
+    const double wall_end = MPI_Wtime();
+    control.checkpoint_written(wall_end);
+    latest_checkpoint = complete.string();
     pcout << "*** Checkpoint " << complete.string() << " ("
           << std::setprecision(3) << bytes / 1e6 << " MB, "
-          << last_checkpoint_wall - wall_begin << " s)" << std::endl;
+          << wall_end - wall_begin << " s)" << std::endl;
   }
 
 

@@ -38,6 +38,7 @@ namespace fmpm
     , mapping(1)
     , fe(1)
     , dof_handler(triangulation)
+    , control(parameters.time, parameters.output, parameters.checkpoint)
     , tout(std::cout,
            Utilities::MPI::this_mpi_process(mpi_communicator) == 0 &&
              parameters.test_mode)
@@ -67,6 +68,7 @@ namespace fmpm
     wall_start = MPI_Wtime();
     TimerOutput::Scope timer(computing_timer, "setup");
     shape_function = ShapeFunction::parse(parameters.method.shape_function);
+    choose_step_stages();
     make_grid();
     setup_plugins(prm);
     // Multimaterial contact: its laws and normal method (its fields follow
@@ -168,7 +170,8 @@ namespace fmpm
                     << static_cast<unsigned int>(
                          properties[PropertyIndex<dim>::body_id])
                     << " left the mesh at position ("
-                    << particle->get_location() << ") at time " << time;
+                    << particle->get_location() << ") at time "
+                    << control.time();
             lost_point_messages.push_back(message.str());
           }
       });
@@ -272,7 +275,7 @@ namespace fmpm
            minimum_cell_size / max_signal_speed;
     // Do not step past the end time (avoid a tiny last step by splitting the
     // rest evenly when it is less than two steps).
-    const double rest = parameters.time.end_time - time;
+    const double rest = parameters.time.end_time - control.time();
     if (rest < dt * (1 + 1e-12))
       dt = rest;
     else if (rest < 2 * dt)
@@ -307,6 +310,10 @@ namespace fmpm
           << "', strain update '" << parameters.method.strain_update << "'"
           << std::endl
           << "      output in " << parameters.output.directory << std::endl;
+    pcout << "      each step:";
+    for (unsigned int s = 0; s < step_stages.size(); ++s)
+      pcout << (s == 0 ? " " : ", ") << step_stages[s].name;
+    pcout << std::endl;
     if (parameters.time.time_step == 0)
       {
         pcout << "      time step: Courant number "
@@ -335,14 +342,15 @@ namespace fmpm
       std::cerr << "fmpm: warning: " << stability.warning << std::endl;
 
     install_signal_handlers();
-    last_checkpoint_wall = MPI_Wtime();
+    control.checkpoint_written(MPI_Wtime());
     if (resume_from_checkpoint)
       {
         // Also in test mode: tests check where a run resumed.
         pcout << "      resumed from " << resumed_checkpoint << " at step "
-              << timestep_number << ", t = " << time << std::endl;
+              << control.step_number() << ", t = " << control.time()
+              << std::endl;
         tout << "resumed from " << resumed_checkpoint << " at step "
-             << timestep_number << std::endl;
+             << control.step_number() << std::endl;
       }
 
     try
@@ -389,23 +397,21 @@ namespace fmpm
           }
         print_progress(statistics, true);
 
-        const double end = parameters.time.end_time;
-        while (time < end * (1 - 1e-12) &&
-               timestep_number < parameters.time.max_steps)
+        while (!control.finished())
           {
             do_time_step();
 
-            const bool output_now = is_output_step();
+            const bool output_now = control.output_due_now();
             const bool progress_now =
               Utilities::MPI::broadcast(mpi_communicator,
                                         MPI_Wtime() - last_progress_wall >
                                           parameters.output.progress_seconds,
                                         0);
-            if (output_now || progress_now || time >= end * (1 - 1e-12))
+            if (output_now || progress_now || control.reached_end_time())
               {
                 statistics = compute_statistics();
                 check_energy(statistics);
-                if (output_now || time >= end * (1 - 1e-12))
+                if (output_now || control.reached_end_time())
                   output_results(statistics);
                 if (progress_now)
                   print_progress(statistics, false);
@@ -418,7 +424,7 @@ namespace fmpm
                     // SIGTERM kill the ranks a second after they arrive.
                     stopped_on_signal = true;
                     pcout << "*** Stopped by a signal at step "
-                          << timestep_number << ", t = " << time
+                          << control.step_number() << ", t = " << control.time()
                           << "; writing a checkpoint" << std::endl;
                     statistics = compute_statistics();
                     write_summary("stopped: signal", nullptr, statistics);
@@ -430,16 +436,17 @@ namespace fmpm
           }
         statistics = compute_statistics();
         // The last step a run takes is always written.
-        if (last_output_step != timestep_number)
+        if (!control.output_written_now())
           output_results(statistics);
         print_progress(statistics, true);
-        const bool reached_end = time >= end * (1 - 1e-12);
+        const bool reached_end = control.reached_end_time();
         if (!stopped_on_signal && !reached_end)
           pcout << "*** Stopped by Time/Maximum number of steps = "
-                << parameters.time.max_steps << " at t = " << time
-                << " (End time " << end << ")" << std::endl;
+                << parameters.time.max_steps << " at t = " << control.time()
+                << " (End time " << parameters.time.end_time << ")"
+                << std::endl;
         if (stopped_on_signal)
-          pcout << "*** Stopped by a signal at step " << timestep_number
+          pcout << "*** Stopped by a signal at step " << control.step_number()
                 << " after writing a checkpoint; continue with fmpm --resume"
                 << std::endl;
         print_test_particles();
@@ -484,304 +491,11 @@ namespace fmpm
 
   template <int dim>
   bool
-  Simulator<dim>::output_due(const double t, const unsigned int step) const
-  {
-    const OutputParameters &output = parameters.output;
-    if (output.interval > 0)
-      return t >= next_output_time * (1 - 1e-12);
-    const unsigned int every = std::max(1u, output.step_interval);
-    return step % every == 0;
-  }
-
-
-
-  template <int dim>
-  bool
-  Simulator<dim>::is_output_step()
-  {
-    return output_due(time, timestep_number);
-  }
-
-
-
-  template <int dim>
-  bool
   Simulator<dim>::grid_output_follows_step(const double dt) const
   {
     // The run writes after the step when the schedule says so and after
     // its last step.
-    return parameters.output.write_vtu &&
-           (output_due(time + dt, timestep_number + 1) ||
-            time + dt >= parameters.time.end_time * (1 - 1e-12) ||
-            timestep_number + 1 >= parameters.time.max_steps);
-  }
-
-
-
-  template <int dim>
-  void
-  Simulator<dim>::do_time_step()
-  {
-    using namespace ParticleUpdate;
-    const StrainUpdateScheme &scheme = parameters.method.strain_update_scheme;
-    const bool                update_first   = scheme.update_first;
-    const bool                update_last    = scheme.update_last;
-    const bool                re_extrapolate = scheme.re_extrapolate;
-    const bool                average        = scheme.average;
-    const bool                lumped_strain_velocity =
-      (parameters.method.strain_update_mass_matrix == "lumped");
-    // Adapt the mesh every 'Mesh refinement/Interval' steps (before the
-    // time step, which depends on the smallest cell).
-    if (parameters.refinement.strategy != "none" &&
-        parameters.refinement.interval > 0 && timestep_number > 0 &&
-        timestep_number % parameters.refinement.interval == 0)
-      adapt_mesh();
-    time_step       = compute_time_step();
-    const double dt = time_step;
-    series_step     = mass_matrix->begin_step(timestep_number, time, dt);
-    // b(x, t) at the middle of the step: second order in time (first order
-    // at t^n, measured on the manufactured solution).
-    if (body_acceleration)
-      body_acceleration->set_time(time + 0.5 * dt);
-    if (angular_velocity)
-      angular_velocity->set_time(time + 0.5 * dt);
-    for (auto &traction : traction_functions)
-      traction->set_time(time + 0.5 * dt);
-    field_computed.fill(false);
-    if (velocity_conditions.has_moving_boxes())
-      {
-        velocity_conditions.set_time(time);
-        velocity_conditions.setup_nodes(dof_handler,
-                                        *lumped_mass.get_partitioner());
-      }
-    for (auto &impulse : step_impulse)
-      impulse = Tensor<1, dim>();
-    compute_supports();
-
-    // 1. Extrapolate mass and momentum (and, when the stresses are not
-    //    updated first, the forces from the last stresses):
-    //    m = SᵀM, p = SᵀMV, f (Eqs. 2.14-2.15). Velocity conditions on p
-    //    (seed 000 §2.1.1).
-    particles_to_grid(!update_first);
-    momentum_time = time;
-    impose_velocity_conditions(momentum, time, nullptr);
-    // Contact: conditions on every material field, then the first
-    // correction p^α = p^α0 + Δp^α (seed 004 Eq. 26, §3.2).
-    if (contact)
-      contact->correct_extrapolated_momenta(time, Contact::Stage::extrapolated);
-
-    // 2. USF / USAVG: update stresses with v = m̃ₖ⁻¹p (Δt/2 for USAVG),
-    //    then extrapolate the forces.
-    if (update_first)
-      {
-        const GridField v = lumped_strain_velocity ? lumped_velocity : velocity;
-        // Solves v itself; f in the same sweep.
-        update_stresses(v, average ? dt / 2 : dt, true);
-      }
-
-    // 3.-4. p⁺ = p + (f + f^(BC))Δt (Eqs. 2.16, 2.42): the conditions'
-    //    forces f^(BC) make p⁺ satisfy them at t + Δt (§2.1.3), and f
-    //    includes them. The velocity method corrects the velocities
-    //    instead (re-imposition after the momentum update, §2.1.4).
-    {
-      TimerOutput::Scope timer(computing_timer, "grid solve");
-      updated_momentum = momentum;
-      updated_momentum.add(dt, force);
-      impose_velocity_conditions(updated_momentum, time + dt, &step_impulse);
-      force = updated_momentum;
-      force.add(-1., momentum);
-      force *= 1. / dt;
-      const bool velocity_method_reactions =
-        velocity_conditions.get_method() ==
-          VelocityConditions<dim>::Method::velocity &&
-        !velocity_conditions.labels().empty();
-      // Contact: p^α0+ = p^α + f^α0Δt (Eq. 30), the conditions, then the
-      // second correction p^α+ = p^α0+ + Δp^α+ (Eq. 31).
-      if (contact)
-        contact->update_momenta(dt, time + dt);
-      timer.stop(); // compute_field() and the corrections time themselves
-      if (contact)
-        contact->apply(Contact::Stage::updated);
-      // With contact the points read their material's fields; the centre-
-      // of-mass series (m̃ₖ⁻¹ of the total momenta) is then needed only
-      // for the grid output that follows this step and the velocity
-      // method's reactions.
-      const bool centre_of_mass_series =
-        !contact_active() || grid_output_follows_step(dt);
-      const auto &needed = active_fields();
-      for (unsigned int f = 0; f < n_grid_fields; ++f)
-        if ((needed[f] &&
-             (centre_of_mass_series || f == lumped_velocity ||
-              f == lumped_updated_velocity || f == lumped_acceleration)) ||
-            (velocity_method_reactions &&
-             (f == updated_velocity || f == velocity)))
-          compute_field(static_cast<GridField>(f));
-      if (contact)
-        for (unsigned int f = 0; f < n_grid_fields; ++f)
-          if (needed[f])
-            contact->compute_field(static_cast<GridField>(f));
-      // Seed 000 Eq. 4.1: f holds the conditions' forces, and the solve
-      // sets the known accelerations of the corrected nodes (Δv⁺/Δt).
-      if (parameters.output.write_grid_acceleration &&
-          grid_output_follows_step(dt))
-        compute_field(acceleration);
-      // How well v⁺ satisfies the conditions (summary.json).
-      if (field_computed[updated_velocity])
-        {
-          const auto &v = grid_fields[updated_velocity];
-          for (const auto &c : velocity_conditions.node_conditions())
-            if (lumped_mass.local_element(c.local_index) > mass_floor_value)
-              {
-                double v_n = 0;
-                for (unsigned int d = 0; d < dim; ++d)
-                  v_n += v.block(d).local_element(c.local_index) * c.normal[d];
-                max_condition_error =
-                  std::max(max_condition_error,
-                           std::abs(v_n -
-                                    velocity_conditions.value(c, time + dt)));
-              }
-        }
-      // Velocity method: f^(b) = m̃ a^(b) with a^(b)Δt = Δv⁺ − Δv, whose
-      // sum over nodes is Σ m_j a_j^(b) (columns of m̃ sum to m).
-      if (velocity_method_reactions)
-        for (unsigned int c = 0; c < velocity_corrections[1].size(); ++c)
-          {
-            const auto &condition = velocity_conditions.node_conditions()[c];
-            step_impulse[condition.source] +=
-              lumped_mass.local_element(condition.local_index) *
-              (velocity_corrections[1][c] - velocity_corrections[0][c]) *
-              condition.normal;
-          }
-    }
-
-    // 5. Particle update (Table 2.1).
-    update_particles();
-    if (parameters.output.track_dissipation)
-      {
-        dissipated_energy +=
-          Utilities::MPI::sum(local_dissipation, mpi_communicator);
-        local_dissipation = 0;
-      }
-
-    // 6. USL- / USAVG-: stresses from v⁺; USL+ / USAVG+: from momenta
-    //    re-extrapolated from the updated points (Eq. 2.17-2.18).
-    if (update_last)
-      {
-        const double dt_last = average ? dt / 2 : dt;
-        if (re_extrapolate)
-          {
-            particles_to_grid(false, /*momenta_only=*/true);
-            momentum_time = time + dt;
-            impose_velocity_conditions(momentum, time + dt, nullptr);
-            field_computed[velocity] = field_computed[lumped_velocity] = false;
-            // Contact: a third correction of the re-extrapolated momenta.
-            if (contact)
-              contact->correct_extrapolated_momenta(
-                time + dt, Contact::Stage::re_extrapolated);
-            const GridField v =
-              lumped_strain_velocity ? lumped_velocity : velocity;
-            update_stresses(v, dt_last); // solves v itself
-          }
-        else
-          {
-            const GridField v = lumped_strain_velocity ?
-                                  lumped_updated_velocity :
-                                  updated_velocity;
-            update_stresses(v, dt_last); // solves v itself
-          }
-      }
-
-    sort_particles_into_cells();
-
-    // Reaction forces: the impulse each boundary gave in this step over Δt.
-    if (!step_impulse.empty())
-      {
-        std::vector<double> values;
-        for (const auto &impulse : step_impulse)
-          for (unsigned int d = 0; d < dim; ++d)
-            values.push_back(impulse[d] / dt);
-        Utilities::MPI::sum(values, mpi_communicator, values);
-        for (unsigned int s = 0; s < reaction_forces.size(); ++s)
-          for (unsigned int d = 0; d < dim; ++d)
-            reaction_forces[s][d] = values[s * dim + d];
-      }
-    // External work: moving walls (reaction · n̂ v(t + Δt/2) Δt) and
-    // tractions (Σ F_p · V_p Δt).
-    if (!traction_functions.empty() || !reaction_forces.empty())
-      {
-        std::vector<double> traction = {local_traction_power,
-                                        local_traction_magnitude};
-        Utilities::MPI::sum(traction, mpi_communicator, traction);
-        const double work =
-          velocity_conditions.wall_work(reaction_forces, time, dt) +
-          traction[0] * dt;
-        local_traction_power = local_traction_magnitude = 0;
-        external_work += work;
-        // The work the tractions can do across the mesh bounds the growth.
-        external_work_scale = std::max(external_work_scale + std::abs(work),
-                                       traction[1] * mesh_diameter);
-      }
-    velocity_conditions.advance_walls(time, dt);
-
-    time += dt;
-    ++timestep_number;
-    particle_steps += n_global_material_points;
-    if (parameters.refinement.strategy != "none")
-      {
-        const unsigned long long n_cells =
-          triangulation.n_global_active_cells();
-        cell_steps += n_cells;
-        max_cells = std::max(max_cells, n_cells);
-      }
-
-    // Failures found by any rank in this step stop every rank.
-    {
-      TimerOutput::Scope timer(computing_timer, "failure checks");
-      // The largest wave speed and the largest point speed are reduced
-      // separately, as one rank finds them: the maximum over ranks of their
-      // per-rank sums is smaller when they lie on different ranks, and the
-      // time step would then depend on the partition.
-      const double flags[4] = {local_failure.empty() ? 0. : 1.,
-                               static_cast<double>(n_lost_points),
-                               local_max_wave_speed,
-                               local_max_point_speed};
-      double global_flags[4];
-      Utilities::MPI::max(make_array_view(flags),
-                          mpi_communicator,
-                          make_array_view(global_flags));
-      max_signal_speed = global_flags[2] + global_flags[3];
-      if (global_flags[0] > 0)
-        {
-          const auto messages =
-            Utilities::MPI::all_gather(mpi_communicator, local_failure);
-          for (const auto &message : messages)
-            if (!message.empty())
-              throw SimulationFailure(message, timestep_number, time);
-        }
-      if (global_flags[1] > 0)
-        {
-          const unsigned long long n_lost =
-            Utilities::MPI::sum(n_lost_points, mpi_communicator);
-          const auto messages =
-            Utilities::MPI::all_gather(mpi_communicator, lost_point_messages);
-          std::string first;
-          for (const auto &rank_messages : messages)
-            if (!rank_messages.empty() && first.empty())
-              first = rank_messages.front();
-          if (parameters.failure.lost_points == "stop")
-            throw SimulationFailure(first + " (" + std::to_string(n_lost) +
-                                      " point(s) left the mesh; set Failure "
-                                      "detection/Points leaving the mesh = "
-                                      "delete to remove them instead)",
-                                    timestep_number,
-                                    time);
-          pcout << "    " << n_lost << " material point(s) left the mesh and "
-                << "were deleted; first: " << first << std::endl;
-          total_lost_points += n_lost;
-          n_lost_points = 0;
-          lost_point_messages.clear();
-        }
-    }
+    return parameters.output.write_vtu && control.output_follows_step(dt);
   }
 
 
@@ -796,7 +510,8 @@ namespace fmpm
     TimerOutput::Scope timer(computing_timer, "grid solve");
     GridVectorField   &target = grid_fields[field];
     // The time of the field's velocities (acceleration: over the step).
-    const double t_begin = momentum_time, t_end = time + time_step;
+    const double t_begin = momentum_time,
+                 t_end   = control.time() + control.time_step();
     const double t_field =
       (field == updated_velocity || field == lumped_updated_velocity) ? t_end :
                                                                         t_begin;
@@ -816,7 +531,7 @@ namespace fmpm
             for (unsigned int d = 0; d < dim; ++d)
               {
                 known_velocity_value[d].sadd(-1., 1., value_end[d]);
-                known_velocity_value[d] *= 1. / time_step;
+                known_velocity_value[d] *= 1. / control.time_step();
               }
           }
       }
@@ -827,8 +542,11 @@ namespace fmpm
           mass_matrix->solve_from_guess(updated_momentum, target, 0);
           break;
         case acceleration: // m̃ₖ⁻¹ f, as accurate in a Δt as v in p
-          mass_matrix->solve_from_guess(
-            force, target, momentum.l2_norm() / time_step + force.l2_norm());
+          mass_matrix->solve_from_guess(force,
+                                        target,
+                                        momentum.l2_norm() /
+                                            control.time_step() +
+                                          force.l2_norm());
           break;
         case velocity: // v = m̃ₖ⁻¹ p
           mass_matrix->solve_from_guess(momentum, target, 0);
@@ -956,8 +674,8 @@ namespace fmpm
           to_function_expressions(parameters.reference.displacement),
           constants,
           true);
-        reference_velocity->set_time(time);
-        reference_displacement->set_time(time);
+        reference_velocity->set_time(control.time());
+        reference_displacement->set_time(control.time());
       }
 
     // In the store's order: cell by cell in the order of the cells' ids
@@ -1062,7 +780,8 @@ namespace fmpm
     // strain energy scale. A moving wall that starts to drive material at
     // rest gives it of order ½ M v_w² in the first steps, when its work so
     // far is still small: that is a scale too.
-    const double wall_speed = velocity_conditions.fastest_wall_speed(time);
+    const double wall_speed =
+      velocity_conditions.fastest_wall_speed(control.time());
     const double scale =
       std::max({std::abs(initial_total_energy),
                 initial_energy_scale,
@@ -1070,8 +789,8 @@ namespace fmpm
                 0.5 * statistics.mass * wall_speed * wall_speed});
     if (!std::isfinite(E))
       throw SimulationFailure("total energy is not finite (NaN or Inf)",
-                              timestep_number,
-                              time);
+                              control.step_number(),
+                              control.time());
     if (E - initial_total_energy - external_work >
         (parameters.failure.energy_growth_limit - 1) * scale)
       {
@@ -1081,7 +800,9 @@ namespace fmpm
                 << " J), past Failure detection/Energy growth limit = "
                 << parameters.failure.energy_growth_limit << "; "
                 << fastest_point();
-        throw SimulationFailure(message.str(), timestep_number, time);
+        throw SimulationFailure(message.str(),
+                                control.step_number(),
+                                control.time());
       }
     const double kinetic_limit = parameters.failure.kinetic_energy_limit;
     if (kinetic_limit > 0 && statistics.kinetic_energy > kinetic_limit)
@@ -1091,8 +812,8 @@ namespace fmpm
           format_number(kinetic_limit) + " J (total energy " +
           format_number(E, 6) + " J, external work " +
           format_number(external_work, 6) + " J); " + fastest_point(),
-        timestep_number,
-        time);
+        control.step_number(),
+        control.time());
   }
 
 

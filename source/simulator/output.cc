@@ -342,11 +342,10 @@ namespace fmpm
     error_sums[2] += statistics.displacement_error_squared;
     error_sums[3] += statistics.displacement_reference_squared;
 
-    last_output_step = timestep_number;
     HistoryRow<dim> row;
-    row.step              = timestep_number;
-    row.time              = time;
-    row.dt                = time_step;
+    row.step              = control.step_number();
+    row.time              = control.time();
+    row.dt                = control.time_step();
     row.kinetic_energy    = statistics.kinetic_energy;
     row.strain_energy     = statistics.strain_energy;
     row.potential_energy  = statistics.potential_energy;
@@ -394,22 +393,20 @@ namespace fmpm
     if (parameters.test_mode)
       {
         tout << std::scientific << std::setprecision(8) << "step "
-             << timestep_number << " t " << time << " mass " << statistics.mass
-             << " momentum " << statistics.momentum << " kinetic "
-             << statistics.kinetic_energy << " strain "
+             << control.step_number() << " t " << control.time() << " mass "
+             << statistics.mass << " momentum " << statistics.momentum
+             << " kinetic " << statistics.kinetic_energy << " strain "
              << statistics.strain_energy << std::endl;
       }
 
-    if (output.interval > 0)
-      while (next_output_time <= time * (1 + 1e-12))
-        next_output_time += output.interval;
+    control.output_written();
 
     if (output.write_particle_csv)
       write_particle_csv();
 
     if (!output.write_vtu)
       {
-        ++n_output;
+        control.count_output();
         return;
       }
 
@@ -424,12 +421,14 @@ namespace fmpm
     const auto pieces = [&](const std::string &name) {
       std::vector<std::string> result;
       for (unsigned int r = 0; r < n_ranks; ++r)
-        result.push_back(name + "_" + Utilities::int_to_string(n_output, 5) +
+        result.push_back(name + "_" +
+                         Utilities::int_to_string(control.output_number(), 5) +
                          "." + std::to_string(r) + ".vtu");
       return result;
     };
     const auto record = [&](const std::string &name) {
-      return name + "_" + Utilities::int_to_string(n_output, 5) + ".pvtu";
+      return name + "_" + Utilities::int_to_string(control.output_number(), 5) +
+             ".pvtu";
     };
 
     auto points = std::make_shared<PointOutput<dim>>();
@@ -458,8 +457,8 @@ namespace fmpm
         }
       grid->build_patches(dof_handler, triangulation.locally_owned_subdomain());
     }
-    particle_pvd_records.emplace_back(time, record("particles"));
-    grid_pvd_records.emplace_back(time, record("grid"));
+    particle_pvd_records.emplace_back(control.time(), record("particles"));
+    grid_pvd_records.emplace_back(control.time(), record("grid"));
     if (rank == 0)
       {
         std::ofstream particles_pvtu(directory + record("particles"));
@@ -485,7 +484,7 @@ namespace fmpm
                     ExcMessage("Cannot write the VTU files <" + point_file +
                                "> and <" + grid_file + ">."));
       });
-    ++n_output;
+    control.count_output();
   }
 
 
@@ -497,11 +496,11 @@ namespace fmpm
   {
     const double wall     = MPI_Wtime() - wall_start;
     last_progress_wall    = MPI_Wtime();
-    const double fraction = time / parameters.time.end_time;
+    const double fraction = control.time() / parameters.time.end_time;
     const double eta = fraction > 0 ? wall * (1 - fraction) / fraction : 0.0;
     pcout << std::defaultfloat << std::setprecision(5) << "*** Step "
-          << std::setw(6) << timestep_number << "  t = " << std::setw(11)
-          << time << "  dt = " << std::setw(11) << time_step
+          << std::setw(6) << control.step_number() << "  t = " << std::setw(11)
+          << control.time() << "  dt = " << std::setw(11) << control.time_step()
           << "  E = " << std::setw(11) << statistics.total_energy()
           << " (kinetic " << statistics.kinetic_energy << ", strain "
           << statistics.strain_energy << ")  " << std::setprecision(3)
@@ -602,7 +601,7 @@ namespace fmpm
     const char        *axes = "xyz";
     std::ostringstream name;
     name << parameters.output.directory << "/particles_" << std::setw(5)
-         << std::setfill('0') << n_output << ".csv";
+         << std::setfill('0') << control.output_number() << ".csv";
     std::ofstream out(name.str());
     AssertThrow(out, ExcMessage("Cannot write <" + name.str() + ">."));
     out << "id,body,material";
@@ -698,8 +697,8 @@ namespace fmpm
           static_cast<double>(triangulation.n_global_coarse_cells()) *
           std::pow(2.0, dim * parameters.refinement.maximum_level);
         const double mean_cells =
-          timestep_number > 0 ?
-            static_cast<double>(cell_steps) / timestep_number :
+          control.step_number() > 0 ?
+            static_cast<double>(cell_steps) / control.step_number() :
             static_cast<double>(triangulation.n_global_active_cells());
         out << "  \"mesh_adaptations\": " << mesh_adaptations << ",\n";
         out << "  \"mean_cells\": " << number(mean_cells) << ",\n";
@@ -722,8 +721,8 @@ namespace fmpm
     out << "  \"peak_resident_bytes\": " << number(peak_resident_bytes)
         << ",\n";
     out << "  \"resident_bytes\": " << number(resident_bytes) << ",\n";
-    out << "  \"n_steps\": " << timestep_number << ",\n";
-    out << "  \"end_time\": " << number(time) << ",\n";
+    out << "  \"n_steps\": " << control.step_number() << ",\n";
+    out << "  \"end_time\": " << number(control.time()) << ",\n";
     out << "  \"wall_seconds\": " << number(wall) << ",\n";
     out << "  \"particle_steps_per_second\": "
         << number(wall > 0 ? particle_steps / wall : 0.) << ",\n";

@@ -953,7 +953,7 @@ namespace fmpm
     // Periodic FMPM(k): FLIP in the lumped steps between the series.
     ParticleUpdate::Interface<dim> &update = active_update();
     ParticleUpdate::Batch<dim>      batch;
-    batch.time_step = time_step;
+    batch.time_step = control.time_step();
     points_that_left_their_cell.clear();
     const bool   track_dissipation = parameters.output.track_dissipation;
     const double grid_damping      = parameters.method.grid_damping;
@@ -1030,8 +1030,9 @@ namespace fmpm
                   grid_damping * batch.grid[ParticleUpdate::velocity][q];
               if (particle_damping != 0)
                 A_damp += particle_damping * (*V_n)[q];
-              batch.velocity[q] -= A_damp * time_step;
-              batch.position[q] -= A_damp * (0.5 * time_step * time_step);
+              batch.velocity[q] -= A_damp * control.time_step();
+              batch.position[q] -=
+                A_damp * (0.5 * control.time_step() * control.time_step());
             }
 
         // Energy dissipated compared with non-dissipative FLIP (seed 003
@@ -1041,12 +1042,13 @@ namespace fmpm
             {
               const double         M = mass_column[first_point + q];
               const Tensor<1, dim> a_dt =
-                batch.grid[ParticleUpdate::acceleration][q] * time_step;
+                batch.grid[ParticleUpdate::acceleration][q] *
+                control.time_step();
               const Tensor<1, dim> &v_g =
                 batch.grid[ParticleUpdate::velocity][q];
               const Tensor<1, dim> dV = batch.velocity[q] - old_velocity[q];
               const Tensor<1, dim> dX_dt =
-                (batch.position[q] - old_position[q]) / time_step;
+                (batch.position[q] - old_position[q]) / control.time_step();
               local_dissipation += M * (a_dt * (v_g + 0.5 * a_dt) - dV * dX_dt);
             }
 
