@@ -109,6 +109,7 @@ namespace fmpm
           if (mass_matrix.order() > 1)
             {
               reinit(material.series_product);
+              reinit(material.series_rhs);
               if (parameters.contact.net_incremental)
                 reinit(material.series_increment);
             }

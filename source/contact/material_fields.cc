@@ -6,6 +6,7 @@
 // its exact limit.
 
 #include <fmpm/contact/manager.h>
+#include <fmpm/mass_matrix/fmpm.h>
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/material_points.h>
 #include <fmpm/support_cache.h>
@@ -129,99 +130,101 @@ namespace fmpm
       const unsigned int k = mass_matrix.order();
       if ((field != velocity && field != updated_velocity) || k < 2)
         return;
-      const bool                     updated = field == updated_velocity;
-      const double                   t_field = updated ? t_end : t_begin;
-      std::vector<GridVectorField *> z, product;
-      for (auto &material : fields)
-        {
-          z.push_back(&material.fields[field]);
-          product.push_back(&material.series_product);
-        }
+      const bool         updated         = field == updated_velocity;
+      const double       t_field         = updated ? t_end : t_begin;
       const unsigned int n_owned         = lumped_mass.locally_owned_size();
       const double       floor           = mass_floor;
       const bool         net_incremental = parameters.contact.net_incremental;
-      for (unsigned int j = 1; j < k; ++j)
+      // q^α = p^α − m^α Δv^α (resp. p^α+ − m^α Δv^α) of every material.
+      std::vector<MassMatrix::SeriesField> series;
+      std::vector<GridVectorField *>       products;
+      for (auto &material : fields)
         {
-          apply_material_full_mass(z, product);
-          for (auto &material : fields)
+          const GridVectorField &p =
+            updated ? material.updated_momentum : material.momentum;
+          for (unsigned int d = 0; d < dim; ++d)
             {
-              GridVectorField       &target = material.fields[field];
-              const GridVectorField &p =
-                updated ? material.updated_momentum : material.momentum;
-              // Net incremental contact: keep z_j, then the increment after
-              // the velocity conditions becomes the momenta m^α δz^α that
-              // the contact laws correct (below).
-              if (net_incremental)
-                material.series_increment = target;
+              double *const       q  = material.series_rhs.block(d).begin();
+              const double *const pd = p.block(d).begin();
+              const double *const dv = material.delta_velocity.block(d).begin();
+              const double *const m  = material.mass.begin();
+              for (unsigned int i = 0; i < n_owned; ++i)
+                q[i] = pd[i] - m[i] * dv[i];
+            }
+          series.push_back(MassMatrix::SeriesField{&material.mass,
+                                                   &material.series_rhs,
+                                                   &material.fields[field]});
+          products.push_back(&material.series_product);
+        }
+      MassMatrix::SeriesHooks hooks;
+      // Net incremental contact: keep z_j; the increment after the velocity
+      // conditions becomes the momenta m^α δz^α the contact laws correct:
+      // z_{j+1} = z_j + (m^α)⁻¹(m^α δz^α + Δ^α) (Nairn 2026).
+      if (net_incremental)
+        hooks.before_update = [&](const unsigned int) {
+          for (auto &material : fields)
+            material.series_increment = material.fields[field];
+        };
+      hooks.after_update = [&](const unsigned int) {
+        for (auto &material : fields)
+          {
+            GridVectorField &target = material.fields[field];
+            velocity_conditions.correct_velocities(target, t_field, nullptr);
+            if (net_incremental)
               for (unsigned int d = 0; d < dim; ++d)
                 {
-                  double *const       zd = target.block(d).begin();
-                  const double *const pd = p.block(d).begin();
-                  const double *const qd =
-                    material.series_product.block(d).begin();
-                  const double *const dv =
-                    material.delta_velocity.block(d).begin();
+                  double *const dp = material.series_increment.block(d).begin();
+                  double *const zd = target.block(d).begin();
                   const double *const m = material.mass.begin();
                   for (unsigned int i = 0; i < n_owned; ++i)
-                    if (m[i] > floor)
-                      zd[i] += (pd[i] - m[i] * dv[i] - qd[i]) / m[i];
+                    {
+                      dp[i] = m[i] * (zd[i] - dp[i]); // m^α (z_{j+1} − z_j)
+                      if (m[i] > floor)
+                        zd[i] -= dp[i] / m[i]; // back to z_j
+                    }
                 }
-              velocity_conditions.correct_velocities(target, t_field, nullptr);
-              if (net_incremental)
-                for (unsigned int d = 0; d < dim; ++d)
-                  {
-                    double *const dp =
-                      material.series_increment.block(d).begin();
-                    const double *const zd = target.block(d).begin();
-                    const double *const m  = material.mass.begin();
-                    for (unsigned int i = 0; i < n_owned;
-                         ++i) // m^α (z_{j+1} − z_j)
-                      dp[i] = m[i] * (zd[i] - dp[i]);
-                  }
-            }
-          if (net_incremental)
-            {
-              // The contact laws on the increments (Nairn 2026's net
-              // incremental contact): z_{j+1} = z_j + (m^α)⁻¹(m^α δz^α + Δ^α).
-              for (auto &material : fields)
+          }
+        if (net_incremental)
+          {
+            apply(Stage::increment);
+            for (auto &material : fields)
+              {
+                GridVectorField &target = material.fields[field];
                 for (unsigned int d = 0; d < dim; ++d)
                   {
                     const double *const dp =
                       material.series_increment.block(d).begin();
-                    double *const zd = material.fields[field].block(d).begin();
-                    const double *const m = material.mass.begin();
+                    double *const       zd = target.block(d).begin();
+                    const double *const m  = material.mass.begin();
                     for (unsigned int i = 0; i < n_owned; ++i)
                       if (m[i] > floor)
-                        zd[i] -= dp[i] / m[i]; // back to z_j
+                        zd[i] += dp[i] / m[i];
                   }
-              apply(Stage::increment);
-              for (auto &material : fields)
-                {
-                  GridVectorField &target = material.fields[field];
-                  for (unsigned int d = 0; d < dim; ++d)
-                    {
-                      const double *const dp =
-                        material.series_increment.block(d).begin();
-                      double *const       zd = target.block(d).begin();
-                      const double *const m  = material.mass.begin();
-                      for (unsigned int i = 0; i < n_owned; ++i)
-                        if (m[i] > floor)
-                          zd[i] += dp[i] / m[i];
-                    }
-                  velocity_conditions.correct_velocities(target,
-                                                         t_field,
-                                                         nullptr);
-                }
-            }
-          for (auto &material : fields)
-            {
-              GridVectorField &target = material.fields[field];
-              if (has_hanging_nodes)
-                for (unsigned int d = 0; d < dim; ++d)
-                  constraints.distribute(target.block(d));
-              target.update_ghost_values();
-            }
-        }
+                velocity_conditions.correct_velocities(target,
+                                                       t_field,
+                                                       nullptr);
+              }
+          }
+        for (auto &material : fields)
+          {
+            GridVectorField &target = material.fields[field];
+            if (has_hanging_nodes)
+              for (unsigned int d = 0; d < dim; ++d)
+                constraints.distribute(target.block(d));
+            target.update_ghost_values();
+          }
+      };
+      MassMatrix::fmpm_series(
+        [this](const std::vector<GridVectorField *> &in,
+               const std::vector<GridVectorField *> &out) {
+          apply_material_full_mass(in, out);
+        },
+        series,
+        products,
+        k,
+        floor,
+        0,
+        hooks);
     }
 
 

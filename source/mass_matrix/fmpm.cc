@@ -11,6 +11,66 @@ namespace fmpm
 {
   namespace MassMatrix
   {
+    unsigned int
+    fmpm_series(const FullMassProduct                &product,
+                const std::vector<SeriesField>       &fields,
+                const std::vector<GridVectorField *> &products,
+                const unsigned int                    k,
+                const double                          mass_floor,
+                const double                          tolerance,
+                const SeriesHooks                    &hooks)
+    {
+      std::vector<GridVectorField *> z;
+      for (const SeriesField &field : fields)
+        z.push_back(field.velocity);
+      // ‖z₁‖² for the adaptive order's test.
+      double z1_squared = 0;
+      if (tolerance > 0)
+        for (const GridVectorField *z_f : z)
+          z1_squared += z_f->norm_sqr();
+      for (unsigned int j = 1; j < k; ++j)
+        {
+          product(z, products);
+          if (hooks.before_update)
+            hooks.before_update(j);
+          // z_{j+1} = z_j + m⁻¹ (q − m̃ z_j)
+          double increment_squared = 0;
+          for (unsigned int f = 0; f < fields.size(); ++f)
+            {
+              const SeriesField &field   = fields[f];
+              const GridScalar  &m       = *field.mass;
+              const unsigned int n_owned = m.locally_owned_size();
+              for (unsigned int b = 0; b < z[f]->n_blocks(); ++b)
+                {
+                  double *const       zb = z[f]->block(b).begin();
+                  const double *const qb = field.rhs->block(b).begin();
+                  const double *const mz = products[f]->block(b).begin();
+                  const double *const held =
+                    field.held ? (*field.held)[b].begin() : nullptr;
+                  const double *const m_i = m.begin();
+                  for (unsigned int i = 0; i < n_owned; ++i)
+                    if (m_i[i] > mass_floor && !(held && held[i] != 0))
+                      {
+                        const double dz = (qb[i] - mz[i]) / m_i[i];
+                        zb[i] += dz;
+                        if (tolerance > 0)
+                          increment_squared += dz * dz;
+                      }
+                }
+            }
+          if (hooks.after_update)
+            hooks.after_update(j);
+          if (tolerance > 0 &&
+              Utilities::MPI::sum(increment_squared,
+                                  fields[0].mass->get_mpi_communicator()) <=
+                tolerance * tolerance * z1_squared)
+            return j + 1;
+        }
+      return k;
+    }
+
+
+
     template <typename MatrixType>
     unsigned int
     apply_fmpm_inverse(const MatrixType              &m_tilde,
@@ -33,37 +93,17 @@ namespace fmpm
                 known_values ? (*known_values)[b].local_element(i) : 0.;
       if (k == 1)
         return 1;
-      // ‖v_1‖² for the adaptive order's test.
-      const double v1_squared = tolerance > 0 ? v.norm_sqr() : 0;
-      GridVectorField    m_tilde_v(v);
-      const unsigned int n_owned = m.locally_owned_size();
-      for (unsigned int j = 1; j < k; ++j)
-        {
-          // v_{j+1} = v_j + m⁻¹ (p − m̃ v_j), all components in one product
-          apply_full_mass(m_tilde, m_tilde_v, v);
-          double increment_squared = 0;
-          for (unsigned int b = 0; b < p.n_blocks(); ++b)
-            for (unsigned int i = 0; i < n_owned; ++i)
-              {
-                const double m_i = m.local_element(i);
-                if (m_i > mass_floor &&
-                    !(zero_mask && (*zero_mask)[b].local_element(i) != 0))
-                  {
-                    const double dv = (p.block(b).local_element(i) -
-                                       m_tilde_v.block(b).local_element(i)) /
-                                      m_i;
-                    v.block(b).local_element(i) += dv;
-                    if (tolerance > 0)
-                      increment_squared += dv * dv;
-                  }
-              }
-          if (tolerance > 0 &&
-              Utilities::MPI::sum(increment_squared,
-                                  m.get_mpi_communicator()) <=
-                tolerance * tolerance * v1_squared)
-            return j + 1;
-        }
-      return k;
+      GridVectorField m_tilde_v(v);
+      return fmpm_series(
+        [&m_tilde](const std::vector<GridVectorField *> &in,
+                   const std::vector<GridVectorField *> &out) {
+          apply_full_mass(m_tilde, *out[0], *in[0]);
+        },
+        {SeriesField{&m, &p, &v, zero_mask}},
+        {&m_tilde_v},
+        k,
+        mass_floor,
+        tolerance);
     }
 
     template unsigned int
@@ -93,13 +133,14 @@ namespace fmpm
     void
     Fmpm<dim>::declare_parameters(ParameterHandler &prm)
     {
-      prm.declare_entry("Order",
-                        "2",
-                        Patterns::Integer(1, 1000),
-                        "The order k of the series m~_k^-1 ([Nairn2023-FMPM] Eq. "
-                        "1.23): 1 is the lumped mass matrix, larger k "
-                        "approaches the full mass matrix m~ = S^T M S. "
-                        "Units: none.");
+      prm.declare_entry(
+        "Order",
+        "2",
+        Patterns::Integer(1, 1000),
+        "The order k of the series m~_k^-1 ([Nairn2023-FMPM] Eq. "
+        "1.23): 1 is the lumped mass matrix, larger k "
+        "approaches the full mass matrix m~ = S^T M S. "
+        "Units: none.");
       prm.declare_entry(
         "Increment tolerance",
         "0",

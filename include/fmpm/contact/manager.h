@@ -49,6 +49,7 @@ namespace fmpm
       GridScalar      volume;              // Σ S V (interface laws)
       GridVectorField delta_velocity;      // Δv^α of the first correction
       GridVectorField series_product;      // m̃^α z (multimaterial XPIC(k))
+      GridVectorField series_rhs;       // q^α = p^α − m^α Δv^α (series)
       GridVectorField series_increment; // m^α δz^α (net incremental contact)
       GridVectorField series_residual, series_direction, series_free;
       GridScalar      weak_coupling; // c^α = m̃^α 1_W

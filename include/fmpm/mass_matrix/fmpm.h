@@ -8,10 +8,60 @@
 
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 
+#include <functional>
+#include <vector>
+
 namespace fmpm
 {
   namespace MassMatrix
   {
+    /** One field of fmpm_series(): the lumped masses m, the right-hand
+     * side q, the velocities z (z₁ on entry, z_k on exit) and, per
+     * component, the nodes whose value is held (or nullptr). */
+    struct SeriesField
+    {
+      const GridScalar              *mass;
+      const GridVectorField         *rhs;
+      GridVectorField               *velocity;
+      const std::vector<GridScalar> *held = nullptr;
+    };
+
+    /** out[f] = m̃_f in[f] for every field of fmpm_series() (in: z, out:
+     * the products). */
+    using FullMassProduct =
+      std::function<void(const std::vector<GridVectorField *> &in,
+                         const std::vector<GridVectorField *> &out)>;
+
+    /** What fmpm_series() calls around the update of sweep j: before it
+     * (z_j) and after it (z_{j+1}: conditions, contact on the increments,
+     * ghost values). Empty functions are skipped. */
+    struct SeriesHooks
+    {
+      std::function<void(unsigned int)> before_update, after_update;
+    };
+
+    /**
+     * @brief The FMPM(k) series z_{j+1} = z_j + m⁻¹(q − m̃ z_j), j = 1, ...,
+     * k − 1 (seed 000 Eqs. 1.22-1.23, 3.13-3.22), for one or more fields
+     * at once: one m̃ per field (one material each with contact), all
+     * applied by one call of @p product per sweep. Empty nodes (m <=
+     * @p mass_floor) and held components keep z.
+     *
+     * @param[in] tolerance adaptive order: the series ends after the sweep
+     * whose increment has ‖Δz‖₂ <= tolerance ‖z₁‖₂ (all fields, nodes and
+     * components; one reduction per sweep); 0 runs all k sweeps
+     * @param[in] products scratch fields for m̃ z, one per field
+     * @return the order used (k without a tolerance)
+     */
+    unsigned int
+    fmpm_series(const FullMassProduct                &product,
+                const std::vector<SeriesField>       &fields,
+                const std::vector<GridVectorField *> &products,
+                const unsigned int                    k,
+                const double                          mass_floor,
+                const double                          tolerance = 0,
+                const SeriesHooks                    &hooks     = {});
+
     /**
      * @brief v = m̃ₖ⁻¹ p of seed 000 Eqs. 1.22-1.23 (= XPIC(k)'s v(k),
      * Eqs. 1.32-1.36) as k Jacobi-preconditioned Richardson sweeps on
@@ -135,8 +185,9 @@ namespace fmpm
       bool               series_this_step = true;
       unsigned long long series_steps     = 0;
       /** Orders used by solve() since the last output and in the run. */
-      mutable unsigned long long solves_since_output = 0, orders_since_output = 0,
-                                 solves = 0, orders = 0;
+      mutable unsigned long long solves_since_output = 0,
+                                 orders_since_output = 0, solves = 0,
+                                 orders           = 0;
       mutable unsigned int max_order_since_output = 0, max_order = 0;
 
       void
