@@ -61,6 +61,10 @@ namespace fmpm
                         std::to_string(n_materials) + "."));
         }
 
+      material_full_mass_needed =
+        mass_matrix.order() > 1 || material_exact_solve;
+      full_mass.resize(material_full_mass_needed ? n_materials : 0);
+
       increment_law = create_law<dim>(Law{"perfect", {}});
       laws.clear();
       laws.resize(n_materials * n_materials);

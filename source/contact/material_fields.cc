@@ -610,42 +610,10 @@ namespace fmpm
       const std::vector<GridVectorField *> &in,
       const std::vector<GridVectorField *> &out)
     {
-      const SupportCache<dim>   &supports     = this->get_support_cache();
-      const MaterialPoints<dim> &points       = this->get_material_points();
-      using Index                             = PropertyIndex<dim>;
-      const unsigned int          n_materials = in.size();
-      std::vector<const double *> x(n_materials * dim);
-      std::vector<double *>       y(n_materials * dim);
-      for (unsigned int a = 0; a < n_materials; ++a)
-        {
-          *out[a] = 0;
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              x[a * dim + d] = in[a]->block(d).begin();
-              y[a * dim + d] = out[a]->block(d).begin();
-            }
-        }
-      const double *const mass_column = points.column(Index::mass);
-      const unsigned int *node        = supports.node.data();
-      const double       *S           = supports.S.data();
-      for (unsigned int k = 0; k < supports.n_points(); ++k)
-        {
-          const unsigned int   a      = supports.material[k];
-          const unsigned int   begin  = supports.support_begin[k];
-          const unsigned int   end    = supports.support_begin[k + 1];
-          const double         M      = mass_column[k];
-          const double *const *xa     = &x[a * dim];
-          double *const       *ya     = &y[a * dim];
-          double               s[dim] = {};
-          for (unsigned int j = begin; j < end; ++j) // (S z)(x_p)
-            for (unsigned int d = 0; d < dim; ++d)
-              s[d] += S[j] * xa[d][node[j]];
-          for (unsigned int j = begin; j < end; ++j)
-            for (unsigned int d = 0; d < dim; ++d)
-              ya[d][node[j]] += M * S[j] * s[d];
-        }
-      for (auto *field : out)
-        field->compress(VectorOperation::add);
+      // One pass over the cell matrices of each material (assembled by the
+      // extrapolation), as the single-material m̃.
+      for (unsigned int a = 0; a < in.size(); ++a)
+        MassMatrix::apply_full_mass(full_mass[a], *out[a], *in[a]);
     }
 
     template class Manager<2>;

@@ -596,7 +596,16 @@ namespace fmpm
       contact && this->contact->normal_needs().positions;
     const bool contact_needs_interface =
       contact && this->contact->needs_interface_state();
-    const unsigned int    n_materials = material_fields.size();
+    const unsigned int n_materials = material_fields.size();
+    // m̃^α = Σ_{p∈α} S M Sᵀ (seed 004 Eq. 37) as local matrices of the cells
+    // with points of α, for the multimaterial series and exact solve.
+    const bool material_full_mass =
+      contact && masses && this->contact->needs_material_full_mass();
+    std::vector<CellwiseMatrix> *const material_full_mass_matrices =
+      material_full_mass ? &this->contact->material_full_mass() : nullptr;
+    if (material_full_mass)
+      for (auto &matrix : *material_full_mass_matrices)
+        matrix.clear();
     std::vector<double *> m_alpha(n_materials), p_alpha(n_materials * dim),
       f_alpha(n_materials * dim), g_alpha, x_alpha, u_alpha, volume_alpha;
     if (contact_needs_gradients)
@@ -667,15 +676,18 @@ namespace fmpm
       stress_column[c] = points.column(Index::stress + c);
     // m̃ of one cell over the union of its points' supports: the nodes, and
     // the place in them of each support entry of the cell's points.
-    std::vector<unsigned int>            cell_nodes, slot;
-    std::vector<double>                  local_full_mass;
+    std::vector<unsigned int>        cell_nodes, slot;
+    std::vector<double>              local_full_mass;
+    std::vector<std::vector<double>> local_material_mass(
+      material_full_mass ? n_materials : 0);
+    std::vector<char> material_in_cell(material_full_mass ? n_materials : 0);
     std::vector<types::global_dof_index> dofs;
 
     for (unsigned int c = 0; c < points.n_cells(); ++c)
       {
         const unsigned int first_entry =
           supports.support_begin[points.cell_point_begin[c]];
-        if (with_full_mass)
+        if (with_full_mass || material_full_mass)
           {
             const unsigned int entry_end =
               supports.support_begin[points.cell_point_begin[c + 1]];
@@ -689,7 +701,8 @@ namespace fmpm
                 if (place == cell_nodes.end())
                   cell_nodes.push_back(node[j]);
               }
-            local_full_mass.assign(cell_nodes.size() * cell_nodes.size(), 0.);
+            if (with_full_mass)
+              local_full_mass.assign(cell_nodes.size() * cell_nodes.size(), 0.);
           }
         const unsigned int n_cell_nodes = cell_nodes.size();
         for (unsigned int k = points.cell_point_begin[c];
@@ -783,8 +796,35 @@ namespace fmpm
                   for (unsigned int j = begin; j < end; ++j)
                     row[slot[j - first_entry]] += MS_i * S[j];
                 }
+            if (material_full_mass) // m̃^α of the point's material
+              {
+                const unsigned int   alpha = supports.material[k];
+                std::vector<double> &local = local_material_mass[alpha];
+                if (!material_in_cell[alpha])
+                  {
+                    local.assign(n_cell_nodes * n_cell_nodes, 0.);
+                    material_in_cell[alpha] = 1;
+                  }
+                for (unsigned int i = begin; i < end; ++i)
+                  {
+                    const double MS_i = M * S[i];
+                    double *row = &local[slot[i - first_entry] * n_cell_nodes];
+                    for (unsigned int j = begin; j < end; ++j)
+                      row[slot[j - first_entry]] += MS_i * S[j];
+                  }
+              }
           }
-        if (use_cellwise_full_mass)
+        if (material_full_mass)
+          for (unsigned int a = 0; a < n_materials; ++a)
+            if (material_in_cell[a])
+              {
+                (*material_full_mass_matrices)[a].add_cell(
+                  n_cell_nodes,
+                  cell_nodes.data(),
+                  local_material_mass[a].data());
+                material_in_cell[a] = 0;
+              }
+        if (with_full_mass && use_cellwise_full_mass)
           cellwise_full_mass.add_cell(n_cell_nodes,
                                       cell_nodes.data(),
                                       local_full_mass.data());

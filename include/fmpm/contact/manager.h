@@ -103,6 +103,22 @@ namespace fmpm
         return needs;
       }
 
+      /** Whether the series or the exact solve apply m̃^α (the
+       * extrapolation then assembles material_full_mass()). */
+      bool
+      needs_material_full_mass() const
+      {
+        return material_full_mass_needed;
+      }
+
+      /** m̃^α = Σ_{p∈α} S M Sᵀ as local matrices of the cells with points
+       * of α (seed 004 Eq. 37), one per material. */
+      std::vector<CellwiseMatrix> &
+      material_full_mass()
+      {
+        return full_mass;
+      }
+
       /** Whether a law needs u^α and V^α (interface laws). */
       bool
       needs_interface_state() const
@@ -223,8 +239,8 @@ namespace fmpm
       impose_material_conditions(const unsigned int alpha,
                                  GridVectorField   &q,
                                  const double       t) const;
-      /** out^α = m̃^α in^α = Σ_{p∈α} S_ip M_p Σ_j S_jp in^α_j for every
-       * material in one sweep over the support cache (in: ghosted). */
+      /** out^α = m̃^α in^α for every material, from the cell matrices of
+       * material_full_mass(). */
       void
       apply_material_full_mass(const std::vector<GridVectorField *> &in,
                                const std::vector<GridVectorField *> &out);
@@ -235,9 +251,11 @@ namespace fmpm
       void
       solve_material_full_mass(const ParticleUpdate::GridField field);
 
-      std::vector<MaterialField<dim>>             fields;
-      NormalNeeds                                 needs;
-      bool                                        needs_interface = false;
+      std::vector<MaterialField<dim>> fields;
+      bool                            material_full_mass_needed = false;
+      std::vector<CellwiseMatrix>     full_mass;
+      NormalNeeds                     needs;
+      bool                            needs_interface = false;
       std::unique_ptr<NormalMethodInterface<dim>> normal_method;
       /** The law of materials a < b at [a * n_materials + b]. */
       std::vector<std::unique_ptr<LawInterface<dim>>> laws;
