@@ -72,71 +72,32 @@ namespace fmpm
                                           text.substr(first, last - first + 1);
     }
 
-    /** Declare the parameters that depend on the plugins, for one dim. */
-    template <int dim>
-    void
-    declare_plugin_parameters(ParameterHandler &prm, const SceneSize &size)
+    /** The text of a boolean default: "true" or "false". */
+    std::string
+    bool_text(const bool value)
     {
-      const MethodParameters method;
-      prm.enter_subsection("Particle update");
-      prm.declare_entry(
-        "Model name",
-        method.particle_update,
-        Patterns::Selection(
-          ParticleUpdate::Registry<dim>::instance().pattern()),
-        "How material points get their new velocity and "
-        "position from the grid ([Nairn2023-FMPM] Table 2.1). " +
-          ParticleUpdate::Registry<dim>::instance().documentation() +
-          "Units: none.");
-      prm.declare_entry(
-        "Grid damping",
-        "0",
-        Patterns::Double(),
-        "alpha_g of [Nairn2018-extrap] Eqs. 1.17-1.24: the update "
-        "subtracts alpha_g S v dt from the particle velocity "
-        "(and half of it times dt from the position); for "
-        "quasi-static scenes. Units: 1/s.");
-      prm.declare_entry(
-        "Particle damping",
-        "0",
-        Patterns::Double(),
-        "alpha_p of [Nairn2018-extrap] Eqs. 1.17-1.24: the update "
-        "subtracts alpha_p V dt from the particle velocity. "
-        "Units: 1/s.");
-      ParticleUpdate::Registry<dim>::instance().declare_parameters(prm);
-      prm.leave_subsection();
+      return value ? "true" : "false";
+    }
 
-      prm.enter_subsection("Mass matrix");
-      prm.declare_entry(
-        "Model name",
-        method.mass_matrix,
-        Patterns::Selection(MassMatrix::Registry<dim>::instance().pattern()),
-        "How grid velocities follow from grid momenta. " +
-          MassMatrix::Registry<dim>::instance().documentation() +
-          "Units: none.");
-      MassMatrix::Registry<dim>::instance().declare_parameters(prm);
-      prm.leave_subsection();
+    /** The first @p n entries of the list @p text ("0, 0, 0" -> "0, 0"). */
+    std::string
+    first_components(const std::string &text, const unsigned int n)
+    {
+      const std::vector<std::string> entries =
+        Utilities::split_string_list(text, ',');
+      std::string result;
+      for (unsigned int i = 0; i < n && i < entries.size(); ++i)
+        result += (i ? ", " : "") + entries[i];
+      return result;
+    }
 
-      const MaterialParameters material;
-      for (unsigned int m = 0; m < size.n_materials; ++m)
-        {
-          prm.enter_subsection(numbered_subsection("Material", m));
-          prm.declare_entry(
-            "Model name",
-            material.model_name,
-            Patterns::Selection(
-              ConstitutiveModel::Registry<dim>::instance().pattern()),
-            "Constitutive model of this material. " +
-              ConstitutiveModel::Registry<dim>::instance().documentation() +
-              "Units: none.");
-          prm.declare_entry("Density",
-                            format_number(material.density),
-                            Patterns::Double(),
-                            "Mass density in the reference configuration. "
-                            "Must be positive. Units: kg/m^3.");
-          ConstitutiveModel::Registry<dim>::instance().declare_parameters(prm);
-          prm.leave_subsection();
-        }
+    /** 'Time/Courant number limit' of TimeParameters::courant_limit. */
+    std::string
+    courant_limit_text(const double courant_limit)
+    {
+      if (courant_limit == 0)
+        return "auto";
+      return std::isinf(courant_limit) ? "none" : format_number(courant_limit);
     }
   } // namespace
 
@@ -280,17 +241,15 @@ namespace fmpm
 
 
   void
-  Parameters::declare_parameters(ParameterHandler &prm, const SceneSize &size)
+  MeshParameters::declare_parameters(ParameterHandler  &prm,
+                                     const unsigned int dim)
   {
-    const unsigned int dim = size.dimension;
-    SceneSize::declare_parameters(prm);
-
-    const MeshParameters mesh;
+    const MeshParameters defaults;
     prm.enter_subsection("Mesh");
     {
       prm.declare_entry("Type",
-                        mesh.type,
-                        Patterns::Selection("box|gmsh|ball"),
+                        type_names.name(defaults.type),
+                        Patterns::Selection(type_names.pattern()),
                         "'box': a rectangle/box subdivided into cells, with "
                         "boundary ids 0,1 (x min/max), 2,3 (y), 4,5 (z); "
                         "'gmsh': quadrilateral/hexahedral mesh read from "
@@ -302,32 +261,32 @@ namespace fmpm
                         "curved boundary; cells stay (bi/tri)linear). "
                         "Units: none.");
       prm.declare_entry("Lower corner",
-                        join(mesh.lower_corner, dim),
+                        join(defaults.lower_corner, dim),
                         point_pattern(dim),
                         "Lower corner of the box. Units: m.");
       prm.declare_entry("Upper corner",
-                        join(mesh.upper_corner, dim),
+                        join(defaults.upper_corner, dim),
                         point_pattern(dim),
                         "Upper corner of the box. Units: m.");
       prm.declare_entry("Subdivisions",
-                        join(mesh.subdivisions, dim),
+                        join(defaults.subdivisions, dim),
                         Patterns::List(Patterns::Integer(1), dim, dim, ","),
                         "Number of cells of the box in each direction. "
                         "Units: none.");
       prm.declare_entry("File name",
-                        mesh.file_name,
+                        defaults.file_name,
                         Patterns::Anything(),
                         "Gmsh .msh file for 'Type = gmsh', relative to the "
                         "folder of the scene file that sets it (to the "
                         "working directory for standard input). Units: "
                         "none.");
       prm.declare_entry("Initial global refinement",
-                        std::to_string(mesh.global_refinement),
+                        std::to_string(defaults.global_refinement),
                         Patterns::Integer(0, 12),
                         "Number of times every cell is split in 2^dim before "
                         "the run. Units: none.");
       prm.declare_entry("Random distortion",
-                        "0",
+                        format_number(defaults.distortion),
                         Patterns::Double(0, 0.5),
                         "Move every interior vertex by a random vector of "
                         "up to this fraction of its shortest edge "
@@ -336,14 +295,55 @@ namespace fmpm
                         "hexahedral mesh. 0 keeps the mesh. Units: none.");
     }
     prm.leave_subsection();
+  }
 
-    const MeshRefinementParameters refinement;
+
+
+  void
+  MeshParameters::parse_parameters(ParameterHandler  &prm,
+                                   const unsigned int dim)
+  {
+    prm.enter_subsection("Mesh");
+    type         = type_names.value(prm.get("Type"));
+    lower_corner = get_doubles(prm, "Lower corner");
+    upper_corner = get_doubles(prm, "Upper corner");
+    subdivisions.clear();
+    for (const double n : get_doubles(prm, "Subdivisions"))
+      subdivisions.push_back(static_cast<unsigned int>(n));
+    file_name         = prm.get("File name");
+    global_refinement = prm.get_integer("Initial global refinement");
+    distortion        = prm.get_double("Random distortion");
+    prm.leave_subsection();
+    if (type == Type::box || type == Type::ball)
+      for (unsigned int d = 0; d < dim; ++d)
+        AssertThrow(upper_corner[d] > lower_corner[d],
+                    ExcMessage("Mesh/Upper corner must be above Mesh/Lower "
+                               "corner in every direction; direction " +
+                               std::to_string(d) + " is not."));
+    if (type == Type::gmsh)
+      {
+        AssertThrow(!file_name.empty(),
+                    ExcMessage("Mesh/Type = gmsh needs Mesh/File name."));
+        std::ifstream test(file_name);
+        AssertThrow(test,
+                    ExcMessage("Mesh/File name = <" + file_name +
+                               "> cannot be opened: no such file or not "
+                               "readable."));
+      }
+  }
+
+
+
+  void
+  MeshRefinementParameters::declare_parameters(ParameterHandler &prm)
+  {
+    const MeshRefinementParameters defaults;
     prm.enter_subsection("Mesh refinement");
     {
       prm.declare_entry(
         "Strategy",
-        refinement.strategy,
-        Patterns::Selection("none|material points|material boundary|kelly"),
+        strategy_names.name(defaults.strategy),
+        Patterns::Selection(strategy_names.pattern()),
         "How the mesh adapts to the scene. 'none': the mesh stays as built. "
         "'material points': cells that hold material points, plus 'Buffer "
         "layers' of neighbours, are refined up to 'Maximum level'; other "
@@ -355,47 +355,47 @@ namespace fmpm
         "keep all their properties through refinement and coarsening. "
         "Units: none.");
       prm.declare_entry("Interval",
-                        std::to_string(refinement.interval),
+                        std::to_string(defaults.interval),
                         Patterns::Integer(0),
                         "Adapt the mesh every this many steps (0: only "
                         "before the first step). Units: steps.");
       prm.declare_entry("Minimum level",
-                        std::to_string(refinement.minimum_level),
+                        std::to_string(defaults.minimum_level),
                         Patterns::Integer(0, 20),
                         "Cells are not coarsened below this level (level 0 "
                         "is the mesh before 'Mesh/Initial global "
                         "refinement'). Units: none.");
       prm.declare_entry("Maximum level",
-                        std::to_string(refinement.maximum_level),
+                        std::to_string(defaults.maximum_level),
                         Patterns::Integer(0, 20),
                         "Cells are not refined beyond this level. Units: "
                         "none.");
       prm.declare_entry("Buffer layers",
-                        std::to_string(refinement.buffer_layers),
+                        std::to_string(defaults.buffer_layers),
                         Patterns::Integer(0, 1000),
                         "Layers of neighbouring cells (sharing a vertex) "
                         "refined together with the marked cells, so that "
                         "material moving between two adaptations stays in "
                         "fine cells. Units: none.");
       prm.declare_entry("Refine fraction",
-                        format_number(refinement.refine_fraction),
+                        format_number(defaults.refine_fraction),
                         Patterns::Double(0, 1),
                         "'kelly': fraction of the cells refined. Units: "
                         "none.");
       prm.declare_entry("Coarsen fraction",
-                        format_number(refinement.coarsen_fraction),
+                        format_number(defaults.coarsen_fraction),
                         Patterns::Double(0, 1),
                         "'kelly': fraction of the cells coarsened. Units: "
                         "none.");
       prm.declare_entry("Initial refinement",
-                        refinement.initial_refinement ? "true" : "false",
+                        bool_text(defaults.initial_refinement),
                         Patterns::Bool(),
                         "Adapt the mesh to the bodies before the first step "
                         "(the material points are then created on the "
                         "adapted mesh, 'Points per cell' in the fine cells). "
                         "Units: none.");
       prm.declare_entry("Point weight",
-                        format_number(refinement.point_weight),
+                        format_number(defaults.point_weight),
                         Patterns::Integer(0, 100000),
                         "Load balancing across MPI ranks when the mesh is "
                         "adapted: a cell weighs 1 plus this number per "
@@ -403,22 +403,212 @@ namespace fmpm
                         "none.");
     }
     prm.leave_subsection();
+  }
 
+
+
+  void
+  MeshRefinementParameters::parse_parameters(ParameterHandler     &prm,
+                                             const MeshParameters &mesh)
+  {
+    prm.enter_subsection("Mesh refinement");
+    strategy           = strategy_names.value(prm.get("Strategy"));
+    interval           = prm.get_integer("Interval");
+    minimum_level      = prm.get_integer("Minimum level");
+    maximum_level      = prm.get_integer("Maximum level");
+    buffer_layers      = prm.get_integer("Buffer layers");
+    refine_fraction    = prm.get_double("Refine fraction");
+    coarsen_fraction   = prm.get_double("Coarsen fraction");
+    initial_refinement = prm.get_bool("Initial refinement");
+    point_weight       = prm.get_integer("Point weight");
+    prm.leave_subsection();
+    AssertThrow(maximum_level >= minimum_level,
+                ExcMessage("Mesh refinement/Maximum level = " +
+                           std::to_string(maximum_level) +
+                           " is below Mesh refinement/Minimum level = " +
+                           std::to_string(minimum_level) +
+                           ". Allowed: Maximum level >= Minimum level."));
+    AssertThrow(!adaptive() || maximum_level >= mesh.global_refinement,
+                ExcMessage("Mesh refinement/Maximum level = " +
+                           std::to_string(maximum_level) +
+                           " is below Mesh/Initial global refinement = " +
+                           std::to_string(mesh.global_refinement) +
+                           ". Allowed: Maximum level >= Initial global "
+                           "refinement."));
+    AssertThrow(refine_fraction + coarsen_fraction <= 1,
+                ExcMessage("Mesh refinement/Refine fraction + Coarsen "
+                           "fraction must not exceed 1."));
+  }
+
+
+
+  void
+  MovingWallParameters::declare_parameters(ParameterHandler  &prm,
+                                           const unsigned int dim)
+  {
+    const MovingWallParameters defaults;
+    prm.declare_entry("Boundary ids",
+                      join(defaults.boundary_ids, defaults.boundary_ids.size()),
+                      Patterns::List(Patterns::Integer(0, 255)),
+                      "Boundary ids whose nodes move with the wall; "
+                      "leave empty to use 'Box lower/upper corner'. "
+                      "Units: none.");
+    prm.declare_entry("Box lower corner",
+                      join(defaults.box_lower, defaults.box_lower.size()),
+                      Patterns::List(Patterns::Double(), 0, dim, ","),
+                      "Lower corner of the box region of the wall at "
+                      "t = 0 (empty with 'Boundary ids'); the box moves "
+                      "with the wall and material points do not enter "
+                      "it. Units: m.");
+    prm.declare_entry("Box upper corner",
+                      join(defaults.box_upper, defaults.box_upper.size()),
+                      Patterns::List(Patterns::Double(), 0, dim, ","),
+                      "Upper corner of the box region at t = 0. "
+                      "Units: m.");
+    prm.declare_entry(
+      "Region",
+      defaults.region,
+      Patterns::Anything(),
+      "Or the wall as the nodes where this FunctionParser "
+      "expression in x, y, z, t is positive (e.g. "
+      "'0.2 + 0.1*t - x' for a plane moving along x); "
+      "re-evaluated every step. A piston that drives a body should "
+      "also take the node less than one cell inside the body's face "
+      "(every node whose shape functions reach the piston), else the "
+      "body lags behind it (parameters/shock_nickel.prm). Units: m.");
+    prm.declare_entry("Direction",
+                      join(defaults.direction, dim),
+                      point_pattern(dim),
+                      "Direction n of the prescribed velocity component "
+                      "(normalized); other components are free. "
+                      "Units: none.");
+    prm.declare_entry("Velocity",
+                      defaults.velocity,
+                      Patterns::Anything(),
+                      "Velocity v(t) along the direction, a "
+                      "FunctionParser expression in t (e.g. "
+                      "'v0*min(t/t0, 1)'). Units: m/s.");
+    prm.declare_entry("Function constants",
+                      defaults.constants,
+                      Patterns::Anything(),
+                      "Constants for 'Velocity', e.g. 'v0=0.1'. Units: "
+                      "as used.");
+  }
+
+
+
+  void
+  MovingWallParameters::parse_parameters(ParameterHandler  &prm,
+                                         const unsigned int dim,
+                                         const std::string &where)
+  {
+    for (const double id : get_doubles(prm, "Boundary ids"))
+      boundary_ids.push_back(static_cast<types::boundary_id>(id));
+    box_lower                  = get_doubles(prm, "Box lower corner");
+    box_upper                  = get_doubles(prm, "Box upper corner");
+    region                     = prm.get("Region");
+    direction                  = get_doubles(prm, "Direction");
+    velocity                   = prm.get("Velocity");
+    constants                  = prm.get("Function constants");
+    const bool         has_box = !box_lower.empty() || !box_upper.empty();
+    const unsigned int n_kinds = (boundary_ids.empty() ? 0 : 1) +
+                                 (has_box ? 1 : 0) + (region.empty() ? 0 : 1);
+    AssertThrow(n_kinds == 1,
+                ExcMessage(where + ": set either 'Boundary ids' or both "
+                                   "'Box lower corner' and 'Box upper "
+                                   "corner' or 'Region', exactly one of "
+                                   "them."));
+    if (has_box)
+      {
+        AssertThrow(box_lower.size() == dim && box_upper.size() == dim,
+                    ExcMessage(where +
+                               "/Box lower corner and Box upper "
+                               "corner need " +
+                               std::to_string(dim) + " numbers each."));
+        for (unsigned int d = 0; d < dim; ++d)
+          AssertThrow(box_upper[d] > box_lower[d],
+                      ExcMessage(where + "/Box upper corner must be above "
+                                         "Box lower corner in every "
+                                         "direction."));
+      }
+    double norm = 0;
+    for (unsigned int d = 0; d < dim; ++d)
+      norm += direction[d] * direction[d];
+    AssertThrow(norm > 0, ExcMessage(where + "/Direction must not be zero."));
+    for (unsigned int d = 0; d < dim; ++d)
+      direction[d] /= std::sqrt(norm);
+  }
+
+
+
+  void
+  TractionParameters::declare_parameters(ParameterHandler  &prm,
+                                         const unsigned int dim)
+  {
+    const TractionParameters defaults;
+    prm.declare_entry("Box lower corner",
+                      join(defaults.box_lower, dim),
+                      point_pattern(dim),
+                      "Lower corner of the box that selects the loaded "
+                      "material points (at t = 0). Units: m.");
+    prm.declare_entry("Box upper corner",
+                      join(defaults.box_upper, dim),
+                      point_pattern(dim),
+                      "Upper corner of that box. Units: m.");
+    prm.declare_entry("Traction",
+                      first_components(defaults.traction, dim),
+                      Patterns::Anything(),
+                      "Traction vector t(t) with its load curve: dim "
+                      "numbers separated by ',' or dim expressions in "
+                      "t separated by ';' (e.g. '-p0*min(t/t0,1); 0'). "
+                      "Each selected point gets the force t times its "
+                      "face area (Eq. 2.10, f_T). Units: Pa.");
+    prm.declare_entry("Normal axis",
+                      std::to_string(defaults.normal_axis),
+                      Patterns::Integer(0, dim - 1),
+                      "Axis of the loaded face's normal; a point's face "
+                      "area is the product of its initial side lengths "
+                      "along the other axes. Units: none.");
+    prm.declare_entry("Function constants",
+                      defaults.constants,
+                      Patterns::Anything(),
+                      "Constants for 'Traction'. Units: as used.");
+  }
+
+
+
+  void
+  TractionParameters::parse_parameters(ParameterHandler &prm)
+  {
+    box_lower   = get_doubles(prm, "Box lower corner");
+    box_upper   = get_doubles(prm, "Box upper corner");
+    traction    = prm.get("Traction");
+    normal_axis = prm.get_integer("Normal axis");
+    constants   = prm.get("Function constants");
+  }
+
+
+
+  void
+  BoundaryConditionParameters::declare_parameters(ParameterHandler &prm,
+                                                  const SceneSize  &size)
+  {
+    const BoundaryConditionParameters defaults;
     prm.enter_subsection("Boundary conditions");
     {
       prm.declare_entry("Fixed boundary ids",
-                        "",
+                        join(defaults.fixed, defaults.fixed.size()),
                         Patterns::List(Patterns::Integer(0, 255)),
                         "Boundary ids on which all grid velocity components "
                         "are zero. Units: none.");
       prm.declare_entry("Roller boundary ids",
-                        "",
+                        join(defaults.roller, defaults.roller.size()),
                         Patterns::List(Patterns::Integer(0, 255)),
                         "Boundary ids on which the normal grid velocity is "
                         "zero (free slip, symmetry). Units: none.");
       prm.declare_entry(
         "Method",
-        "constrained",
+        defaults.method,
         Patterns::Selection("constrained|lumped|velocity|unlumped 1|"
                             "unlumped 2|collection full|collection partial"),
         "How velocity conditions are imposed when the mass matrix is not "
@@ -434,108 +624,75 @@ namespace fmpm
         "'collection partial': those forces with a lumped mass matrix. All "
         "reduce to 'lumped' with a lumped mass matrix except 'unlumped 1' "
         "(as [Nairn2023-FMPM] remarks). Units: none.");
-      const MovingWallParameters wall;
       for (unsigned int w = 0; w < size.n_moving_walls; ++w)
         {
           prm.enter_subsection(numbered_subsection("Moving wall", w));
-          prm.declare_entry("Boundary ids",
-                            "",
-                            Patterns::List(Patterns::Integer(0, 255)),
-                            "Boundary ids whose nodes move with the wall; "
-                            "leave empty to use 'Box lower/upper corner'. "
-                            "Units: none.");
-          prm.declare_entry("Box lower corner",
-                            "",
-                            Patterns::List(Patterns::Double(), 0, dim, ","),
-                            "Lower corner of the box region of the wall at "
-                            "t = 0 (empty with 'Boundary ids'); the box moves "
-                            "with the wall and material points do not enter "
-                            "it. Units: m.");
-          prm.declare_entry("Box upper corner",
-                            "",
-                            Patterns::List(Patterns::Double(), 0, dim, ","),
-                            "Upper corner of the box region at t = 0. "
-                            "Units: m.");
-          prm.declare_entry(
-            "Region",
-            "",
-            Patterns::Anything(),
-            "Or the wall as the nodes where this FunctionParser "
-            "expression in x, y, z, t is positive (e.g. "
-            "'0.2 + 0.1*t - x' for a plane moving along x); "
-            "re-evaluated every step. A piston that drives a body should "
-            "also take the node less than one cell inside the body's face "
-            "(every node whose shape functions reach the piston), else the "
-            "body lags behind it (parameters/shock_nickel.prm). Units: m.");
-          prm.declare_entry("Direction",
-                            join(wall.direction, dim),
-                            point_pattern(dim),
-                            "Direction n of the prescribed velocity component "
-                            "(normalized); other components are free. "
-                            "Units: none.");
-          prm.declare_entry("Velocity",
-                            wall.velocity,
-                            Patterns::Anything(),
-                            "Velocity v(t) along the direction, a "
-                            "FunctionParser expression in t (e.g. "
-                            "'v0*min(t/t0, 1)'). Units: m/s.");
-          prm.declare_entry("Function constants",
-                            "",
-                            Patterns::Anything(),
-                            "Constants for 'Velocity', e.g. 'v0=0.1'. Units: "
-                            "as used.");
+          MovingWallParameters::declare_parameters(prm, size.dimension);
           prm.leave_subsection();
         }
       for (unsigned int n = 0; n < size.n_tractions; ++n)
         {
           prm.enter_subsection(numbered_subsection("Traction", n));
-          prm.declare_entry("Box lower corner",
-                            join(std::vector<double>{0, 0, 0}, dim),
-                            point_pattern(dim),
-                            "Lower corner of the box that selects the loaded "
-                            "material points (at t = 0). Units: m.");
-          prm.declare_entry("Box upper corner",
-                            join(std::vector<double>{0, 0, 0}, dim),
-                            point_pattern(dim),
-                            "Upper corner of that box. Units: m.");
-          prm.declare_entry("Traction",
-                            join(std::vector<double>{0, 0, 0}, dim),
-                            Patterns::Anything(),
-                            "Traction vector t(t) with its load curve: dim "
-                            "numbers separated by ',' or dim expressions in "
-                            "t separated by ';' (e.g. '-p0*min(t/t0,1); 0'). "
-                            "Each selected point gets the force t times its "
-                            "face area (Eq. 2.10, f_T). Units: Pa.");
-          prm.declare_entry("Normal axis",
-                            "0",
-                            Patterns::Integer(0, dim - 1),
-                            "Axis of the loaded face's normal; a point's face "
-                            "area is the product of its initial side lengths "
-                            "along the other axes. Units: none.");
-          prm.declare_entry("Function constants",
-                            "",
-                            Patterns::Anything(),
-                            "Constants for 'Traction'. Units: as used.");
+          TractionParameters::declare_parameters(prm, size.dimension);
           prm.leave_subsection();
         }
     }
     prm.leave_subsection();
+  }
 
-    const TimeParameters time;
+
+
+  void
+  BoundaryConditionParameters::parse_parameters(ParameterHandler &prm,
+                                                const SceneSize  &size)
+  {
+    prm.enter_subsection("Boundary conditions");
+    for (const double id : get_doubles(prm, "Fixed boundary ids"))
+      fixed.push_back(static_cast<types::boundary_id>(id));
+    for (const double id : get_doubles(prm, "Roller boundary ids"))
+      roller.push_back(static_cast<types::boundary_id>(id));
+    method = prm.get("Method");
+    moving_walls.resize(size.n_moving_walls);
+    for (unsigned int w = 0; w < size.n_moving_walls; ++w)
+      {
+        prm.enter_subsection(numbered_subsection("Moving wall", w));
+        moving_walls[w].parse_parameters(prm,
+                                         size.dimension,
+                                         "Boundary conditions/" +
+                                           numbered_subsection("Moving wall",
+                                                               w));
+        prm.leave_subsection();
+      }
+    tractions.resize(size.n_tractions);
+    for (unsigned int n = 0; n < size.n_tractions; ++n)
+      {
+        prm.enter_subsection(numbered_subsection("Traction", n));
+        tractions[n].parse_parameters(prm);
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  TimeParameters::declare_parameters(ParameterHandler &prm)
+  {
+    const TimeParameters defaults;
     prm.enter_subsection("Time");
     {
       prm.declare_entry("End time",
-                        format_number(time.end_time),
+                        format_number(defaults.end_time),
                         Patterns::Double(0),
                         "Time at which the run stops. Units: s.");
       prm.declare_entry("Time step",
-                        format_number(time.time_step),
+                        format_number(defaults.time_step),
                         Patterns::Double(0),
                         "Fixed time step; 0 chooses it every step from the "
                         "Courant number. Must not exceed the stable limit "
                         "h_min / (wave speed + point speed). Units: s.");
       prm.declare_entry("Courant number",
-                        format_number(time.courant_number),
+                        format_number(defaults.courant_number),
                         Patterns::Double(0, 10),
                         "The automatic time step (used when 'Time step' is "
                         "0) as a fraction of the cell-crossing time: dt = C "
@@ -548,7 +705,7 @@ namespace fmpm
                         "studies). Units: none.");
       prm.declare_entry(
         "Courant number limit",
-        "auto",
+        courant_limit_text(defaults.courant_limit),
         Patterns::Anything(),
         "The largest Courant number the automatic time step uses. 'auto': "
         "the measured critical Courant number of the chosen mass matrix, "
@@ -562,20 +719,147 @@ namespace fmpm
         "studies that measure the limits). Or a number > 0, a cap of your "
         "own. Units: none.");
       prm.declare_entry("Check stability limit",
-                        "true",
+                        bool_text(defaults.check_stability),
                         Patterns::Bool(),
                         "Refuse a 'Time step' or 'Courant number' above the "
                         "stable limit h_min / (wave speed + point speed). "
                         "Stability studies switch this off to find where "
                         "methods fail. Units: none.");
       prm.declare_entry("Maximum number of steps",
-                        std::to_string(time.max_steps),
+                        std::to_string(defaults.max_steps),
                         Patterns::Integer(1),
                         "The run stops after this many steps even before "
                         "'End time'. Units: none.");
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  TimeParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Time");
+    end_time        = prm.get_double("End time");
+    time_step       = prm.get_double("Time step");
+    courant_number  = prm.get_double("Courant number");
+    max_steps       = prm.get_integer("Maximum number of steps");
+    check_stability = prm.get_bool("Check stability limit");
+    const std::string courant_limit_value = prm.get("Courant number limit");
+    prm.leave_subsection();
+    if (courant_limit_value == "auto")
+      courant_limit = 0;
+    else if (courant_limit_value == "none")
+      courant_limit = std::numeric_limits<double>::infinity();
+    else
+      {
+        char *end     = nullptr;
+        courant_limit = std::strtod(courant_limit_value.c_str(), &end);
+        AssertThrow(end != courant_limit_value.c_str() && *end == '\0' &&
+                      courant_limit > 0 && std::isfinite(courant_limit),
+                    ExcMessage("Time/Courant number limit = <" +
+                               courant_limit_value +
+                               "> is not allowed. Allowed: 'auto' (the "
+                               "method's measured limit), 'none' or a "
+                               "number > 0."));
+      }
+    AssertThrow(!check_stability || courant_number <= 1,
+                ExcMessage(
+                  "Time/Courant number = " + format_number(courant_number) +
+                  " is above the stable limit 1. Allowed: (0, 1], "
+                  "or set Time/Check stability limit = false."));
+    AssertThrow(time_step > 0 || courant_number > 0,
+                ExcMessage("Time/Time step and Time/Courant number are both "
+                           "0: set one of them to a positive value."));
+  }
+
+
+
+  namespace
+  {
+    /** The entries of 'Particle update' and 'Mass matrix' with their
+     * plugins' subsections, for one dim. */
+    template <int dim>
+    void
+    declare_method_plugin_parameters(ParameterHandler &prm)
+    {
+      const MethodParameters defaults;
+      prm.enter_subsection("Particle update");
+      prm.declare_entry(
+        "Model name",
+        defaults.particle_update,
+        Patterns::Selection(
+          ParticleUpdate::Registry<dim>::instance().pattern()),
+        "How material points get their new velocity and "
+        "position from the grid ([Nairn2023-FMPM] Table 2.1). " +
+          ParticleUpdate::Registry<dim>::instance().documentation() +
+          "Units: none.");
+      prm.declare_entry(
+        "Grid damping",
+        format_number(defaults.grid_damping),
+        Patterns::Double(),
+        "alpha_g of [Nairn2018-extrap] Eqs. 1.17-1.24: the update "
+        "subtracts alpha_g S v dt from the particle velocity "
+        "(and half of it times dt from the position); for "
+        "quasi-static scenes. Units: 1/s.");
+      prm.declare_entry(
+        "Particle damping",
+        format_number(defaults.particle_damping),
+        Patterns::Double(),
+        "alpha_p of [Nairn2018-extrap] Eqs. 1.17-1.24: the update "
+        "subtracts alpha_p V dt from the particle velocity. "
+        "Units: 1/s.");
+      ParticleUpdate::Registry<dim>::instance().declare_parameters(prm);
+      prm.leave_subsection();
+
+      prm.enter_subsection("Mass matrix");
+      prm.declare_entry(
+        "Model name",
+        defaults.mass_matrix,
+        Patterns::Selection(MassMatrix::Registry<dim>::instance().pattern()),
+        "How grid velocities follow from grid momenta. " +
+          MassMatrix::Registry<dim>::instance().documentation() +
+          "Units: none.");
+      MassMatrix::Registry<dim>::instance().declare_parameters(prm);
+      prm.leave_subsection();
+    }
+
+
+
+    /** The entries of one 'Material N' with the constitutive models'. */
+    template <int dim>
+    void
+    declare_material_parameters(ParameterHandler &prm)
+    {
+      const MaterialParameters defaults;
+      prm.declare_entry(
+        "Model name",
+        defaults.model_name,
+        Patterns::Selection(
+          ConstitutiveModel::Registry<dim>::instance().pattern()),
+        "Constitutive model of this material. " +
+          ConstitutiveModel::Registry<dim>::instance().documentation() +
+          "Units: none.");
+      prm.declare_entry("Density",
+                        format_number(defaults.density),
+                        Patterns::Double(),
+                        "Mass density in the reference configuration. "
+                        "Must be positive. Units: kg/m^3.");
+      ConstitutiveModel::Registry<dim>::instance().declare_parameters(prm);
+    }
+  } // namespace
+
+
+
+  void
+  MethodParameters::declare_parameters(ParameterHandler &prm)
+  {
+    const MethodParameters defaults;
+    prm.enter_subsection("Time");
+    {
       prm.declare_entry(
         "Strain update",
-        "usavg+",
+        defaults.strain_update,
         Patterns::Selection("usf|usl|usl+|usavg|usavg+"),
         "When stresses are updated ([Nairn2023-FMPM] §2.1-2.2): "
         "'usf' before the force extrapolation with v from p; "
@@ -586,8 +870,8 @@ namespace fmpm
         "USL+. Units: none.");
       prm.declare_entry(
         "Strain update mass matrix",
-        "same",
-        Patterns::Selection("same|lumped"),
+        strain_update_mass_matrix_names.name(defaults.lumped_strain_velocities),
+        Patterns::Selection(strain_update_mass_matrix_names.pattern()),
         "Which mass matrix turns momenta into the grid "
         "velocities of the strain update ([Nairn2023-FMPM] §3.3 "
         "question 2): 'same' as the particle update, or "
@@ -599,7 +883,7 @@ namespace fmpm
     {
       prm.declare_entry(
         "Type",
-        "classic",
+        defaults.shape_function,
         Patterns::Selection(ShapeFunction::pattern()),
         "The grid shape functions S and G of the transfers ([Vaango-MPM], "
         "'Shape functions for MPM, GIMP, and CPDI'): 'classic' the FE_Q(1) "
@@ -613,7 +897,7 @@ namespace fmpm
         "Units: none.");
       prm.declare_entry(
         "CPDI critical radius",
-        "0",
+        format_number(defaults.cpdi_critical_radius),
         Patterns::Double(0),
         "CPDI only: each half-diagonal of a point's domain longer than this "
         "many times the smallest extent of the point's cell is shortened to "
@@ -629,9 +913,10 @@ namespace fmpm
     prm.enter_subsection("Deformation gradient");
     {
       prm.declare_entry("Update",
-                        MethodParameters().deformation_gradient_update,
+                        deformation_gradient_update_names.name(
+                          defaults.deformation_gradient_update),
                         Patterns::Selection(
-                          "first order|taylor|subcycle|cayley"),
+                          deformation_gradient_update_names.pattern()),
                         "How F^(n+1) follows from F^n and the velocity "
                         "gradient L ([Vaango-MPM], computeDeformationGradient"
                         "FromVelocity): 'first order' (I + L dt) F; 'taylor' "
@@ -644,46 +929,101 @@ namespace fmpm
                         "spurious strain energy 2e-5 against 8.5e-4 of the "
                         "kinetic energy with 'first order'). Units: none.");
       prm.declare_entry("Taylor terms",
-                        "3",
+                        std::to_string(defaults.taylor_terms),
                         Patterns::Integer(1, 20),
                         "Number of terms after the identity of the 'taylor' "
                         "update. Units: none.");
       prm.declare_entry("Subcycle strain increment",
-                        "0.01",
+                        format_number(defaults.subcycle_strain_increment),
                         Patterns::Double(1e-8, 1),
                         "Largest |L| dt of one substep of the 'subcycle' "
                         "update. Units: none.");
     }
     prm.leave_subsection();
+  }
 
-    prm.enter_subsection("Body force");
-    prm.declare_entry("Gravity",
-                      join(std::vector<double>{0, 0, 0}, dim),
-                      point_pattern(dim),
-                      "Gravitational acceleration b. Units: m/s^2.");
-    prm.declare_entry("Acceleration",
-                      "",
-                      Patterns::Anything(),
-                      "An additional body acceleration b(x, y, z, t) at the "
-                      "current point position, as dim FunctionParser "
-                      "expressions separated by ';' (e.g. the body force of "
-                      "a manufactured solution); empty for none. Its work is "
-                      "not in the energy balance. Units: m/s^2.");
-    prm.declare_entry("Function constants",
-                      "",
-                      Patterns::Anything(),
-                      "Constants for the 'Acceleration' expressions, e.g. "
-                      "'A=0.01, c=2'. Units: as used.");
-    prm.declare_entry("Acceleration at initial position",
-                      "false",
-                      Patterns::Bool(),
-                      "Evaluate 'Acceleration' at each point's initial "
-                      "position X instead of its current position x (the "
-                      "body force of a manufactured solution is a function "
-                      "of X; exact at any deformation). Units: none.");
+
+
+  void
+  MethodParameters::declare_plugin_parameters(ParameterHandler  &prm,
+                                              const unsigned int dim)
+  {
+    if (dim == 2)
+      declare_method_plugin_parameters<2>(prm);
+    else
+      declare_method_plugin_parameters<3>(prm);
+  }
+
+
+
+  void
+  MethodParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Time");
+    strain_update            = prm.get("Strain update");
+    strain_update_scheme     = StrainUpdateScheme::of(strain_update);
+    lumped_strain_velocities = strain_update_mass_matrix_names.value(
+      prm.get("Strain update mass matrix"));
+    prm.leave_subsection();
+
+    prm.enter_subsection("Shape function");
+    shape_function       = prm.get("Type");
+    cpdi_critical_radius = prm.get_double("CPDI critical radius");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Deformation gradient");
+    deformation_gradient_update =
+      deformation_gradient_update_names.value(prm.get("Update"));
+    taylor_terms              = prm.get_integer("Taylor terms");
+    subcycle_strain_increment = prm.get_double("Subcycle strain increment");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Particle update");
+    particle_update  = prm.get("Model name");
+    grid_damping     = prm.get_double("Grid damping");
+    particle_damping = prm.get_double("Particle damping");
+    prm.leave_subsection();
+    prm.enter_subsection("Mass matrix");
+    mass_matrix = prm.get("Model name");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  MaterialParameters::declare_parameters(ParameterHandler  &prm,
+                                         const unsigned int dim)
+  {
+    if (dim == 2)
+      declare_material_parameters<2>(prm);
+    else
+      declare_material_parameters<3>(prm);
+  }
+
+
+
+  void
+  MaterialParameters::parse_parameters(ParameterHandler  &prm,
+                                       const std::string &where)
+  {
+    model_name = prm.get("Model name");
+    density    = prm.get_double("Density");
+    AssertThrow(density > 0,
+                ExcMessage(where + "/Density = " + format_number(density) +
+                           " is not positive. Allowed: any value > 0 "
+                           "(kg/m^3)."));
+  }
+
+
+
+  void
+  RotatingFrameParameters::declare_parameters(ParameterHandler  &prm,
+                                              const unsigned int dim)
+  {
+    const RotatingFrameParameters defaults;
     prm.enter_subsection("Rotating frame");
     prm.declare_entry("Enable",
-                      "false",
+                      bool_text(defaults.enable),
                       Patterns::Bool(),
                       "Solve in a frame rotating with angular velocity w(t) "
                       "about 'Center': the body acceleration gains the "
@@ -691,113 +1031,159 @@ namespace fmpm
                       "-dw/dt x r terms ([Vaango-MPM], computing the body "
                       "force). Units: none.");
     prm.declare_entry("Angular velocity",
-                      "0; 0; 0",
+                      defaults.angular_velocity,
                       Patterns::Anything(),
                       "w(t): three numbers separated by ',' or three "
                       "expressions in t separated by ';' (in 2D only the z "
                       "component acts). Units: 1/s.");
     prm.declare_entry("Center",
-                      join(std::vector<double>{0, 0, 0}, dim),
+                      join(defaults.center, dim),
                       point_pattern(dim),
                       "Centre of rotation. Units: m.");
     prm.declare_entry("Function constants",
-                      "",
+                      defaults.constants,
                       Patterns::Anything(),
                       "Constants for 'Angular velocity'. Units: as used.");
     prm.leave_subsection();
+  }
+
+
+
+  void
+  RotatingFrameParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Rotating frame");
+    enable           = prm.get_bool("Enable");
+    angular_velocity = prm.get("Angular velocity");
+    center           = get_doubles(prm, "Center");
+    constants        = prm.get("Function constants");
     prm.leave_subsection();
+  }
 
-    const BodyParameters body;
-    for (unsigned int b = 0; b < size.n_bodies; ++b)
-      {
-        prm.enter_subsection(numbered_subsection("Body", b));
-        prm.declare_entry("Shape",
-                          body.shape,
-                          Patterns::Selection("box|sphere|ellipsoid"),
-                          "Shape of the body: 'box' (a rectangle in 2D), "
-                          "'sphere' (disk; radius = first half length), "
-                          "'ellipsoid' (ellipse; semi-axes = half lengths, "
-                          "axis aligned). Units: none.");
-        prm.declare_entry("Center",
-                          join(body.center, dim),
-                          point_pattern(dim),
-                          "Center of the shape. Units: m.");
-        prm.declare_entry("Half lengths",
-                          join(body.half_lengths, dim),
-                          point_pattern(dim),
-                          "Half widths of the box, or semi-axes of the "
-                          "ellipsoid; the first is the sphere's radius. "
-                          "Units: m.");
-        prm.declare_entry("Material",
-                          std::to_string(body.material),
-                          Patterns::Integer(0),
-                          "Index N of the 'Material N' the body is made of. "
-                          "Units: none.");
-        prm.declare_entry("Points per cell",
-                          std::to_string(body.points_per_cell),
-                          Patterns::Integer(1, 10),
-                          "Material points per cell in each direction, "
-                          "placed at the centres of a regular subdivision of "
-                          "each cell. Units: none.");
-        prm.declare_entry("Initial velocity",
-                          join(body.velocity, dim),
-                          Patterns::Anything(),
-                          "Initial velocity of the points: either dim numbers "
-                          "separated by ',', or dim FunctionParser "
-                          "expressions in x, y, z separated by ';' (for "
-                          "example 'v0*sin(beta*x); 0'). Units: m/s.");
-        prm.declare_entry("Function constants",
-                          "",
-                          Patterns::Anything(),
-                          "Constants for the 'Initial velocity' expressions, "
-                          "e.g. 'v0=0.1, beta=1.5708'. Units: as used.");
-        prm.declare_entry("Initial stress from gravity",
-                          "false",
-                          Patterns::Bool(),
-                          "Start with the stress in equilibrium with gravity "
-                          "([Vaango-MPM], initializeStressWithBodyForce): "
-                          "sigma = -rho |g| depth along g, with lateral "
-                          "stresses of uniaxial strain, so that a column "
-                          "under gravity starts at rest. Depth is measured "
-                          "from the body's top surface. Units: none.");
-        prm.leave_subsection();
-      }
 
-    const OutputParameters output;
+
+  void
+  BodyParameters::declare_parameters(ParameterHandler  &prm,
+                                     const unsigned int dim)
+  {
+    const BodyParameters defaults;
+    prm.declare_entry("Shape",
+                      shape_names.name(defaults.shape),
+                      Patterns::Selection(shape_names.pattern()),
+                      "Shape of the body: 'box' (a rectangle in 2D), "
+                      "'sphere' (disk; radius = first half length), "
+                      "'ellipsoid' (ellipse; semi-axes = half lengths, "
+                      "axis aligned). Units: none.");
+    prm.declare_entry("Center",
+                      join(defaults.center, dim),
+                      point_pattern(dim),
+                      "Center of the shape. Units: m.");
+    prm.declare_entry("Half lengths",
+                      join(defaults.half_lengths, dim),
+                      point_pattern(dim),
+                      "Half widths of the box, or semi-axes of the "
+                      "ellipsoid; the first is the sphere's radius. "
+                      "Units: m.");
+    prm.declare_entry("Material",
+                      std::to_string(defaults.material),
+                      Patterns::Integer(0),
+                      "Index N of the 'Material N' the body is made of. "
+                      "Units: none.");
+    prm.declare_entry("Points per cell",
+                      std::to_string(defaults.points_per_cell),
+                      Patterns::Integer(1, 10),
+                      "Material points per cell in each direction, "
+                      "placed at the centres of a regular subdivision of "
+                      "each cell. Units: none.");
+    prm.declare_entry("Initial velocity",
+                      join(defaults.velocity, dim),
+                      Patterns::Anything(),
+                      "Initial velocity of the points: either dim numbers "
+                      "separated by ',', or dim FunctionParser "
+                      "expressions in x, y, z separated by ';' (for "
+                      "example 'v0*sin(beta*x); 0'). Units: m/s.");
+    prm.declare_entry("Function constants",
+                      defaults.function_constants,
+                      Patterns::Anything(),
+                      "Constants for the 'Initial velocity' expressions, "
+                      "e.g. 'v0=0.1, beta=1.5708'. Units: as used.");
+    prm.declare_entry("Initial stress from gravity",
+                      bool_text(defaults.initial_stress_from_gravity),
+                      Patterns::Bool(),
+                      "Start with the stress in equilibrium with gravity "
+                      "([Vaango-MPM], initializeStressWithBodyForce): "
+                      "sigma = -rho |g| depth along g, with lateral "
+                      "stresses of uniaxial strain, so that a column "
+                      "under gravity starts at rest. Depth is measured "
+                      "from the body's top surface. Units: none.");
+  }
+
+
+
+  void
+  BodyParameters::parse_parameters(ParameterHandler  &prm,
+                                   const SceneSize   &size,
+                                   const std::string &where)
+  {
+    shape                       = shape_names.value(prm.get("Shape"));
+    center                      = get_doubles(prm, "Center");
+    half_lengths                = get_doubles(prm, "Half lengths");
+    material                    = prm.get_integer("Material");
+    points_per_cell             = prm.get_integer("Points per cell");
+    velocity_expression         = prm.get("Initial velocity");
+    function_constants          = prm.get("Function constants");
+    initial_stress_from_gravity = prm.get_bool("Initial stress from gravity");
+    AssertThrow(material < size.n_materials,
+                ExcMessage(where + "/Material = " + std::to_string(material) +
+                           " does not exist: the scene has 'Number of "
+                           "materials' = " +
+                           std::to_string(size.n_materials) +
+                           ", so allowed values are 0 to " +
+                           std::to_string(size.n_materials - 1) + "."));
+    for (unsigned int d = 0; d < size.dimension; ++d)
+      AssertThrow(half_lengths[d] > 0,
+                  ExcMessage(where + "/Half lengths must all be positive."));
+  }
+
+
+
+  void
+  OutputParameters::declare_parameters(ParameterHandler &prm)
+  {
+    const OutputParameters defaults;
     prm.enter_subsection("Output");
     {
       prm.declare_entry("Directory",
-                        output.directory,
+                        defaults.directory,
                         Patterns::Anything(),
                         "Directory for all results (created if missing). "
                         "Units: none.");
       prm.declare_entry("Interval",
-                        format_number(output.interval),
+                        format_number(defaults.interval),
                         Patterns::Double(0),
                         "Simulated time between outputs (history row and "
                         "VTU files); 0 writes every 'Step interval' steps. "
                         "Units: s.");
       prm.declare_entry("Step interval",
-                        std::to_string(output.step_interval),
+                        std::to_string(defaults.step_interval),
                         Patterns::Integer(0),
                         "Steps between outputs when 'Interval' is 0; 0 means "
                         "every step. Units: none.");
       prm.declare_entry("Write vtu",
-                        output.write_vtu ? "true" : "false",
+                        bool_text(defaults.write_vtu),
                         Patterns::Bool(),
                         "Write particle and grid fields as VTU/PVTU with PVD "
                         "records for ParaView. Units: none.");
       prm.declare_entry("Compression",
-                        output.compression,
-                        Patterns::Selection(
-                          "best speed|best compression|default|none"),
+                        compression_names.name(defaults.compression),
+                        Patterns::Selection(compression_names.pattern()),
                         "zlib compression of the binary VTU data: 'best "
                         "speed' (files about as small as 'best compression' "
                         "at a fraction of its cost), 'best compression', "
                         "'default' (zlib's), or 'none'. Units: none.");
       prm.declare_entry(
         "Write particle csv",
-        output.write_particle_csv ? "true" : "false",
+        bool_text(defaults.write_particle_csv),
         Patterns::Bool(),
         "Write particles_NNNNN.csv at each output: one file gathered from "
         "all ranks, rows sorted by point id, columns id, body, material, "
@@ -806,7 +1192,7 @@ namespace fmpm
         "plastic_strain (0 where the model has none). Units: SI.");
       prm.declare_entry(
         "Write grid acceleration",
-        output.write_grid_acceleration ? "true" : "false",
+        bool_text(defaults.write_grid_acceleration),
         Patterns::Bool(),
         "Add the grid acceleration a = m~_k^-1 f + dv+/dt of [Nairn2023-FMPM] Eq. "
         "(4.1) (the series' acceleration of the forces plus the change the "
@@ -816,7 +1202,7 @@ namespace fmpm
         "forces cancel in it). Units: none.");
       prm.declare_entry(
         "Track dissipated energy",
-        "false",
+        bool_text(defaults.track_dissipation),
         Patterns::Bool(),
         "Sum the energy each particle update dissipates "
         "compared with a non-dissipative FLIP update "
@@ -825,20 +1211,42 @@ namespace fmpm
         "two extra grid-to-point interpolations. Units: "
         "none.");
       prm.declare_entry("Progress interval",
-                        format_number(output.progress_seconds),
+                        format_number(defaults.progress_seconds),
                         Patterns::Double(0),
                         "Wall-clock seconds between progress lines on the "
                         "terminal. Units: s.");
     }
     prm.leave_subsection();
+  }
 
-    Contact::Parameters::declare_parameters(prm);
 
-    const CheckpointParameters checkpoint;
+
+  void
+  OutputParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Output");
+    directory               = prm.get("Directory");
+    interval                = prm.get_double("Interval");
+    step_interval           = prm.get_integer("Step interval");
+    write_vtu               = prm.get_bool("Write vtu");
+    compression             = compression_names.value(prm.get("Compression"));
+    write_particle_csv      = prm.get_bool("Write particle csv");
+    write_grid_acceleration = prm.get_bool("Write grid acceleration");
+    progress_seconds        = prm.get_double("Progress interval");
+    track_dissipation       = prm.get_bool("Track dissipated energy");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  CheckpointParameters::declare_parameters(ParameterHandler &prm)
+  {
+    const CheckpointParameters defaults;
     prm.enter_subsection("Checkpoint");
     {
       prm.declare_entry("Step interval",
-                        std::to_string(checkpoint.step_interval),
+                        std::to_string(defaults.step_interval),
                         Patterns::Integer(0),
                         "Write a checkpoint every this many steps into "
                         "<Output/Directory>/checkpoint/ (0: not by step "
@@ -847,25 +1255,43 @@ namespace fmpm
                         "the run receives SIGTERM or SIGINT, after which it "
                         "stops. Units: none.");
       prm.declare_entry("Wall time interval",
-                        format_number(checkpoint.wall_time_interval),
+                        format_number(defaults.wall_time_interval),
                         Patterns::Double(0),
                         "Write a checkpoint whenever this much wall-clock "
                         "time has passed since the start or the last "
                         "checkpoint (0: not by wall time). Units: min.");
       prm.declare_entry("Keep",
-                        std::to_string(checkpoint.keep),
+                        std::to_string(defaults.keep),
                         Patterns::Integer(1),
                         "How many complete checkpoints to keep; older ones "
                         "are deleted once a new one is complete. Units: "
                         "none.");
     }
     prm.leave_subsection();
+  }
 
-    const FailureParameters failure;
+
+
+  void
+  CheckpointParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Checkpoint");
+    step_interval      = prm.get_integer("Step interval");
+    wall_time_interval = prm.get_double("Wall time interval");
+    keep               = prm.get_integer("Keep");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  FailureParameters::declare_parameters(ParameterHandler &prm)
+  {
+    const FailureParameters defaults;
     prm.enter_subsection("Failure detection");
     {
       prm.declare_entry("Energy growth limit",
-                        format_number(failure.energy_growth_limit),
+                        format_number(defaults.energy_growth_limit),
                         Patterns::Double(1),
                         "The run fails when the total energy exceeds this "
                         "factor times the largest of the initial total "
@@ -875,7 +1301,7 @@ namespace fmpm
                         "Units: none.");
       prm.declare_entry(
         "Kinetic energy limit",
-        format_number(failure.kinetic_energy_limit),
+        format_number(defaults.kinetic_energy_limit),
         Patterns::Double(0),
         "The run fails when the kinetic energy exceeds this; 0: no limit. "
         "For quasi-static scenes (a slow piston, a compression test): an "
@@ -884,45 +1310,134 @@ namespace fmpm
         "walls did, which the energy growth limit cannot see. Units: J (per "
         "unit thickness in 2D).");
       prm.declare_entry("Points leaving the mesh",
-                        failure.lost_points,
-                        Patterns::Selection("stop|delete"),
+                        lost_points_names.name(defaults.lost_points),
+                        Patterns::Selection(lost_points_names.pattern()),
                         "'stop': a point that leaves the mesh stops the run "
                         "with a message naming it; 'delete': such points are "
                         "removed and counted. Units: none.");
     }
     prm.leave_subsection();
+  }
 
+
+
+  void
+  FailureParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Failure detection");
+    energy_growth_limit  = prm.get_double("Energy growth limit");
+    kinetic_energy_limit = prm.get_double("Kinetic energy limit");
+    lost_points = lost_points_names.value(prm.get("Points leaving the mesh"));
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  ReferenceSolutionParameters::declare_parameters(ParameterHandler  &prm,
+                                                  const unsigned int dim)
+  {
+    const ReferenceSolutionParameters defaults;
     prm.enter_subsection("Reference solution");
     {
       prm.declare_entry("Enable",
-                        "false",
+                        bool_text(defaults.enable),
                         Patterns::Bool(),
                         "Measure the error of each output against the "
                         "analytical velocity and displacement below. "
                         "Units: none.");
       prm.declare_entry("Velocity",
-                        join(std::vector<double>{0, 0, 0}, dim),
+                        first_components(defaults.velocity, dim),
                         Patterns::Anything(),
                         "Velocity as function of the initial position "
                         "(x, y, z) and time t (FunctionParser syntax, one "
                         "expression per component, separated by ';'). "
                         "Units: m/s.");
       prm.declare_entry("Displacement",
-                        join(std::vector<double>{0, 0, 0}, dim),
+                        first_components(defaults.displacement, dim),
                         Patterns::Anything(),
                         "Displacement as function of the initial position "
                         "and t, as 'Velocity'. Units: m.");
       prm.declare_entry("Function constants",
-                        "",
+                        defaults.constants,
                         Patterns::Anything(),
                         "Constants for the expressions, e.g. "
                         "'v0=0.1, omega=3.2'. Units: as used.");
     }
     prm.leave_subsection();
+  }
+
+
+
+  void
+  ReferenceSolutionParameters::parse_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Reference solution");
+    enable       = prm.get_bool("Enable");
+    velocity     = prm.get("Velocity");
+    displacement = prm.get("Displacement");
+    constants    = prm.get("Function constants");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  Parameters::declare_parameters(ParameterHandler &prm, const SceneSize &size)
+  {
+    const unsigned int dim = size.dimension;
+    const Parameters   defaults;
+    SceneSize::declare_parameters(prm);
+    MeshParameters::declare_parameters(prm, dim);
+    MeshRefinementParameters::declare_parameters(prm);
+    BoundaryConditionParameters::declare_parameters(prm, size);
+    TimeParameters::declare_parameters(prm);
+    MethodParameters::declare_parameters(prm);
+
+    prm.enter_subsection("Body force");
+    prm.declare_entry("Gravity",
+                      join(defaults.gravity, dim),
+                      point_pattern(dim),
+                      "Gravitational acceleration b. Units: m/s^2.");
+    prm.declare_entry("Acceleration",
+                      defaults.body_acceleration,
+                      Patterns::Anything(),
+                      "An additional body acceleration b(x, y, z, t) at the "
+                      "current point position, as dim FunctionParser "
+                      "expressions separated by ';' (e.g. the body force of "
+                      "a manufactured solution); empty for none. Its work is "
+                      "not in the energy balance. Units: m/s^2.");
+    prm.declare_entry("Function constants",
+                      defaults.body_acceleration_constants,
+                      Patterns::Anything(),
+                      "Constants for the 'Acceleration' expressions, e.g. "
+                      "'A=0.01, c=2'. Units: as used.");
+    prm.declare_entry("Acceleration at initial position",
+                      bool_text(defaults.body_acceleration_at_initial_position),
+                      Patterns::Bool(),
+                      "Evaluate 'Acceleration' at each point's initial "
+                      "position X instead of its current position x (the "
+                      "body force of a manufactured solution is a function "
+                      "of X; exact at any deformation). Units: none.");
+    RotatingFrameParameters::declare_parameters(prm, dim);
+    prm.leave_subsection();
+
+    for (unsigned int b = 0; b < size.n_bodies; ++b)
+      {
+        prm.enter_subsection(numbered_subsection("Body", b));
+        BodyParameters::declare_parameters(prm, dim);
+        prm.leave_subsection();
+      }
+
+    OutputParameters::declare_parameters(prm);
+    Contact::Parameters::declare_parameters(prm);
+    CheckpointParameters::declare_parameters(prm);
+    FailureParameters::declare_parameters(prm);
+    ReferenceSolutionParameters::declare_parameters(prm, dim);
 
     prm.enter_subsection("Test");
     prm.declare_entry("Enable",
-                      "false",
+                      bool_text(defaults.test_mode),
                       Patterns::Bool(),
                       "Print mass, momentum and energy every output and the "
                       "points sorted by id at the end, at fixed precision, "
@@ -932,7 +1447,7 @@ namespace fmpm
 
     prm.enter_subsection("Performance");
     prm.declare_entry("Fast point sorting",
-                      "true",
+                      bool_text(defaults.fast_point_sorting),
                       Patterns::Bool(),
                       "After each step, find the new cell of only the "
                       "material points that left their cell (their reference "
@@ -948,16 +1463,19 @@ namespace fmpm
 
     prm.enter_subsection("Timer");
     prm.declare_entry("Type",
-                      "summary",
-                      Patterns::Selection("none|summary"),
+                      timer_type_names.name(defaults.print_timer_summary),
+                      Patterns::Selection(timer_type_names.pattern()),
                       "Whether to print the TimerOutput summary at the end. "
                       "Units: none.");
     prm.leave_subsection();
 
-    if (dim == 2)
-      declare_plugin_parameters<2>(prm, size);
-    else
-      declare_plugin_parameters<3>(prm, size);
+    MethodParameters::declare_plugin_parameters(prm, dim);
+    for (unsigned int m = 0; m < size.n_materials; ++m)
+      {
+        prm.enter_subsection(numbered_subsection("Material", m));
+        MaterialParameters::declare_parameters(prm, dim);
+        prm.leave_subsection();
+      }
   }
 
 
@@ -966,167 +1484,10 @@ namespace fmpm
   Parameters::parse_parameters(ParameterHandler &prm)
   {
     size.parse_parameters(prm);
-    const unsigned int dim = size.dimension;
-
-    prm.enter_subsection("Mesh");
-    mesh.type         = prm.get("Type");
-    mesh.lower_corner = get_doubles(prm, "Lower corner");
-    mesh.upper_corner = get_doubles(prm, "Upper corner");
-    mesh.subdivisions.clear();
-    for (const double n : get_doubles(prm, "Subdivisions"))
-      mesh.subdivisions.push_back(static_cast<unsigned int>(n));
-    mesh.file_name         = prm.get("File name");
-    mesh.global_refinement = prm.get_integer("Initial global refinement");
-    mesh.distortion        = prm.get_double("Random distortion");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Mesh refinement");
-    refinement.strategy           = prm.get("Strategy");
-    refinement.interval           = prm.get_integer("Interval");
-    refinement.minimum_level      = prm.get_integer("Minimum level");
-    refinement.maximum_level      = prm.get_integer("Maximum level");
-    refinement.buffer_layers      = prm.get_integer("Buffer layers");
-    refinement.refine_fraction    = prm.get_double("Refine fraction");
-    refinement.coarsen_fraction   = prm.get_double("Coarsen fraction");
-    refinement.initial_refinement = prm.get_bool("Initial refinement");
-    refinement.point_weight       = prm.get_integer("Point weight");
-    prm.leave_subsection();
-    AssertThrow(refinement.maximum_level >= refinement.minimum_level,
-                ExcMessage("Mesh refinement/Maximum level = " +
-                           std::to_string(refinement.maximum_level) +
-                           " is below Mesh refinement/Minimum level = " +
-                           std::to_string(refinement.minimum_level) +
-                           ". Allowed: Maximum level >= Minimum level."));
-    AssertThrow(refinement.strategy == "none" ||
-                  refinement.maximum_level >= mesh.global_refinement,
-                ExcMessage("Mesh refinement/Maximum level = " +
-                           std::to_string(refinement.maximum_level) +
-                           " is below Mesh/Initial global refinement = " +
-                           std::to_string(mesh.global_refinement) +
-                           ". Allowed: Maximum level >= Initial global "
-                           "refinement."));
-    AssertThrow(refinement.refine_fraction + refinement.coarsen_fraction <= 1,
-                ExcMessage("Mesh refinement/Refine fraction + Coarsen "
-                           "fraction must not exceed 1."));
-    if (mesh.type == "box" || mesh.type == "ball")
-      for (unsigned int d = 0; d < dim; ++d)
-        AssertThrow(mesh.upper_corner[d] > mesh.lower_corner[d],
-                    ExcMessage("Mesh/Upper corner must be above Mesh/Lower "
-                               "corner in every direction; direction " +
-                               std::to_string(d) + " is not."));
-    if (mesh.type == "gmsh")
-      {
-        AssertThrow(!mesh.file_name.empty(),
-                    ExcMessage("Mesh/Type = gmsh needs Mesh/File name."));
-        std::ifstream test(mesh.file_name);
-        AssertThrow(test,
-                    ExcMessage("Mesh/File name = <" + mesh.file_name +
-                               "> cannot be opened: no such file or not "
-                               "readable."));
-      }
-
-    prm.enter_subsection("Boundary conditions");
-    for (const double id : get_doubles(prm, "Fixed boundary ids"))
-      boundary_conditions.fixed.push_back(static_cast<types::boundary_id>(id));
-    for (const double id : get_doubles(prm, "Roller boundary ids"))
-      boundary_conditions.roller.push_back(static_cast<types::boundary_id>(id));
-    boundary_conditions.method = prm.get("Method");
-    boundary_conditions.moving_walls.resize(size.n_moving_walls);
-    for (unsigned int w = 0; w < size.n_moving_walls; ++w)
-      {
-        const std::string where =
-          "Boundary conditions/" + numbered_subsection("Moving wall", w);
-        prm.enter_subsection(numbered_subsection("Moving wall", w));
-        auto &wall = boundary_conditions.moving_walls[w];
-        for (const double id : get_doubles(prm, "Boundary ids"))
-          wall.boundary_ids.push_back(static_cast<types::boundary_id>(id));
-        wall.box_lower = get_doubles(prm, "Box lower corner");
-        wall.box_upper = get_doubles(prm, "Box upper corner");
-        wall.region    = prm.get("Region");
-        wall.direction = get_doubles(prm, "Direction");
-        wall.velocity  = prm.get("Velocity");
-        wall.constants = prm.get("Function constants");
-        prm.leave_subsection();
-        const bool has_box = !wall.box_lower.empty() || !wall.box_upper.empty();
-        const unsigned int n_kinds = (wall.boundary_ids.empty() ? 0 : 1) +
-                                     (has_box ? 1 : 0) +
-                                     (wall.region.empty() ? 0 : 1);
-        AssertThrow(n_kinds == 1,
-                    ExcMessage(where + ": set either 'Boundary ids' or both "
-                                       "'Box lower corner' and 'Box upper "
-                                       "corner' or 'Region', exactly one of "
-                                       "them."));
-        if (has_box)
-          {
-            AssertThrow(wall.box_lower.size() == dim &&
-                          wall.box_upper.size() == dim,
-                        ExcMessage(where +
-                                   "/Box lower corner and Box upper "
-                                   "corner need " +
-                                   std::to_string(dim) + " numbers each."));
-            for (unsigned int d = 0; d < dim; ++d)
-              AssertThrow(wall.box_upper[d] > wall.box_lower[d],
-                          ExcMessage(where + "/Box upper corner must be above "
-                                             "Box lower corner in every "
-                                             "direction."));
-          }
-        double norm = 0;
-        for (unsigned int d = 0; d < dim; ++d)
-          norm += wall.direction[d] * wall.direction[d];
-        AssertThrow(norm > 0,
-                    ExcMessage(where + "/Direction must not be zero."));
-        for (unsigned int d = 0; d < dim; ++d)
-          wall.direction[d] /= std::sqrt(norm);
-      }
-    boundary_conditions.tractions.resize(size.n_tractions);
-    for (unsigned int n = 0; n < size.n_tractions; ++n)
-      {
-        prm.enter_subsection(numbered_subsection("Traction", n));
-        auto &traction       = boundary_conditions.tractions[n];
-        traction.box_lower   = get_doubles(prm, "Box lower corner");
-        traction.box_upper   = get_doubles(prm, "Box upper corner");
-        traction.traction    = prm.get("Traction");
-        traction.normal_axis = prm.get_integer("Normal axis");
-        traction.constants   = prm.get("Function constants");
-        prm.leave_subsection();
-      }
-    prm.leave_subsection();
-
-    prm.enter_subsection("Time");
-    time.end_time               = prm.get_double("End time");
-    time.time_step              = prm.get_double("Time step");
-    time.courant_number         = prm.get_double("Courant number");
-    time.max_steps              = prm.get_integer("Maximum number of steps");
-    method.strain_update        = prm.get("Strain update");
-    method.strain_update_scheme = StrainUpdateScheme::of(method.strain_update);
-    time.check_stability        = prm.get_bool("Check stability limit");
-    const std::string courant_limit = prm.get("Courant number limit");
-    prm.leave_subsection();
-    if (courant_limit == "auto")
-      time.courant_limit = 0;
-    else if (courant_limit == "none")
-      time.courant_limit = std::numeric_limits<double>::infinity();
-    else
-      {
-        char *end          = nullptr;
-        time.courant_limit = std::strtod(courant_limit.c_str(), &end);
-        AssertThrow(end != courant_limit.c_str() && *end == '\0' &&
-                      time.courant_limit > 0 &&
-                      std::isfinite(time.courant_limit),
-                    ExcMessage("Time/Courant number limit = <" + courant_limit +
-                               "> is not allowed. Allowed: 'auto' (the "
-                               "method's measured limit), 'none' or a "
-                               "number > 0."));
-      }
-    AssertThrow(!time.check_stability || time.courant_number <= 1,
-                ExcMessage("Time/Courant number = " +
-                           format_number(time.courant_number) +
-                           " is above the stable limit 1. Allowed: (0, 1], "
-                           "or set Time/Check stability limit = false."));
-    AssertThrow(time.time_step > 0 || time.courant_number > 0,
-                ExcMessage("Time/Time step and Time/Courant number are both "
-                           "0: set one of them to a positive value."));
-
+    mesh.parse_parameters(prm, size.dimension);
+    refinement.parse_parameters(prm, mesh);
+    boundary_conditions.parse_parameters(prm, size);
+    time.parse_parameters(prm);
 
     prm.enter_subsection("Body force");
     gravity                     = get_doubles(prm, "Gravity");
@@ -1134,52 +1495,18 @@ namespace fmpm
     body_acceleration_constants = prm.get("Function constants");
     body_acceleration_at_initial_position =
       prm.get_bool("Acceleration at initial position");
-    prm.enter_subsection("Rotating frame");
-    rotating_frame.enable           = prm.get_bool("Enable");
-    rotating_frame.angular_velocity = prm.get("Angular velocity");
-    rotating_frame.center           = get_doubles(prm, "Center");
-    rotating_frame.constants        = prm.get("Function constants");
-    prm.leave_subsection();
+    rotating_frame.parse_parameters(prm);
     prm.leave_subsection();
 
-    prm.enter_subsection("Time");
-    method.strain_update_mass_matrix = prm.get("Strain update mass matrix");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Shape function");
-    method.shape_function       = prm.get("Type");
-    method.cpdi_critical_radius = prm.get_double("CPDI critical radius");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Deformation gradient");
-    method.deformation_gradient_update = prm.get("Update");
-    method.taylor_terms                = prm.get_integer("Taylor terms");
-    method.subcycle_strain_increment =
-      prm.get_double("Subcycle strain increment");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Particle update");
-    method.particle_update  = prm.get("Model name");
-    method.grid_damping     = prm.get_double("Grid damping");
-    method.particle_damping = prm.get_double("Particle damping");
-    prm.leave_subsection();
-    prm.enter_subsection("Mass matrix");
-    method.mass_matrix = prm.get("Model name");
-    prm.leave_subsection();
+    method.parse_parameters(prm);
 
     materials.resize(size.n_materials);
     for (unsigned int m = 0; m < size.n_materials; ++m)
       {
         const std::string where = numbered_subsection("Material", m);
         prm.enter_subsection(where);
-        materials[m].model_name = prm.get("Model name");
-        materials[m].density    = prm.get_double("Density");
+        materials[m].parse_parameters(prm, where);
         prm.leave_subsection();
-        AssertThrow(materials[m].density > 0,
-                    ExcMessage(where + "/Density = " +
-                               format_number(materials[m].density) +
-                               " is not positive. Allowed: any value > 0 "
-                               "(kg/m^3)."));
       }
 
     bodies.resize(size.n_bodies);
@@ -1187,62 +1514,15 @@ namespace fmpm
       {
         const std::string where = numbered_subsection("Body", b);
         prm.enter_subsection(where);
-        bodies[b].shape               = prm.get("Shape");
-        bodies[b].center              = get_doubles(prm, "Center");
-        bodies[b].half_lengths        = get_doubles(prm, "Half lengths");
-        bodies[b].material            = prm.get_integer("Material");
-        bodies[b].points_per_cell     = prm.get_integer("Points per cell");
-        bodies[b].velocity_expression = prm.get("Initial velocity");
-        bodies[b].function_constants  = prm.get("Function constants");
-        bodies[b].initial_stress_from_gravity =
-          prm.get_bool("Initial stress from gravity");
+        bodies[b].parse_parameters(prm, size, where);
         prm.leave_subsection();
-        AssertThrow(bodies[b].material < size.n_materials,
-                    ExcMessage(where + "/Material = " +
-                               std::to_string(bodies[b].material) +
-                               " does not exist: the scene has 'Number of "
-                               "materials' = " +
-                               std::to_string(size.n_materials) +
-                               ", so allowed values are 0 to " +
-                               std::to_string(size.n_materials - 1) + "."));
-        for (unsigned int d = 0; d < dim; ++d)
-          AssertThrow(bodies[b].half_lengths[d] > 0,
-                      ExcMessage(where + "/Half lengths must all be "
-                                         "positive."));
       }
 
-    prm.enter_subsection("Output");
-    output.directory               = prm.get("Directory");
-    output.interval                = prm.get_double("Interval");
-    output.step_interval           = prm.get_integer("Step interval");
-    output.write_vtu               = prm.get_bool("Write vtu");
-    output.compression             = prm.get("Compression");
-    output.write_particle_csv      = prm.get_bool("Write particle csv");
-    output.write_grid_acceleration = prm.get_bool("Write grid acceleration");
-    output.progress_seconds        = prm.get_double("Progress interval");
-    output.track_dissipation       = prm.get_bool("Track dissipated energy");
-    prm.leave_subsection();
-
+    output.parse_parameters(prm);
     contact.parse_parameters(prm, size.n_materials);
-
-    prm.enter_subsection("Checkpoint");
-    checkpoint.step_interval      = prm.get_integer("Step interval");
-    checkpoint.wall_time_interval = prm.get_double("Wall time interval");
-    checkpoint.keep               = prm.get_integer("Keep");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Failure detection");
-    failure.energy_growth_limit  = prm.get_double("Energy growth limit");
-    failure.kinetic_energy_limit = prm.get_double("Kinetic energy limit");
-    failure.lost_points          = prm.get("Points leaving the mesh");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Reference solution");
-    reference.enable       = prm.get_bool("Enable");
-    reference.velocity     = prm.get("Velocity");
-    reference.displacement = prm.get("Displacement");
-    reference.constants    = prm.get("Function constants");
-    prm.leave_subsection();
+    checkpoint.parse_parameters(prm);
+    failure.parse_parameters(prm);
+    reference.parse_parameters(prm);
 
     prm.enter_subsection("Test");
     test_mode = prm.get_bool("Enable");
@@ -1253,7 +1533,7 @@ namespace fmpm
     prm.leave_subsection();
 
     prm.enter_subsection("Timer");
-    timer_type = prm.get("Type");
+    print_timer_summary = timer_type_names.value(prm.get("Type"));
     prm.leave_subsection();
   }
 

@@ -21,6 +21,45 @@ namespace fmpm
   using namespace dealii;
 
   /**
+   * @brief The names of a Patterns::Selection, in the order of the values of
+   * @p Enum (0, 1, ...): the choice is resolved to the enum when parsed.
+   */
+  template <typename Enum, std::size_t n>
+  struct SelectionNames
+  {
+    const char *names[n];
+
+    /** "a|b|c" for Patterns::Selection. */
+    std::string
+    pattern() const
+    {
+      std::string text;
+      for (const char *name : names)
+        text += (text.empty() ? "" : "|") + std::string(name);
+      return text;
+    }
+
+    /** The name of @p value, as the parameter file writes it. */
+    std::string
+    name(const Enum value) const
+    {
+      return names[static_cast<std::size_t>(value)];
+    }
+
+    /** The value named @p name (one of the pattern's names). */
+    Enum
+    value(const std::string &name) const
+    {
+      for (std::size_t i = 0; i < n; ++i)
+        if (name == names[i])
+          return static_cast<Enum>(i);
+      AssertThrow(false,
+                  ExcMessage("<" + name + "> is not one of " + pattern()));
+      return static_cast<Enum>(0);
+    }
+  };
+
+  /**
    * @brief The parts of a scene that must be known before the full set of
    * parameters can be declared: the dimension and how many bodies and
    * materials the scene has (each gets its own subsection).
@@ -42,8 +81,18 @@ namespace fmpm
   /** @brief Background mesh. */
   struct MeshParameters
   {
-    /** "box" (GridGenerator::subdivided_hyper_rectangle) or "gmsh". */
-    std::string               type = "box";
+    /** 'Mesh/Type'. */
+    enum class Type
+    {
+      box,
+      gmsh,
+      ball
+    };
+    static constexpr SelectionNames<Type, 3> type_names{
+      {"box", "gmsh", "ball"}};
+
+    /** box (GridGenerator::subdivided_hyper_rectangle), gmsh or ball. */
+    Type                      type = Type::box;
     std::vector<double>       lower_corner{0, 0, 0};
     std::vector<double>       upper_corner{1, 1, 1};
     std::vector<unsigned int> subdivisions{8, 8, 8};
@@ -52,13 +101,35 @@ namespace fmpm
     /** Random vertex displacement (GridTools::distort_random) as a fraction
      * of the shortest adjacent edge; 0 keeps the mesh. */
     double distortion = 0;
+
+    static void
+    declare_parameters(ParameterHandler &prm, const unsigned int dim);
+    void
+    parse_parameters(ParameterHandler &prm, const unsigned int dim);
   };
 
   /** @brief Adaptive refinement of the background mesh during the run. */
   struct MeshRefinementParameters
   {
-    /** none, material points, material boundary or kelly */
-    std::string strategy = "none";
+    /** 'Mesh refinement/Strategy'. */
+    enum class Strategy
+    {
+      none,
+      material_points,
+      material_boundary,
+      kelly
+    };
+    static constexpr SelectionNames<Strategy, 4> strategy_names{
+      {"none", "material points", "material boundary", "kelly"}};
+
+    Strategy strategy = Strategy::none;
+    /** Whether the mesh adapts during the run (a strategy other than
+     * none). */
+    bool
+    adaptive() const
+    {
+      return strategy != Strategy::none;
+    }
     /** Remesh every this many steps (0: only before the first step). */
     unsigned int interval = 10;
     /** Cell levels (0 = the coarse mesh, before global refinement). */
@@ -73,6 +144,12 @@ namespace fmpm
     bool initial_refinement = true;
     /** Load-balancing weight of a material point against a cell's 1. */
     unsigned int point_weight = 10;
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    /** Reads the values and checks them against the @p mesh they refine. */
+    void
+    parse_parameters(ParameterHandler &prm, const MeshParameters &mesh);
   };
 
   /**
@@ -92,18 +169,34 @@ namespace fmpm
     /** v(t) (FunctionParser in t). Units: m/s. */
     std::string velocity = "0";
     std::string constants;
+
+    /** Declare the entries of one 'Moving wall N' (the caller enters it). */
+    static void
+    declare_parameters(ParameterHandler &prm, const unsigned int dim);
+    /** Read and check them; @p where names the subsection in messages. */
+    void
+    parse_parameters(ParameterHandler  &prm,
+                     const unsigned int dim,
+                     const std::string &where);
   };
 
   /** @brief A traction t(t) on the material points inside a box. */
   struct TractionParameters
   {
-    std::vector<double> box_lower, box_upper;
-    /** dim expressions of t separated by ';' (or numbers). Units: Pa. */
-    std::string traction;
+    std::vector<double> box_lower{0, 0, 0}, box_upper{0, 0, 0};
+    /** dim expressions of t separated by ';' (or numbers; the default's
+     * first dim). Units: Pa. */
+    std::string traction = "0, 0, 0";
     /** Axis of the loaded face's normal: the point's face area is the
      * product of its initial side lengths in the other directions. */
     unsigned int normal_axis = 0;
     std::string  constants;
+
+    /** Declare the entries of one 'Traction N' (the caller enters it). */
+    static void
+    declare_parameters(ParameterHandler &prm, const unsigned int dim);
+    void
+    parse_parameters(ParameterHandler &prm);
   };
 
   /** @brief Grid velocity conditions, how they are imposed, tractions. */
@@ -116,6 +209,11 @@ namespace fmpm
     std::string                       method = "constrained";
     std::vector<MovingWallParameters> moving_walls;
     std::vector<TractionParameters>   tractions;
+
+    static void
+    declare_parameters(ParameterHandler &prm, const SceneSize &size);
+    void
+    parse_parameters(ParameterHandler &prm, const SceneSize &size);
   };
 
   /** @brief Body force in a rotating frame (seed 001, body force). */
@@ -126,6 +224,12 @@ namespace fmpm
     std::string         angular_velocity = "0; 0; 0";
     std::vector<double> center{0, 0, 0};
     std::string         constants;
+
+    /** 'Body force/Rotating frame' (the caller enters 'Body force'). */
+    static void
+    declare_parameters(ParameterHandler &prm, const unsigned int dim);
+    void
+    parse_parameters(ParameterHandler &prm);
   };
 
   /** @brief Time stepping. */
@@ -140,6 +244,12 @@ namespace fmpm
      * method's measured limit (stability_limit(), 'auto'); infinity:
      * none. */
     double courant_limit = 0;
+
+    /** Declares 'Time' but for the strain update (MethodParameters). */
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
   };
 
   /** @brief How F^(n+1) follows from F^n and L (Deformation gradient/Update).
@@ -170,7 +280,7 @@ namespace fmpm
     bool average = true;
 
     /** The scheme of 'usf', 'usl' (= usl-), 'usl+', 'usavg' (= usavg-) or
-     * 'usavg+'. */
+     * 'usavg+' (the names of 'Time/Strain update'). */
     static StrainUpdateScheme
     of(const std::string &name)
     {
@@ -182,6 +292,17 @@ namespace fmpm
       scheme.average        = name == "usavg" || name == "usavg+";
       return scheme;
     }
+
+    /** The name of() reads back as this scheme. */
+    std::string
+    name() const
+    {
+      if (!update_last)
+        return "usf";
+      if (average)
+        return re_extrapolate ? "usavg+" : "usavg";
+      return re_extrapolate ? "usl+" : "usl";
+    }
   };
 
   /** @brief Choice of the MPM algorithm. */
@@ -192,32 +313,39 @@ namespace fmpm
     /** usf, usl (= usl-), usl+, usavg (= usavg-), usavg+ */
     std::string strain_update = "usavg+";
     /** strain_update, resolved when the scene is read. */
-    StrainUpdateScheme strain_update_scheme = StrainUpdateScheme::of("usavg+");
-    /** same or lumped */
-    std::string strain_update_mass_matrix = "same";
+    StrainUpdateScheme strain_update_scheme =
+      StrainUpdateScheme::of(strain_update);
+    /** 'Time/Strain update mass matrix': 'same' (false) or 'lumped' (true):
+     * the strain update's grid velocities from the lumped mass matrix. */
+    bool                                     lumped_strain_velocities = false;
+    static constexpr SelectionNames<bool, 2> strain_update_mass_matrix_names{
+      {"same", "lumped"}};
     /** classic, ugimp, cpgimp or cpdi (ShapeFunction::Type) */
     std::string shape_function = "classic";
     /** CPDI: half-diagonal limit in cells (0: none; limit_cpdi_domain()). */
     double cpdi_critical_radius = 0;
-    /** first order, taylor, subcycle or cayley */
-    std::string  deformation_gradient_update = "cayley";
-    unsigned int taylor_terms                = 3;
-    double       subcycle_strain_increment   = 0.01;
-    /** deformation_gradient_update as an enum (resolved before the loops). */
-    DeformationGradientUpdate
-    deformation_gradient_method() const
-    {
-      if (deformation_gradient_update == "first order")
-        return DeformationGradientUpdate::first_order;
-      if (deformation_gradient_update == "taylor")
-        return DeformationGradientUpdate::taylor;
-      if (deformation_gradient_update == "subcycle")
-        return DeformationGradientUpdate::subcycle;
-      return DeformationGradientUpdate::cayley;
-    }
+    /** 'Deformation gradient/Update'. */
+    DeformationGradientUpdate deformation_gradient_update =
+      DeformationGradientUpdate::cayley;
+    static constexpr SelectionNames<DeformationGradientUpdate, 4>
+      deformation_gradient_update_names{
+        {"first order", "taylor", "subcycle", "cayley"}};
+    unsigned int taylor_terms              = 3;
+    double       subcycle_strain_increment = 0.01;
     /** α_g and α_p of seed 003 Eq. 1.17. Units: 1/s. */
     double grid_damping     = 0;
     double particle_damping = 0;
+
+    /** 'Time/Strain update...', 'Shape function', 'Deformation gradient'.
+     */
+    static void
+    declare_parameters(ParameterHandler &prm);
+    /** 'Particle update' and 'Mass matrix' with their plugins. */
+    static void
+    declare_plugin_parameters(ParameterHandler &prm, const unsigned int dim);
+    /** Reads what both declare. */
+    void
+    parse_parameters(ParameterHandler &prm);
   };
 
   /** @brief One material: a density and a constitutive model. */
@@ -225,13 +353,29 @@ namespace fmpm
   {
     std::string model_name = "linear elastic";
     double      density    = 1000.0;
+
+    /** Declare the entries of one 'Material N' with the constitutive models'
+     * (the caller enters it). */
+    static void
+    declare_parameters(ParameterHandler &prm, const unsigned int dim);
+    void
+    parse_parameters(ParameterHandler &prm, const std::string &where);
   };
 
   /** @brief One body: a shape filled with material points. */
   struct BodyParameters
   {
-    /** box, sphere or ellipsoid (rectangle, disk, ellipse in 2D). */
-    std::string         shape = "box";
+    /** 'Body N/Shape' (rectangle, disk, ellipse in 2D). */
+    enum class Shape
+    {
+      box,
+      sphere,
+      ellipsoid
+    };
+    static constexpr SelectionNames<Shape, 3> shape_names{
+      {"box", "sphere", "ellipsoid"}};
+
+    Shape               shape = Shape::box;
     std::vector<double> center{0.5, 0.5, 0.5};
     std::vector<double> half_lengths{0.25, 0.25, 0.25};
     unsigned int        material        = 0;
@@ -243,6 +387,15 @@ namespace fmpm
     std::string function_constants;
     /** Start with the stress in equilibrium with gravity (lithostatic). */
     bool initial_stress_from_gravity = false;
+
+    /** Declare the entries of one 'Body N' (the caller enters it). */
+    static void
+    declare_parameters(ParameterHandler &prm, const unsigned int dim);
+    /** Read and check them against the scene's @p size. */
+    void
+    parse_parameters(ParameterHandler  &prm,
+                     const SceneSize   &size,
+                     const std::string &where);
   };
 
   /**
@@ -266,15 +419,28 @@ namespace fmpm
     double       interval      = 0.0;
     unsigned int step_interval = 0;
     bool         write_vtu     = true;
-    /** zlib level of the VTU data: best speed, best compression, default,
-     * none. */
-    std::string compression = "best speed";
+    /** zlib level of the VTU data. */
+    enum class Compression
+    {
+      best_speed,
+      best_compression,
+      default_compression,
+      none
+    };
+    static constexpr SelectionNames<Compression, 4> compression_names{
+      {"best speed", "best compression", "default", "none"}};
+    Compression compression = Compression::best_speed;
     /** particles_NNNNN.csv at each output (rank 0, rows by point id). */
     bool write_particle_csv = false;
     /** Grid acceleration m̃ₖ⁻¹f + Δv⁺/Δt (seed 000 Eq. 4.1) in the grid VTU. */
     bool   write_grid_acceleration = false;
     double progress_seconds        = 5.0;
     bool   track_dissipation       = false;
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
   };
 
   /** @brief When a run writes checkpoints (Output directory/checkpoint/). */
@@ -286,6 +452,11 @@ namespace fmpm
     double wall_time_interval = 0;
     /** How many complete checkpoints to keep (the newest ones). */
     unsigned int keep = 2;
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
   };
 
   /** @brief How a run detects and treats failures. */
@@ -296,17 +467,36 @@ namespace fmpm
      * For quasi-static scenes, whose instabilities show as kinetic energy
      * while the total stays below the external work. Units: J. */
     double kinetic_energy_limit = 0;
-    /** stop or delete */
-    std::string lost_points = "stop";
+    /** What happens to material points that leave the mesh. */
+    enum class LostPoints
+    {
+      stop,
+      remove
+    };
+    static constexpr SelectionNames<LostPoints, 2> lost_points_names{
+      {"stop", "delete"}};
+    LostPoints lost_points = LostPoints::stop;
+
+    static void
+    declare_parameters(ParameterHandler &prm);
+    void
+    parse_parameters(ParameterHandler &prm);
   };
 
   /** @brief An analytical solution the run measures its error against. */
   struct ReferenceSolutionParameters
   {
-    bool        enable = false;
-    std::string velocity;
-    std::string displacement;
+    bool enable = false;
+    /** Expressions of each component separated by ';' (the defaults' first
+     * dim components). */
+    std::string velocity     = "0, 0, 0";
+    std::string displacement = "0, 0, 0";
     std::string constants;
+
+    static void
+    declare_parameters(ParameterHandler &prm, const unsigned int dim);
+    void
+    parse_parameters(ParameterHandler &prm);
   };
 
   /**
@@ -336,8 +526,11 @@ namespace fmpm
     ReferenceSolutionParameters reference;
     bool                        test_mode = false;
     /** Move only the points that left their cell (else deal.II's sort). */
-    bool        fast_point_sorting = true;
-    std::string timer_type         = "summary";
+    bool fast_point_sorting = true;
+    /** 'Timer/Type = summary' (true) or 'none'. */
+    bool                                     print_timer_summary = true;
+    static constexpr SelectionNames<bool, 2> timer_type_names{
+      {"none", "summary"}};
 
     /**
      * @brief Declare everything for a scene of size @p size, including the

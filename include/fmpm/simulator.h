@@ -362,7 +362,7 @@ namespace fmpm
     bool
     lumped_strain_velocity() const
     {
-      return parameters.method.strain_update_mass_matrix == "lumped";
+      return parameters.method.lumped_strain_velocities;
     }
     /** Whether the velocity method's reactions are measured (they need v
      * and v⁺ of the centre of mass). */

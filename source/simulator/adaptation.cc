@@ -51,7 +51,8 @@ namespace fmpm
   Simulator<dim>::mark_cells()
   {
     const MeshRefinementParameters &refinement = parameters.refinement;
-    const std::string              &strategy   = refinement.strategy;
+    using Strategy = MeshRefinementParameters::Strategy;
+    const Strategy                  strategy   = refinement.strategy;
     const unsigned int              n_cells    = triangulation.n_active_cells();
 
     // Cells to be at the maximum level (the others may coarsen), by active
@@ -81,12 +82,13 @@ namespace fmpm
       return false;
     };
 
-    if (strategy == "material points" || strategy == "material boundary")
+    if (strategy == Strategy::material_points ||
+        strategy == Strategy::material_boundary)
       {
         std::vector<bool> has_points(n_cells, false);
         for (const unsigned int c : points.cell_index)
           has_points[c] = true;
-        if (strategy == "material points")
+        if (strategy == Strategy::material_points)
           in_region = has_points;
         else
           {
@@ -135,7 +137,7 @@ namespace fmpm
                 cell->set_coarsen_flag();
             }
       }
-    else if (strategy == "kelly")
+    else if (strategy == Strategy::kelly)
       {
         // The lumped grid velocity m⁻¹p, continuous across hanging nodes
         // (supports of the points on the current mesh).

@@ -494,7 +494,7 @@ namespace fmpm
     points_from_handler();
     // The node conditions at the restored wall positions and time.
     setup_boundary_conditions();
-    if (parameters.refinement.strategy != "none")
+    if (parameters.refinement.adaptive())
       connect_cell_weights();
 
     // The PVD records end at the checkpoint (outputs written after it by

@@ -29,7 +29,7 @@ namespace fmpm
     // Rank 0's timings (no MPI communicator: an error during set-up must not
     // leave the timer waiting for other ranks).
     , computing_timer(pcout,
-                      (parameters.timer_type == "none" ||
+                      (!parameters.print_timer_summary ||
                        parameters.test_mode) ?
                         TimerOutput::never :
                         TimerOutput::summary,
@@ -91,7 +91,7 @@ namespace fmpm
     setup_boundary_conditions();
     initialize_stress_from_gravity();
     compute_mass_floor();
-    if (parameters.refinement.strategy != "none")
+    if (parameters.refinement.adaptive())
       {
         if (parameters.refinement.initial_refinement)
           adapt_initial_mesh();
@@ -465,7 +465,7 @@ namespace fmpm
               << "    " << failure.what() << std::endl;
         // Stresses from full-mass velocities need about 1/√3 of the lumped
         // stable time step and less at free surfaces (doc/benchmarks.md).
-        if (parameters.method.strain_update_mass_matrix != "lumped" &&
+        if (!parameters.method.lumped_strain_velocities &&
             mass_matrix->order() > 1)
           pcout << "    The stresses are updated with velocities from the "
                 << "mass matrix '" << parameters.method.mass_matrix

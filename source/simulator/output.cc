@@ -301,16 +301,19 @@ namespace fmpm
 
     /** The VTU flags of 'Output/Compression'. */
     DataOutBase::VtkFlags
-    vtk_flags(const std::string &compression)
+    vtk_flags(const OutputParameters::Compression compression)
     {
+      using Compression = OutputParameters::Compression;
       DataOutBase::VtkFlags flags;
       flags.print_date_and_time = false;
       flags.compression_level =
-        compression == "best compression" ?
+        compression == Compression::best_compression ?
           DataOutBase::VtkFlags::best_compression :
-        compression == "default" ? DataOutBase::VtkFlags::default_compression :
-        compression == "none"    ? DataOutBase::VtkFlags::no_compression :
-                                   DataOutBase::VtkFlags::best_speed;
+        compression == Compression::default_compression ?
+          DataOutBase::VtkFlags::default_compression :
+        compression == Compression::none ?
+          DataOutBase::VtkFlags::no_compression :
+          DataOutBase::VtkFlags::best_speed;
       return flags;
     }
   } // namespace
@@ -689,7 +692,7 @@ namespace fmpm
         << number(mean_rank_points > 0 ? max_rank_points / mean_rank_points :
                                          1.)
         << ",\n";
-    if (parameters.refinement.strategy != "none")
+    if (parameters.refinement.adaptive())
       {
         // The uniform mesh at the finest level the scene allows: what an
         // unadapted run with the same smallest cells would need.

@@ -34,7 +34,8 @@ namespace fmpm
     // Gmsh meshes are read into a serial triangulation too, so that a mesh
     // of triangles/tetrahedra is rejected with a message before p4est sees
     // it.
-    const bool          via_serial = mesh.distortion > 0 || mesh.type == "gmsh";
+    const bool via_serial =
+      mesh.distortion > 0 || mesh.type == MeshParameters::Type::gmsh;
     Triangulation<dim>  serial;
     Triangulation<dim> &coarse =
       via_serial ? serial : static_cast<Triangulation<dim> &>(triangulation);
@@ -44,7 +45,7 @@ namespace fmpm
         lower[d] = mesh.lower_corner[d];
         upper[d] = mesh.upper_corner[d];
       }
-    if (mesh.type == "box")
+    if (mesh.type == MeshParameters::Type::box)
       {
         std::vector<unsigned int> subdivisions(dim);
         for (unsigned int d = 0; d < dim; ++d)
@@ -52,7 +53,7 @@ namespace fmpm
         GridGenerator::subdivided_hyper_rectangle(
           coarse, subdivisions, lower, upper, /*colorize=*/true);
       }
-    else if (mesh.type == "ball")
+    else if (mesh.type == MeshParameters::Type::ball)
       // Manifold 0 (the circle/sphere) on the boundary, transfinite
       // interpolation inside: refinement puts new boundary vertices on the
       // curve.
@@ -147,7 +148,7 @@ namespace fmpm
     // from a checkpoint is stored afresh): sort by CellId so that the sums
     // onto nodes are the same after a resume. A mesh that is never adapted
     // keeps its storage order (the order of the points in memory: faster).
-    if (parameters.refinement.strategy != "none")
+    if (parameters.refinement.adaptive())
       std::sort(owned_cells_in_id_order.begin(),
                 owned_cells_in_id_order.end(),
                 [](const auto &a, const auto &b) { return a->id() < b->id(); });
@@ -210,7 +211,7 @@ namespace fmpm
     bool
     inside_body(const BodyParameters &body, const Point<dim> &x)
     {
-      if (body.shape == "box")
+      if (body.shape == BodyParameters::Shape::box)
         {
           for (unsigned int d = 0; d < dim; ++d)
             if (std::abs(x[d] - body.center[d]) > body.half_lengths[d])
@@ -220,8 +221,9 @@ namespace fmpm
       double r2 = 0;
       for (unsigned int d = 0; d < dim; ++d)
         {
-          const double a = (body.shape == "sphere") ? body.half_lengths[0] :
-                                                      body.half_lengths[d];
+          const double a = (body.shape == BodyParameters::Shape::sphere) ?
+                             body.half_lengths[0] :
+                             body.half_lengths[d];
           r2 += std::pow((x[d] - body.center[d]) / a, 2);
         }
       return r2 <= 1.0;
@@ -235,8 +237,9 @@ namespace fmpm
       Point<dim> lower, upper;
       for (unsigned int d = 0; d < dim; ++d)
         {
-          const double a = (body.shape == "sphere") ? body.half_lengths[0] :
-                                                      body.half_lengths[d];
+          const double a = (body.shape == BodyParameters::Shape::sphere) ?
+                             body.half_lengths[0] :
+                             body.half_lengths[d];
           lower[d]       = body.center[d] - a;
           upper[d]       = body.center[d] + a;
         }
@@ -377,7 +380,7 @@ namespace fmpm
     // in the order of their CellId strings, the points of a cell in
     // creation order.
     std::vector<unsigned long long> ids(new_points.size());
-    if (parameters.refinement.strategy == "none")
+    if (!parameters.refinement.adaptive())
       {
         const unsigned int              n_coarse = triangulation.n_cells(0);
         std::vector<unsigned long long> local_count(n_coarse, 0);
@@ -664,7 +667,8 @@ namespace fmpm
         fields.end();
       method.strain_update = parameters.method.strain_update;
       method.strain_update_mass_matrix =
-        parameters.method.strain_update_mass_matrix;
+        MethodParameters::strain_update_mass_matrix_names.name(
+          parameters.method.lumped_strain_velocities);
       method.position_update_psi = particle_update->position_update_psi();
       method.periodic            = mass_matrix->periodic();
       method.shape_function      = parameters.method.shape_function;

@@ -58,7 +58,7 @@ namespace fmpm
   {
     // Adapt the mesh every 'Mesh refinement/Interval' steps (before the
     // time step, which depends on the smallest cell).
-    if (parameters.refinement.strategy != "none" &&
+    if (parameters.refinement.adaptive() &&
         parameters.refinement.interval > 0 && control.step_number() > 0 &&
         control.step_number() % parameters.refinement.interval == 0)
       adapt_mesh();
@@ -302,7 +302,7 @@ namespace fmpm
 
     control.advance();
     particle_steps += n_global_material_points;
-    if (parameters.refinement.strategy != "none")
+    if (parameters.refinement.adaptive())
       {
         const unsigned long long n_cells =
           triangulation.n_global_active_cells();
@@ -352,7 +352,8 @@ namespace fmpm
         for (const auto &rank_messages : messages)
           if (!rank_messages.empty() && first.empty())
             first = rank_messages.front();
-        if (parameters.failure.lost_points == "stop")
+        if (parameters.failure.lost_points ==
+            FailureParameters::LostPoints::stop)
           throw SimulationFailure(first + " (" + std::to_string(n_lost) +
                                     " point(s) left the mesh; set Failure "
                                     "detection/Points leaving the mesh = "

@@ -1148,7 +1148,7 @@ namespace fmpm
     using Index                                 = PropertyIndex<dim>;
     const unsigned int              n_materials = constitutive_models.size();
     const DeformationGradientUpdate F_update =
-      parameters.method.deformation_gradient_method();
+      parameters.method.deformation_gradient_update;
     // The batch's entry arrays (zero: in 2D the out-of-plane entries stay
     // so).
     ConstitutiveModel::StressUpdateInputs  inputs;

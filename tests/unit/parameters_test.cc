@@ -84,12 +84,12 @@ namespace
     EXPECT_EQ(parameters.size.n_materials, 1u);
     ASSERT_EQ(parameters.bodies.size(), 2u);
     ASSERT_EQ(parameters.materials.size(), 1u);
-    EXPECT_EQ(parameters.bodies[0].shape, "sphere");
-    EXPECT_EQ(parameters.bodies[1].shape, "sphere");
+    EXPECT_EQ(parameters.bodies[0].shape, fmpm::BodyParameters::Shape::sphere);
+    EXPECT_EQ(parameters.bodies[1].shape, fmpm::BodyParameters::Shape::sphere);
     EXPECT_EQ(parameters.bodies[1].center, (std::vector<double>{0.75, 0.75}));
     EXPECT_EQ(parameters.materials[0].model_name, "linear elastic");
     EXPECT_DOUBLE_EQ(parameters.materials[0].density, 1000.0);
-    EXPECT_EQ(parameters.mesh.type, "box");
+    EXPECT_EQ(parameters.mesh.type, fmpm::MeshParameters::Type::box);
     EXPECT_EQ(parameters.mesh.subdivisions,
               (std::vector<unsigned int>{20, 20}));
     EXPECT_EQ(parameters.mesh.upper_corner, (std::vector<double>{1, 1}));
@@ -146,12 +146,12 @@ namespace
                         "end\n"));
     EXPECT_EQ(three.size.n_bodies, 3u);
     ASSERT_EQ(three.bodies.size(), 3u);
-    EXPECT_EQ(three.bodies[2].shape, "box");
+    EXPECT_EQ(three.bodies[2].shape, fmpm::BodyParameters::Shape::box);
     EXPECT_EQ(three.bodies[2].center, (std::vector<double>{0.5, 0.1}));
     EXPECT_EQ(three.bodies[2].half_lengths, (std::vector<double>{0.3, 0.05}));
     EXPECT_EQ(three.bodies[2].material, 0u);
     // The bodies of the default scene are unchanged.
-    EXPECT_EQ(three.bodies[0].shape, "sphere");
+    EXPECT_EQ(three.bodies[0].shape, fmpm::BodyParameters::Shape::sphere);
 
     // Without 'Number of bodies = 3' there is no 'Body 2'.
     expect_error(default_plus("no third body",
@@ -380,12 +380,14 @@ namespace
                         "subsection Mesh\n"
                         "  set Random distortion = 0.2\n"
                         "end\n"));
-    EXPECT_EQ(parameters.refinement.strategy, "material boundary");
+    EXPECT_EQ(parameters.refinement.strategy,
+              fmpm::MeshRefinementParameters::Strategy::material_boundary);
     EXPECT_EQ(parameters.refinement.minimum_level, 1u);
     EXPECT_EQ(parameters.refinement.maximum_level, 4u);
     EXPECT_EQ(parameters.refinement.interval, 7u);
     EXPECT_DOUBLE_EQ(parameters.mesh.distortion, 0.2);
-    EXPECT_EQ(read(default_plus("none.prm", "")).refinement.strategy, "none");
+    EXPECT_EQ(read(default_plus("none.prm", "")).refinement.strategy,
+              fmpm::MeshRefinementParameters::Strategy::none);
 
     expect_error(default_plus("strategy.prm",
                               "subsection Mesh refinement\n"
