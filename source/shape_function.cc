@@ -34,6 +34,25 @@ namespace fmpm
 
 
 
+    std::string
+    parameter_name(const Type type)
+    {
+      switch (type)
+        {
+          case Type::classic:
+            return "classic";
+          case Type::ugimp:
+            return "ugimp";
+          case Type::cpgimp:
+            return "cpgimp";
+          case Type::cpdi:
+            return "cpdi";
+        }
+      return "classic";
+    }
+
+
+
     template <int dim>
     Tensor<1, dim>
     gimp_half_lengths(const Type            type,

@@ -66,6 +66,10 @@ namespace fmpm
     Type
     parse(const std::string &name);
 
+    /** The parameter name of @p type (parse() reads it back). */
+    std::string
+    parameter_name(const Type type);
+
     /** One node of a point's support: S̄_gp and Ḡ_gp. */
     template <int dim>
     struct Node

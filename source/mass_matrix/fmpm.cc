@@ -4,6 +4,7 @@
 #include <fmpm/mass_matrix/fmpm.h>
 #include <fmpm/simulator.h>
 
+#include <algorithm>
 #include <cmath>
 
 
@@ -306,6 +307,66 @@ namespace fmpm
         apply_full_mass(*cellwise, p, v);
       else
         apply_full_mass(this->get_full_mass_matrix(), p, v);
+    }
+
+    template <int dim>
+    StabilityLimit
+    Fmpm<dim>::stability_limit(const StabilityMethod &method) const
+    {
+      using namespace Stability;
+      if (k <= 1)
+        return lumped_mass_matrix_limit();
+      const bool        averaged    = method.strain_update.average;
+      const std::string name        = "FMPM(" + std::to_string(k) + ")";
+      const std::string strain_text = strain_update_text(method);
+      const double      k_limit     = fmpm_order_limit(k, averaged);
+      StabilityLimit    limit;
+      if (k_limit > 0)
+        {
+          limit.max_courant = k_limit;
+          limit.basis       = name + ", " + strain_text +
+                        ": the vibrating bar's measured critical Courant "
+                        "number";
+        }
+      else if (!method.lumped_strain_velocities &&
+               smooth_for_high_orders(method))
+        {
+          limit.max_courant =
+            std::min(fmpm_order_limit(10, averaged),
+                     smooth_high_order_constant / std::sqrt(k));
+          limit.basis = name + ", " + strain_text + ", shape function '" +
+                        ShapeFunction::parameter_name(method.shape_function) +
+                        "': the rigid rotation is stable at C = "
+                        "1.18/sqrt(k) (k = 12 to 64), unstable at 0.3 "
+                        "(k = 32)";
+        }
+      else
+        {
+          limit.max_courant = full_limit;
+          limit.basis       = name + ", " + strain_text +
+                        ": the rigid rotation is stable at C = 0.12, "
+                        "unstable at 0.15";
+          if (!method.lumped_strain_velocities &&
+              high_order_constant / k < limit.max_courant)
+            {
+              limit.max_courant = high_order_constant / k;
+              limit.basis =
+                name + ", " + strain_text +
+                ": the series amplifies near-null modes by up to k; "
+                "the rigid rotation is stable at C = 2.56/k (k = 32), "
+                "unstable at 3.2/k";
+            }
+        }
+      if (periodic() && periodic_limit < limit.max_courant)
+        {
+          limit.max_courant = periodic_limit;
+          limit.basis =
+            "periodic " + name +
+            ": the vibrating bar with period 5 is stable at C = 0.35, "
+            "unstable at 0.4 (periods 3 and 10: at 0.5)";
+        }
+      limit_full_mass_method(limit, method, name, k, false);
+      return limit;
     }
 
     FMPM_REGISTER_MASS_MATRIX(

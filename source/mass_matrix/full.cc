@@ -822,6 +822,47 @@ namespace fmpm
       Full<dim>::setup();
     }
 
+    template <int dim>
+    StabilityLimit
+    Full<dim>::stability_limit(const StabilityMethod &method) const
+    {
+      const std::string name = "full mass matrix";
+      StabilityLimit    limit;
+      limit.max_courant = Stability::full_limit;
+      limit.basis       = name + ", " + Stability::strain_update_text(method) +
+                    ": the rigid rotation is stable at C = 0.12, "
+                    "unstable at 0.15";
+      Stability::limit_full_mass_method(limit, method, name, order(), true);
+      return limit;
+    }
+
+
+
+    template <int dim>
+    StabilityLimit
+    Consistent<dim>::stability_limit(const StabilityMethod &method) const
+    {
+      StabilityLimit limit;
+      limit.max_courant = Stability::consistent_limit;
+      limit.basis       = "consistent mass matrix, " +
+                    Stability::strain_update_text(method) +
+                    ": FLIP on the vibrating bar stable up to C = 0.4";
+      limit.warning =
+        "the consistent finite element mass matrix amplifies a mode at "
+        "free surfaces once material points move relative to the cells, "
+        "at any time step (with " +
+        Stability::update_text(method) + " and strain update '" +
+        method.strain_update.name() +
+        "' the vibrating bar of doc/studies/stability.md is unstable at " +
+        (method.flip_type && method.strain_update.average ?
+           "Courant numbers above 0.45 and " :
+           "every Courant number and ") +
+        "at large displacements); use it for small-displacement studies "
+        "only, or choose 'Mass matrix/Model name = full' with the fmpm "
+        "update or 'fmpm' (FMPM(k)).";
+      return limit;
+    }
+
     FMPM_REGISTER_MASS_MATRIX(
       Full,
       "full",

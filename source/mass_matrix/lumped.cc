@@ -57,6 +57,13 @@ namespace fmpm
                            this->get_simulator().mass_floor());
     }
 
+    template <int dim>
+    StabilityLimit
+    Lumped<dim>::stability_limit(const StabilityMethod &) const
+    {
+      return Stability::lumped_mass_matrix_limit();
+    }
+
     FMPM_REGISTER_MASS_MATRIX(Lumped,
                               "lumped",
                               "The lumped mass matrix m = S^T M of [Nairn2023-FMPM] "

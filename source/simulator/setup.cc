@@ -659,20 +659,16 @@ namespace fmpm
     // step's (doc/studies/stability.md).
     {
       StabilityMethod method;
-      method.mass_matrix = parameters.method.mass_matrix;
-      method.order       = mass_matrix->order();
-      const auto fields  = particle_update->required_fields();
+      const auto      fields = particle_update->required_fields();
       method.flip_type =
         std::find(fields.begin(), fields.end(), ParticleUpdate::acceleration) !=
         fields.end();
-      method.strain_update = parameters.method.strain_update;
-      method.strain_update_mass_matrix =
-        MethodParameters::strain_update_mass_matrix_names.name(
-          parameters.method.lumped_strain_velocities);
+      method.strain_update = parameters.method.strain_update_scheme;
+      method.lumped_strain_velocities =
+        parameters.method.lumped_strain_velocities;
       method.position_update_psi = particle_update->position_update_psi();
-      method.periodic            = mass_matrix->periodic();
-      method.shape_function      = parameters.method.shape_function;
-      stability                  = stability_limit(method);
+      method.shape_function      = shape_function;
+      stability                  = mass_matrix->stability_limit(method);
       if (parameters.time.courant_limit > 0)
         {
           stability.basis = "Time/Courant number limit (the method's: " +
@@ -738,13 +734,14 @@ namespace fmpm
     if (parameters.contact.multimaterial && parameters.size.n_materials > 1)
       {
         const std::string &mass = parameters.method.mass_matrix;
-        AssertThrow(mass == "lumped" || mass == "fmpm" || mass == "full",
+        AssertThrow(mass_matrix->supports_multimaterial_contact(),
                     ExcMessage("Contact/Model name = multimaterial works with "
                                "'Mass matrix/Model name = lumped', 'fmpm' "
                                "(multimaterial XPIC(k)/FMPM(k)) or 'full' "
                                "(their exact limit); this scene has '" +
                                mass + "'."));
-        AssertThrow(mass != "full" || parameters.contact.net_incremental,
+        AssertThrow(!mass_matrix->exact_solve() ||
+                      parameters.contact.net_incremental,
                     ExcMessage(
                       "'Mass matrix/Model name = full' with contact is the "
                       "k -> infinity limit of net incremental contact; "

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
-// Checks fmpm::stability_limit, the measured critical Courant numbers that
-// cap the automatic time step's: none for the lumped mass matrix with every
+// Checks the mass matrices' stability_limit(), the measured critical Courant
+// numbers that cap the automatic time step's: none for the lumped mass matrix with every
 // update and strain update (so lumped-mass runs keep their time steps);
 // FMPM(k)'s limit falls with k to the full matrix's and never rises; lumped
 // strain velocities are at least as stable as full-mass ones; FLIP-type
@@ -10,7 +10,9 @@
 // consistent matrix carry a warning naming the alternative; Time/Courant
 // number limit is checked.
 
+#include <fmpm/mass_matrix/interface.h>
 #include <fmpm/parameters.h>
+#include <fmpm/shape_function.h>
 #include <fmpm/time_step_stability.h>
 
 #include <cmath>
@@ -27,20 +29,48 @@ namespace
                                                    "usavg",
                                                    "usavg+"};
 
-  fmpm::StabilityMethod
+  /** A mass matrix (its order k for 'fmpm', periodic or not) and the rest
+   * of the method. */
+  struct Case
+  {
+    std::string           mass;
+    unsigned int          order    = 1;
+    bool                  periodic = false;
+    fmpm::StabilityMethod method;
+  };
+
+  Case
   method(const std::string &mass,
          const unsigned int order,
          const bool         flip_type,
          const std::string &strain_update,
          const std::string &strain_mass = "same")
   {
-    fmpm::StabilityMethod m;
-    m.mass_matrix               = mass;
-    m.order                     = order;
-    m.flip_type                 = flip_type;
-    m.strain_update             = strain_update;
-    m.strain_update_mass_matrix = strain_mass;
-    return m;
+    Case c;
+    c.mass                 = mass;
+    c.order                = order;
+    c.method.flip_type     = flip_type;
+    c.method.strain_update = fmpm::StrainUpdateScheme::of(strain_update);
+    c.method.lumped_strain_velocities = strain_mass == "lumped";
+    return c;
+  }
+
+  /** The limit the mass matrix plugin of @p c answers. */
+  fmpm::StabilityLimit
+  stability_limit(const Case &c)
+  {
+    using Registry = fmpm::MassMatrix::Registry<2>;
+    dealii::ParameterHandler prm;
+    Registry::instance().declare_parameters(prm);
+    if (c.mass == "fmpm")
+      {
+        prm.enter_subsection("Fmpm");
+        prm.set("Order", std::to_string(c.order));
+        if (c.periodic)
+          prm.set("Period", "5");
+        prm.leave_subsection();
+      }
+    return Registry::instance().create(c.mass, prm)->stability_limit(c.method);
   }
 
 
@@ -51,11 +81,11 @@ namespace
       for (const bool flip : {false, true})
         {
           EXPECT_TRUE(std::isinf(
-            fmpm::stability_limit(method("lumped", 1, flip, su)).max_courant));
+            stability_limit(method("lumped", 1, flip, su)).max_courant));
           EXPECT_TRUE(std::isinf(
-            fmpm::stability_limit(method("fmpm", 1, flip, su)).max_courant));
-          EXPECT_TRUE(fmpm::stability_limit(method("lumped", 1, flip, su))
-                        .warning.empty());
+            stability_limit(method("fmpm", 1, flip, su)).max_courant));
+          EXPECT_TRUE(
+            stability_limit(method("lumped", 1, flip, su)).warning.empty());
         }
   }
 
@@ -70,9 +100,9 @@ namespace
             double previous = 1, order_10 = 1;
             for (unsigned int k = 2; k <= 100; ++k)
               {
-                const double c = fmpm::stability_limit(
-                                   method("fmpm", k, flip, su, strain_mass))
-                                   .max_courant;
+                const double c =
+                  stability_limit(method("fmpm", k, flip, su, strain_mass))
+                    .max_courant;
                 EXPECT_LE(c, previous) << su << " k = " << k;
                 EXPECT_GT(c, 0);
                 previous = c;
@@ -80,15 +110,14 @@ namespace
                   order_10 = c;
               }
             const double full =
-              fmpm::stability_limit(
-                method("full", 1000000, flip, su, strain_mass))
+              stability_limit(method("full", 1000000, flip, su, strain_mass))
                 .max_courant;
             EXPECT_LE(full, order_10 + 1e-12) << su;
             // Lumped strain velocities: at least as stable.
             if (strain_mass == "lumped")
               {
                 EXPECT_GE(full,
-                          fmpm::stability_limit(
+                          stability_limit(
                             method("full", 1000000, flip, su, "same"))
                             .max_courant);
               }
@@ -96,32 +125,26 @@ namespace
     // The measured values (doc/studies/stability.md): the bar's critical
     // Courant numbers, and the rigid rotation's for the full matrix.
     EXPECT_DOUBLE_EQ(
-      fmpm::stability_limit(method("fmpm", 2, false, "usavg+")).max_courant,
-      0.9);
+      stability_limit(method("fmpm", 2, false, "usavg+")).max_courant, 0.9);
     EXPECT_DOUBLE_EQ(
-      fmpm::stability_limit(method("fmpm", 5, false, "usavg+")).max_courant,
-      0.6);
+      stability_limit(method("fmpm", 5, false, "usavg+")).max_courant, 0.6);
     EXPECT_DOUBLE_EQ(
-      fmpm::stability_limit(method("fmpm", 5, false, "usl")).max_courant, 0.5);
-    EXPECT_DOUBLE_EQ(fmpm::stability_limit(
-                       method("full", 1000000, false, "usavg+"))
-                       .max_courant,
-                     0.12);
+      stability_limit(method("fmpm", 5, false, "usl")).max_courant, 0.5);
+    EXPECT_DOUBLE_EQ(
+      stability_limit(method("full", 1000000, false, "usavg+")).max_courant,
+      0.12);
     // NairnMPM's bar runs FMPM(5) at Courant 0.5 (USAVG+): below the limit,
     // so at the requested time step.
-    EXPECT_GT(
-      fmpm::stability_limit(method("fmpm", 5, false, "usavg+")).max_courant,
-      0.5);
+    EXPECT_GT(stability_limit(method("fmpm", 5, false, "usavg+")).max_courant,
+              0.5);
     // FLIP-type updates: the leapfrog limit 1/sqrt(1 + 3/4) for k = 2 of
     // the lumped limit (1 with USAVG+, 0.75 with USL-).
-    EXPECT_NEAR(
-      fmpm::stability_limit(method("fmpm", 2, true, "usavg+")).max_courant,
-      1 / std::sqrt(1.75),
-      1e-12);
-    EXPECT_NEAR(
-      fmpm::stability_limit(method("fmpm", 2, true, "usl")).max_courant,
-      0.75 / std::sqrt(1.75),
-      1e-12);
+    EXPECT_NEAR(stability_limit(method("fmpm", 2, true, "usavg+")).max_courant,
+                1 / std::sqrt(1.75),
+                1e-12);
+    EXPECT_NEAR(stability_limit(method("fmpm", 2, true, "usl")).max_courant,
+                0.75 / std::sqrt(1.75),
+                1e-12);
   }
 
 
@@ -129,14 +152,14 @@ namespace
   TEST(StabilityLimit, KnownFailuresAreWarned)
   {
     const auto flip_full =
-      fmpm::stability_limit(method("full", 1000000, true, "usavg+"));
+      stability_limit(method("full", 1000000, true, "usavg+"));
     EXPECT_NE(flip_full.warning.find("Particle update/Model name = fmpm"),
               std::string::npos)
       << flip_full.warning;
-    EXPECT_TRUE(fmpm::stability_limit(method("full", 1000000, false, "usavg+"))
+    EXPECT_TRUE(stability_limit(method("full", 1000000, false, "usavg+"))
                   .warning.empty());
     const auto consistent =
-      fmpm::stability_limit(method("consistent", 1, false, "usl"));
+      stability_limit(method("consistent", 1, false, "usl"));
     EXPECT_NE(consistent.warning.find("free surfaces"), std::string::npos);
     EXPECT_LT(consistent.max_courant, 1);
   }
@@ -151,22 +174,17 @@ namespace
   {
     for (const auto &su : {"usavg+", "usl"})
       {
-        EXPECT_LE(
-          fmpm::stability_limit(method("fmpm", 32, false, su)).max_courant,
-          0.08 + 1e-12);
+        EXPECT_LE(stability_limit(method("fmpm", 32, false, su)).max_courant,
+                  0.08 + 1e-12);
         for (const unsigned int k : {12u, 16u, 24u, 32u})
-          EXPECT_LT(
-            fmpm::stability_limit(method("fmpm", k, false, su)).max_courant,
-            3.2 / k);
-        EXPECT_LE(
-          fmpm::stability_limit(method("fmpm", 64, false, su)).max_courant,
-          0.05 + 1e-12);
-        EXPECT_GE(
-          fmpm::stability_limit(method("fmpm", 64, false, su)).max_courant,
-          0.035);
-        EXPECT_LE(
-          fmpm::stability_limit(method("fmpm", 24, false, su)).max_courant,
-          0.133);
+          EXPECT_LT(stability_limit(method("fmpm", k, false, su)).max_courant,
+                    3.2 / k);
+        EXPECT_LE(stability_limit(method("fmpm", 64, false, su)).max_courant,
+                  0.05 + 1e-12);
+        EXPECT_GE(stability_limit(method("fmpm", 64, false, su)).max_courant,
+                  0.035);
+        EXPECT_LE(stability_limit(method("fmpm", 24, false, su)).max_courant,
+                  0.133);
       }
   }
 
@@ -182,9 +200,9 @@ namespace
     auto limit = [](const std::string &shape,
                     const unsigned int k,
                     const std::string &su) {
-      fmpm::StabilityMethod m = method("fmpm", k, false, su);
-      m.shape_function        = shape;
-      return fmpm::stability_limit(m).max_courant;
+      Case m                  = method("fmpm", k, false, su);
+      m.method.shape_function = fmpm::ShapeFunction::parse(shape);
+      return stability_limit(m).max_courant;
     };
     for (const auto &[shape, su] :
          std::vector<std::pair<std::string, std::string>>{{"cpdi", "usl"},
@@ -219,10 +237,10 @@ namespace
     for (const auto &su : strain_updates)
       for (const unsigned int k : {2u, 5u, 10u})
         {
-          fmpm::StabilityMethod m = method("fmpm", k, false, su);
-          const double every_step = fmpm::stability_limit(m).max_courant;
+          Case         m          = method("fmpm", k, false, su);
+          const double every_step = stability_limit(m).max_courant;
           m.periodic              = true;
-          const double periodic   = fmpm::stability_limit(m).max_courant;
+          const double periodic   = stability_limit(m).max_courant;
           EXPECT_LE(periodic, every_step) << su << k;
           EXPECT_LE(periodic, 0.35 + 1e-12) << su << k;
           EXPECT_GT(periodic, 0) << su << k;
@@ -240,9 +258,9 @@ namespace
                    const unsigned int order,
                    const bool         flip_type,
                    const double       psi) {
-      fmpm::StabilityMethod m = method(mass, order, flip_type, "usavg+");
-      m.position_update_psi   = psi;
-      return fmpm::stability_limit(m).note;
+      Case m                       = method(mass, order, flip_type, "usavg+");
+      m.method.position_update_psi = psi;
+      return stability_limit(m).note;
     };
     for (const unsigned int k : {3u, 5u, 10u, 20u})
       for (const double psi : {1., 0.25})

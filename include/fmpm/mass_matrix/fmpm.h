@@ -160,6 +160,18 @@ namespace fmpm
         return tolerance;
       }
 
+      /** The bar's limits for k <= 10, falling as 1/k (1/sqrt(k) with
+       * smooth shape functions) above; capped when periodic. */
+      StabilityLimit
+      stability_limit(const StabilityMethod &method) const override;
+
+      /** Multimaterial XPIC(k)/FMPM(k). */
+      bool
+      supports_multimaterial_contact() const override
+      {
+        return true;
+      }
+
       std::vector<std::string>
       history_columns() const override;
 

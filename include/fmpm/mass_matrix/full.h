@@ -172,6 +172,17 @@ namespace fmpm
         return 1000000;
       }
 
+      /** The rigid rotation's limit; FLIP-type updates are warned of. */
+      StabilityLimit
+      stability_limit(const StabilityMethod &method) const override;
+
+      /** The k -> infinity limit of multimaterial FMPM(k). */
+      bool
+      supports_multimaterial_contact() const override
+      {
+        return true;
+      }
+
       std::map<std::string, double>
       statistics() const override;
 
@@ -267,7 +278,15 @@ namespace fmpm
       void
       setup() override;
 
+      /** Unstable at free surfaces once points move: always warned of. */
+      StabilityLimit
+      stability_limit(const StabilityMethod &method) const override;
 
+      bool
+      supports_multimaterial_contact() const override
+      {
+        return false;
+      }
 
     protected:
       const TrilinosWrappers::SparseMatrix &

@@ -7,6 +7,7 @@
 #include <fmpm/grid_vectors.h>
 #include <fmpm/plugins.h>
 #include <fmpm/simulator_access.h>
+#include <fmpm/time_step_stability.h>
 
 #include <map>
 #include <optional>
@@ -177,6 +178,28 @@ namespace fmpm
       order() const
       {
         return 1;
+      }
+
+      /**
+       * @brief The largest Courant number at which this mass matrix was
+       * measured stable with the rest of @p method, and what that rests on
+       * (Stability; called once the plugin has parsed its parameters).
+       */
+      virtual StabilityLimit
+      stability_limit(const StabilityMethod &method) const
+      {
+        (void)method;
+        StabilityLimit limit;
+        limit.basis = "this mass matrix (not measured: no limit)";
+        return limit;
+      }
+
+      /** @brief Whether multimaterial contact (Contact/Model name =
+       * multimaterial) works with this mass matrix. */
+      virtual bool
+      supports_multimaterial_contact() const
+      {
+        return false;
       }
     };
 

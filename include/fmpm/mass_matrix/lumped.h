@@ -23,6 +23,16 @@ namespace fmpm
       void
       solve(const GridVectorField &momentum,
             GridVectorField       &velocity) const override;
+
+      /** No limit (the user's Courant number, at most 1). */
+      StabilityLimit
+      stability_limit(const StabilityMethod &method) const override;
+
+      bool
+      supports_multimaterial_contact() const override
+      {
+        return true;
+      }
     };
   } // namespace MassMatrix
 } // namespace fmpm
