@@ -556,10 +556,11 @@ namespace fmpm
   {
     TimerOutput::Scope timer(computing_timer, "particles to grid");
     using Index = PropertyIndex<dim>;
-    // The re-extrapolation of a step without contact uses the step's S and
-    // M: m and m̃ (and the mass matrix's set-up) are those of the first
-    // extrapolation, only p = SᵀMV changes.
-    const bool masses = !(momenta_only && !contact_active());
+    // The re-extrapolation uses the step's S and M: m, m̃, m^α, m̃^α (and
+    // the mass matrix's set-up) are those of the first extrapolation; p =
+    // SᵀMV, p^α and what the normal method reads from the moved points
+    // change.
+    const bool masses = !momenta_only;
 
     // m̃ as cell-wise matrices where the mass matrix accepts them, else the
     // assembled sparse matrix (the collection BC methods need its entries).
@@ -620,8 +621,9 @@ namespace fmpm
     for (unsigned int a = 0; a < n_materials; ++a)
       {
         Contact::MaterialField<dim> &field = material_fields[a];
-        field.mass                         = 0;
-        field.momentum                     = 0;
+        if (masses)
+          field.mass = 0;
+        field.momentum = 0;
         if (with_forces)
           field.force = 0;
         if (contact_needs_gradients)
@@ -760,7 +762,12 @@ namespace fmpm
                 // Eqs. 5 and 11 for the point's material α.
                 const unsigned int alpha = supports.material[k];
                 const double       V     = volume_column[k];
-                scatter_mass_momentum(m_alpha[alpha], &p_alpha[alpha * dim]);
+                if (masses)
+                  scatter_mass_momentum(m_alpha[alpha], &p_alpha[alpha * dim]);
+                else
+                  for (unsigned int j = begin; j < end; ++j)
+                    for (unsigned int d = 0; d < dim; ++d)
+                      p_alpha[alpha * dim + d][node[j]] += MV[d] * S[j];
                 if (contact_needs_gradients)
                   for (unsigned int j = begin; j < end; ++j)
                     for (unsigned int d = 0; d < dim; ++d)
@@ -852,7 +859,8 @@ namespace fmpm
       lumped_mass.update_ghost_values();
     for (auto &field : material_fields)
       {
-        field.mass.compress(VectorOperation::add);
+        if (masses)
+          field.mass.compress(VectorOperation::add);
         field.momentum.compress(VectorOperation::add);
         if (with_forces)
           field.force.compress(VectorOperation::add);
@@ -865,7 +873,8 @@ namespace fmpm
             field.displacement_moment.compress(VectorOperation::add);
             field.volume.compress(VectorOperation::add);
           }
-        field.mass.update_ghost_values();
+        if (masses)
+          field.mass.update_ghost_values();
         field.computed.fill(false);
       }
     if (masses)
