@@ -10,8 +10,10 @@ namespace fmpm
 {
   template <int dim>
   void
-  MaterialPoints<dim>::initialize(const unsigned int               n_properties,
-                                  const std::vector<unsigned int> &zero_slots)
+  MaterialPoints<dim>::initialize(
+    const unsigned int               n_properties,
+    const std::vector<unsigned int> &zero_slots,
+    const std::vector<unsigned int> &invariant_slots)
   {
     position.clear();
     reference_position.clear();
@@ -21,8 +23,45 @@ namespace fmpm
     zero_slot.assign(n_properties, 0);
     for (const unsigned int s : zero_slots)
       zero_slot[s] = 1;
+    invariant_slot.assign(n_properties, 0);
+    for (const unsigned int s : invariant_slots)
+      invariant_slot[s] = 1;
+    uniform_slot = invariant_slot; // (no points yet)
     refresh_column_pointers();
     rebuild_cell_ranges();
+  }
+
+
+
+  template <int dim>
+  std::vector<unsigned int>
+  MaterialPoints<dim>::invariant_core_slots()
+  {
+    using Index                      = PropertyIndex<dim>;
+    std::vector<unsigned int> result = {Index::mass,
+                                        Index::initial_volume,
+                                        Index::material_id,
+                                        Index::body_id};
+    for (unsigned int d = 0; d < dim; ++d)
+      result.push_back(Index::initial_half_length + d);
+    return result;
+  }
+
+
+
+  template <int dim>
+  void
+  MaterialPoints<dim>::find_uniform_slots()
+  {
+    for (unsigned int s = 0; s < columns.size(); ++s)
+      if (invariant_slot[s] && !zero_slot[s])
+        {
+          const std::vector<double> &values = columns[s];
+          uniform_slot[s] =
+            std::all_of(values.begin(), values.end(), [&](const double v) {
+              return v == values.front();
+            });
+        }
   }
 
 
@@ -131,6 +170,7 @@ namespace fmpm
     AssertThrow(id.size() == n,
                 ExcMessage("The particle handler holds points outside the "
                            "locally owned cells."));
+    find_uniform_slots();
     refresh_column_pointers();
     rebuild_cell_ranges();
     handler.clear_particles();
@@ -191,7 +231,12 @@ namespace fmpm
     this->cell.push_back(cell->active_cell_index());
     for (unsigned int s = 0; s < columns.size(); ++s)
       if (!zero_slot[s])
-        columns[s].push_back(record_values[s]);
+        {
+          if (uniform_slot[s] && !columns[s].empty() &&
+              record_values[s] != columns[s].front())
+            uniform_slot[s] = 0;
+          columns[s].push_back(record_values[s]);
+        }
     cell_received[key(this->cell.size() - 1)] = 1;
     any_change_since_rebin                    = true;
   }
@@ -270,7 +315,9 @@ namespace fmpm
     apply(id, id_scratch);
     apply(cell, cell_scratch);
     for (unsigned int s = 0; s < columns.size(); ++s)
-      if (!zero_slot[s])
+      if (uniform_slot[s]) // all values equal: only the count changes
+        columns[s].resize(n_kept);
+      else if (!zero_slot[s])
         apply(columns[s], scratch);
     refresh_column_pointers();
     rebuild_cell_ranges();

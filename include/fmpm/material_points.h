@@ -51,7 +51,15 @@ namespace fmpm
      */
     void
     initialize(const unsigned int               n_properties,
-               const std::vector<unsigned int> &zero_slots = {});
+               const std::vector<unsigned int> &zero_slots      = {},
+               const std::vector<unsigned int> &invariant_slots = {});
+
+    /** @brief The core slots no pass writes after a point is created or
+     * arrives: M, V₀, material, body, l₀. A column of such a slot whose
+     * values are all equal (one material, uniform points) stays so, and
+     * rebin() does not permute it. */
+    static std::vector<unsigned int>
+    invariant_core_slots();
 
     /** @brief The slots that are zero in 2D (plane strain): F_xz, F_yz,
      * F_zx, F_zy, σ_xz, σ_yz; none in 3D. */
@@ -197,6 +205,12 @@ namespace fmpm
       return cell_key[cell[k]];
     }
 
+    /** Per slot: written only at creation (initialize()), and whether all
+     * its values are equal now. */
+    std::vector<char> invariant_slot, uniform_slot;
+    /** uniform_slot of the invariant slots from the values. */
+    void
+    find_uniform_slots();
     /** Rebuild cell_index, cell_iterator and cell_point_begin. */
     void
     rebuild_cell_ranges();

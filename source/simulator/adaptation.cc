@@ -51,9 +51,9 @@ namespace fmpm
   Simulator<dim>::mark_cells()
   {
     const MeshRefinementParameters &refinement = parameters.refinement;
-    using Strategy = MeshRefinementParameters::Strategy;
-    const Strategy                  strategy   = refinement.strategy;
-    const unsigned int              n_cells    = triangulation.n_active_cells();
+    using Strategy              = MeshRefinementParameters::Strategy;
+    const Strategy     strategy = refinement.strategy;
+    const unsigned int n_cells  = triangulation.n_active_cells();
 
     // Cells to be at the maximum level (the others may coarsen), by active
     // cell index; used by the two material strategies.
@@ -257,7 +257,8 @@ namespace fmpm
           break;
         // The points are created anew in the finer cells.
         points.initialize(particle_properties.n_properties(),
-                          MaterialPoints<dim>::plane_strain_zero_slots());
+                          MaterialPoints<dim>::plane_strain_zero_slots(),
+                          MaterialPoints<dim>::invariant_core_slots());
         triangulation.prepare_coarsening_and_refinement();
         triangulation.execute_coarsening_and_refinement();
         setup_after_mesh_change();

@@ -471,7 +471,8 @@ namespace fmpm
     // The points go straight into the store (not through the handler),
     // each record freed once copied.
     points.initialize(particle_properties.n_properties(),
-                      MaterialPoints<dim>::plane_strain_zero_slots());
+                      MaterialPoints<dim>::plane_strain_zero_slots(),
+                      MaterialPoints<dim>::invariant_core_slots());
     points.reserve(new_points.size());
     for (unsigned int i = 0; i < new_points.size(); ++i)
       {
