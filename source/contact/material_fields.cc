@@ -234,14 +234,12 @@ namespace fmpm
     Manager<dim>::solve_material_full_mass(
       const ParticleUpdate::GridField field)
     {
-      const GridScalar          &lumped_mass = this->get_lumped_mass();
-      const SupportCache<dim>   &supports    = this->get_support_cache();
-      const MaterialPoints<dim> &points      = this->get_material_points();
-      const double               mass_floor  = this->get_mass_floor();
-      const MPI_Comm mpi_communicator        = this->get_mpi_communicator();
-      const double   time_step               = this->get_timestep();
-      const double   momentum_time           = this->get_momentum_time();
-      const double   time                    = this->get_time();
+      const GridScalar &lumped_mass      = this->get_lumped_mass();
+      const double      mass_floor       = this->get_mass_floor();
+      const MPI_Comm    mpi_communicator = this->get_mpi_communicator();
+      const double      time_step        = this->get_timestep();
+      const double      momentum_time    = this->get_momentum_time();
+      const double      time             = this->get_time();
       const VelocityConditions<dim> &velocity_conditions =
         this->get_velocity_conditions();
       const bool has_hanging_nodes                 = this->has_hanging_nodes();
@@ -262,7 +260,6 @@ namespace fmpm
       // materials in contact the sums over them decide, so that perfect
       // interfaces give the single-material solve).
       using namespace ParticleUpdate;
-      using Index                = PropertyIndex<dim>;
       const bool         updated = field == updated_velocity;
       const double       t_field = updated ? time + time_step : momentum_time;
       const unsigned int n_materials = fields.size();
@@ -275,31 +272,16 @@ namespace fmpm
                                          known_velocity_mask,
                                          known_velocity_value);
 
-      // m̃^α_ii = Σ_{p∈α} M_p S_ip² (into series_free's first block).
-      const double *const         mass_column = points.column(Index::mass);
+      // m̃^α_ii from the cell matrices (into series_free's first block).
       std::vector<double *>       diagonal(n_materials);
       std::vector<const double *> m(n_materials);
       for (unsigned int a = 0; a < n_materials; ++a)
         {
           fields[a].series_free = 0;
-          diagonal[a]           = fields[a].series_free.block(0).begin();
-          m[a]                  = fields[a].mass.begin();
+          full_mass[a].diagonal(fields[a].series_free.block(0));
+          diagonal[a] = fields[a].series_free.block(0).begin();
+          m[a]        = fields[a].mass.begin();
         }
-      {
-        const unsigned int *node = supports.node.data();
-        const double       *S    = supports.S.data();
-        for (unsigned int k = 0; k < supports.n_points(); ++k)
-          {
-            double *const d = diagonal[supports.material[k]];
-            const double  M = mass_column[k];
-            for (unsigned int j = supports.support_begin[k];
-                 j < supports.support_begin[k + 1];
-                 ++j)
-              d[node[j]] += M * S[j] * S[j];
-          }
-        for (auto &material : fields)
-          material.series_free.block(0).compress(VectorOperation::add);
-      }
 
       // The materials in contact at each node (bit a: material a), from the
       // last correction's contact states.
