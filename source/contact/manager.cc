@@ -119,10 +119,8 @@ namespace fmpm
             }
           if (material_exact_solve)
             {
-              reinit(material.series_residual);
-              reinit(material.series_direction);
-              reinit(material.series_free);
-              material.weak_coupling.reinit(partitioner);
+              material.full_mass_diagonal.reinit(partitioner);
+              material.weak.reinit(partitioner);
             }
           if (needs.volume_gradients)
             reinit(material.volume_gradient);

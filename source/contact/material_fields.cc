@@ -234,12 +234,10 @@ namespace fmpm
     Manager<dim>::solve_material_full_mass(
       const ParticleUpdate::GridField field)
     {
-      const GridScalar &lumped_mass      = this->get_lumped_mass();
-      const double      mass_floor       = this->get_mass_floor();
-      const MPI_Comm    mpi_communicator = this->get_mpi_communicator();
-      const double      time_step        = this->get_timestep();
-      const double      momentum_time    = this->get_momentum_time();
-      const double      time             = this->get_time();
+      const GridScalar              &lumped_mass   = this->get_lumped_mass();
+      const double                   time_step     = this->get_timestep();
+      const double                   momentum_time = this->get_momentum_time();
+      const double                   time          = this->get_time();
       const VelocityConditions<dim> &velocity_conditions =
         this->get_velocity_conditions();
       const bool has_hanging_nodes                 = this->has_hanging_nodes();
@@ -251,20 +249,18 @@ namespace fmpm
       // contact take the same increment. As k → ∞ it converges to the z in
       // z₁ + (that subspace) where the residual q − m̃ z vanishes at every
       // node apart from equal and opposite forces between materials in
-      // contact: each material's m̃^α, coupled at the contact pairs. CG finds
-      // it with C = D Z (Zᵀ diag(m̃) Z)⁻¹ Zᵀ D, symmetric positive
-      // semi-definite (Z: the materials in contact at a node share one
-      // unknown; D: free components), whose range is that subspace. Fixed
-      // components keep z₁: known (velocity conditions), empty, and weak
-      // (m̃_ii < τ m_i, the single-material solve's remedy; at a node with
-      // materials in contact the sums over them decide, so that perfect
-      // interfaces give the single-material solve).
+      // contact: the systems m̃^α z^α = q^α, sharing their unknown at the
+      // nodes where materials are in contact (solve_full_mass_systems()).
+      // Fixed components keep z₁: known (velocity conditions), empty, and
+      // weak (m̃_ii < τ m_i, the single-material solve's remedy; at a node
+      // with materials in contact the sums over them decide, so that
+      // perfect interfaces give the single-material solve).
       using namespace ParticleUpdate;
       const bool         updated = field == updated_velocity;
       const double       t_field = updated ? time + time_step : momentum_time;
       const unsigned int n_materials = fields.size();
       const unsigned int n_owned     = lumped_mass.locally_owned_size();
-      const double       floor       = mass_floor;
+      const double       floor       = this->get_mass_floor();
       const double       tau         = material_weak_threshold;
       const bool         has_known   = velocity_conditions.uses_known_values();
       if (has_known)
@@ -272,15 +268,22 @@ namespace fmpm
                                          known_velocity_mask,
                                          known_velocity_value);
 
-      // m̃^α_ii from the cell matrices (into series_free's first block).
-      std::vector<double *>       diagonal(n_materials);
-      std::vector<const double *> m(n_materials);
+      // q^α and m̃^α_ii (from the cell matrices).
       for (unsigned int a = 0; a < n_materials; ++a)
         {
-          fields[a].series_free = 0;
-          full_mass[a].diagonal(fields[a].series_free.block(0));
-          diagonal[a] = fields[a].series_free.block(0).begin();
-          m[a]        = fields[a].mass.begin();
+          MaterialField<dim>    &material = fields[a];
+          const GridVectorField &p =
+            updated ? material.updated_momentum : material.momentum;
+          for (unsigned int c = 0; c < dim; ++c)
+            {
+              double *const       q  = material.series_rhs.block(c).begin();
+              const double *const pc = p.block(c).begin();
+              const double *const dv = material.delta_velocity.block(c).begin();
+              const double *const m  = material.mass.begin();
+              for (unsigned int i = 0; i < n_owned; ++i)
+                q[i] = pc[i] - m[i] * dv[i];
+            }
+          full_mass[a].diagonal(material.full_mass_diagonal);
         }
 
       // The materials in contact at each node (bit a: material a), from the
@@ -289,289 +292,57 @@ namespace fmpm
 
       // Weak nodes: m̃_ii < τ m_i, of the material or, where materials are in
       // contact, of their sums.
-      std::vector<double> group_diagonal(n_owned, 0.), group_mass(n_owned, 0.);
-      std::vector<unsigned int> group_of(n_owned, 0u);
+      for (auto &material : fields)
+        for (unsigned int i = 0; i < n_owned; ++i)
+          {
+            const double m_i = material.mass.local_element(i);
+            material.weak.local_element(i) =
+              m_i > floor &&
+                  material.full_mass_diagonal.local_element(i) < tau * m_i ?
+                1. :
+                0.;
+          }
       for (const auto &[i, group] : contact_groups)
         {
-          group_of[i] = group;
+          double group_diagonal = 0, group_mass = 0;
           for (unsigned int a = 0; a < n_materials; ++a)
             if (group & (1u << a))
               {
-                group_diagonal[i] += diagonal[a][i];
-                group_mass[i] += m[a][i];
+                group_diagonal += fields[a].full_mass_diagonal.local_element(i);
+                group_mass += fields[a].mass.local_element(i);
               }
-        }
-      material_weak.assign(n_materials * n_owned, 0);
-      for (unsigned int a = 0; a < n_materials; ++a)
-        for (unsigned int i = 0; i < n_owned; ++i)
-          {
-            const bool grouped = group_of[i] & (1u << a);
-            material_weak[a * n_owned + i] =
-              m[a][i] > floor &&
-              (grouped ? group_diagonal[i] < tau * group_mass[i] :
-                         diagonal[a][i] < tau * m[a][i]);
-          }
-      auto is_weak = [&](const unsigned int a, const unsigned int i) {
-        return material_weak[a * n_owned + i] != 0;
-      };
-      // As in the single-material solve, the couplings of free nodes to weak
-      // ones are lumped onto the diagonal: c^α = m̃^α 1_W (column sums stay
-      // m^α). series_direction holds 1_W here.
-      std::vector<GridVectorField *> z, direction, product;
-      for (auto &material : fields)
-        {
-          z.push_back(&material.fields[field]);
-          direction.push_back(&material.series_direction);
-          product.push_back(&material.series_product);
-        }
-      for (unsigned int a = 0; a < n_materials; ++a)
-        {
-          GridVectorField &indicator = fields[a].series_direction;
-          indicator                  = 0;
-          for (unsigned int i = 0; i < n_owned; ++i)
-            if (is_weak(a, i))
-              for (unsigned int c = 0; c < dim; ++c)
-                indicator.block(c).local_element(i) = 1;
-          indicator.update_ghost_values();
-        }
-      apply_material_full_mass(direction, product);
-      for (auto &material : fields)
-        material.weak_coupling = material.series_product.block(0);
-
-      // series_free: the inverse diagonal of Zᵀ diag(m̃ + c) Z on free
-      // components, 0 on fixed ones.
-      for (unsigned int a = 0; a < n_materials; ++a)
-        {
-          const double *const coupling = fields[a].weak_coupling.begin();
-          for (unsigned int i = 0; i < n_owned; ++i)
-            if (group_of[i] & (1u << a))
-              group_diagonal[i] += coupling[i];
-        }
-      for (unsigned int a = 0; a < n_materials; ++a)
-        {
-          GridVectorField    &free     = fields[a].series_free;
-          const double *const coupling = fields[a].weak_coupling.begin();
-          for (unsigned int i = 0; i < n_owned; ++i)
-            {
-              const bool   grouped = group_of[i] & (1u << a);
-              const double d =
-                grouped ? group_diagonal[i] : diagonal[a][i] + coupling[i];
-              const bool is_free = m[a][i] > floor && !is_weak(a, i) && d > 0;
-              for (unsigned int c = 0; c < dim; ++c)
-                free.block(c).local_element(i) =
-                  is_free && !(has_known &&
-                               known_velocity_mask[c].local_element(i) != 0) ?
-                    1. / d :
-                    0.;
-            }
-        }
-      const MPI_Comm comm = mpi_communicator;
-      // y = C r into series_increment; returns r·y and |r|² (all ranks), r
-      // of a node's materials in contact counted as their sum (the forces
-      // between them are internal).
-      auto precondition = [&]() {
-        double local[2] = {}, global[2];
-        for (unsigned int c = 0; c < dim; ++c)
-          {
-            for (auto &material : fields)
-              {
-                const double *const r =
-                  material.series_residual.block(c).begin();
-                const double *const inverse =
-                  material.series_free.block(c).begin();
-                double *const y = material.series_increment.block(c).begin();
-                for (unsigned int i = 0; i < n_owned; ++i)
-                  y[i] = inverse[i] * r[i];
-              }
-            for (const auto &[i, group] : contact_groups)
-              {
-                double sum = 0;
-                for (unsigned int a = 0; a < n_materials; ++a)
-                  if (group & (1u << a))
-                    sum += fields[a].series_residual.block(c).local_element(i);
-                for (unsigned int a = 0; a < n_materials; ++a)
-                  if (group & (1u << a))
-                    fields[a].series_increment.block(c).local_element(i) =
-                      fields[a].series_free.block(c).local_element(i) * sum;
-                local[1] += sum * sum;
-              }
-            for (unsigned int a = 0; a < n_materials; ++a)
-              {
-                const MaterialField<dim> &material = fields[a];
-                const double *const       r =
-                  material.series_residual.block(c).begin();
-                const double *const y =
-                  material.series_increment.block(c).begin();
-                for (unsigned int i = 0; i < n_owned; ++i)
-                  {
-                    local[0] += r[i] * y[i];
-                    if (!(group_of[i] & (1u << a)))
-                      local[1] += r[i] * r[i];
-                  }
-              }
-          }
-        Utilities::MPI::sum(local, comm, global);
-        return std::make_pair(global[0], global[1]);
-      };
-
-      // r₀ = q − (m̃ z₁' + c z₁) on free components, z₁' = z₁ off weak and
-      // empty nodes; the scale |q|² of the stop.
-      for (unsigned int a = 0; a < n_materials; ++a)
-        {
-          GridVectorField &coupled_start = fields[a].series_direction;
-          coupled_start                  = *z[a];
-          for (unsigned int i = 0; i < n_owned; ++i)
-            if (!(m[a][i] > floor) || is_weak(a, i))
-              for (unsigned int c = 0; c < dim; ++c)
-                coupled_start.block(c).local_element(i) = 0;
-          coupled_start.update_ghost_values();
-        }
-      apply_material_full_mass(direction, product);
-      double              scale_local = 0;
-      std::vector<double> group_q(dim * n_owned, 0.);
-      for (unsigned int a = 0; a < n_materials; ++a)
-        {
-          MaterialField<dim>    &material = fields[a];
-          const GridVectorField &p =
-            updated ? material.updated_momentum : material.momentum;
-          for (unsigned int c = 0; c < dim; ++c)
-            {
-              const double *const pd = p.block(c).begin();
-              const double *const dv = material.delta_velocity.block(c).begin();
-              const double *const mz = material.series_product.block(c).begin();
-              const double *const free = material.series_free.block(c).begin();
-              const double *const ma   = material.mass.begin();
-              const double *const cw   = material.weak_coupling.begin();
-              const double *const z1 = material.fields[field].block(c).begin();
-              double *const       r = material.series_residual.block(c).begin();
-              for (unsigned int i = 0; i < n_owned; ++i)
-                {
-                  const double q = pd[i] - ma[i] * dv[i];
-                  r[i] = free[i] != 0 ? q - mz[i] - cw[i] * z1[i] : 0.;
-                  if (free[i] == 0)
-                    continue;
-                  if (group_of[i] & (1u << a))
-                    group_q[c * n_owned + i] += q;
-                  else
-                    scale_local += q * q;
-                }
-            }
-        }
-      for (const double q : group_q)
-        scale_local += q * q;
-      // Stop at |r| <= tolerance |p|, as the single-material solve.
-      const double threshold = material_solve_tolerance *
-                               material_solve_tolerance *
-                               Utilities::MPI::sum(scale_local, comm);
-      auto [r_dot_y, r_norm_squared] = precondition();
-      for (auto &material : fields)
-        {
-          material.series_direction = material.series_increment;
-          material.series_direction.update_ghost_values();
-        }
-      unsigned int iteration = 0;
-      bool         converged = true;
-      for (; r_norm_squared > threshold; ++iteration)
-        {
-          if (iteration == material_solve_max_iterations)
-            {
-              converged = false;
-              break;
-            }
-          apply_material_full_mass(direction, product); // w = (m̃ + c) d
-          double local = 0;
-          for (auto &material : fields)
-            for (unsigned int c = 0; c < dim; ++c)
-              {
-                const double *const dd =
-                  material.series_direction.block(c).begin();
-                const double *const cw = material.weak_coupling.begin();
-                double *const w = material.series_product.block(c).begin();
-                for (unsigned int i = 0; i < n_owned; ++i)
-                  {
-                    w[i] += cw[i] * dd[i];
-                    local += dd[i] * w[i];
-                  }
-              }
-          const double d_dot_w = Utilities::MPI::sum(local, comm);
-          if (!(d_dot_w > 0))
-            {
-              converged = false;
-              break;
-            }
-          const double alpha = r_dot_y / d_dot_w;
-          for (auto &material : fields)
-            for (unsigned int c = 0; c < dim; ++c)
-              {
-                const double *const dd =
-                  material.series_direction.block(c).begin();
-                const double *const w =
-                  material.series_product.block(c).begin();
-                const double *const free =
-                  material.series_free.block(c).begin();
-                double *const x = material.fields[field].block(c).begin();
-                double *const r = material.series_residual.block(c).begin();
-                for (unsigned int i = 0; i < n_owned; ++i)
-                  {
-                    x[i] += alpha * dd[i];
-                    r[i] = free[i] != 0 ? r[i] - alpha * w[i] : 0.;
-                  }
-              }
-          const auto [next, next_norm_squared] = precondition();
-          const double beta                    = next / r_dot_y;
-          r_dot_y                              = next;
-          r_norm_squared                       = next_norm_squared;
-          for (auto &material : fields)
-            {
-              material.series_direction.sadd(beta,
-                                             1.,
-                                             material.series_increment);
-              material.series_direction.update_ghost_values();
-            }
-        }
-      // Σ m z = Σ q holds for the exact solution (the columns of m̃^α + c^α
-      // sum to m^α, the contact forces cancel); CG leaves it off by its
-      // residual. As in the single-material solve, a uniform shift of the
-      // free components restores it, where no known component carries mass.
-      for (unsigned int c = 0; c < dim; ++c)
-        {
-          double local[3] = {}, global[3];
           for (unsigned int a = 0; a < n_materials; ++a)
-            {
-              const MaterialField<dim> &material = fields[a];
-              const GridVectorField    &p =
-                updated ? material.updated_momentum : material.momentum;
-              const double *const pd = p.block(c).begin();
-              const double *const dv = material.delta_velocity.block(c).begin();
-              const double *const zc = material.fields[field].block(c).begin();
-              const double *const free = material.series_free.block(c).begin();
-              for (unsigned int i = 0; i < n_owned; ++i)
-                {
-                  local[0] += pd[i] - m[a][i] * dv[i] - m[a][i] * zc[i];
-                  if (free[i] != 0)
-                    local[1] += m[a][i];
-                  if (has_known &&
-                      known_velocity_mask[c].local_element(i) != 0 &&
-                      m[a][i] > floor)
-                    local[2] = 1;
-                }
-            }
-          Utilities::MPI::sum(local, comm, global);
-          if (global[2] != 0 || global[1] == 0)
-            continue;
-          const double shift = global[0] / global[1];
-          for (auto &material : fields)
-            {
-              const double *const free = material.series_free.block(c).begin();
-              double *const       zc = material.fields[field].block(c).begin();
-              for (unsigned int i = 0; i < n_owned; ++i)
-                if (free[i] != 0)
-                  zc[i] += shift;
-            }
+            if (group & (1u << a))
+              fields[a].weak.local_element(i) =
+                fields[a].mass.local_element(i) > floor &&
+                    group_diagonal < tau * group_mass ?
+                  1. :
+                  0.;
         }
+
+      std::vector<MassMatrix::FullMassSystem<CellwiseMatrix>> systems;
+      for (unsigned int a = 0; a < n_materials; ++a)
+        systems.push_back({&full_mass[a],
+                           &fields[a].full_mass_diagonal,
+                           &fields[a].mass,
+                           &fields[a].weak,
+                           &fields[a].series_rhs,
+                           &fields[a].fields[field],
+                           &fields[a].solve_workspace});
+      MassMatrix::FullMassSolveSettings settings;
+      settings.tolerance      = material_solve_tolerance;
+      settings.max_iterations = material_solve_max_iterations;
+      settings.mass_floor     = floor;
+      const MassMatrix::FullMassSolve result =
+        MassMatrix::solve_full_mass_systems(systems,
+                                            contact_groups,
+                                            has_known ? &known_velocity_mask :
+                                                        nullptr,
+                                            MassMatrix::FullMassStart::given,
+                                            settings);
       ++material_solves;
-      material_solve_iterations += iteration;
-      material_solve_failures += converged ? 0 : 1;
+      material_solve_iterations += result.iterations;
+      material_solve_failures += result.converged ? 0 : 1;
 
       for (auto &material : fields)
         {

@@ -443,8 +443,9 @@ TEST(MassMatrix, CellwiseMatrixEqualsAssembledMatrix)
 TEST(MassMatrix, AdaptiveOrderStopsAtTheTolerance)
 {
   Cloud<2>   cloud(3, 5);
-  const auto fmpm = [&](const unsigned int k, const double tolerance,
-                        unsigned int *used = nullptr) {
+  const auto fmpm = [&](const unsigned int k,
+                        const double       tolerance,
+                        unsigned int      *used = nullptr) {
     fmpm::GridVectorField v     = cloud.new_field();
     const unsigned int    order = fmpm::MassMatrix::apply_fmpm_inverse(
       cloud.m_tilde, cloud.m, cloud.p, v, k, 0, nullptr, nullptr, tolerance);
@@ -452,7 +453,7 @@ TEST(MassMatrix, AdaptiveOrderStopsAtTheTolerance)
       *used = order;
     return v;
   };
-  const double v1 = fmpm(1, 0).l2_norm();
+  const double v1             = fmpm(1, 0).l2_norm();
   unsigned int previous_order = 1;
   for (const double tolerance : {1e-1, 1e-2, 1e-3, 1e-4})
     {
@@ -473,4 +474,185 @@ TEST(MassMatrix, AdaptiveOrderStopsAtTheTolerance)
   unsigned int order = 0;
   fmpm(7, 0, &order);
   EXPECT_EQ(order, 7u);
+}
+
+
+
+// Systems solved together (materials in contact, seed 004): split a cloud's
+// points into two materials. Sharing the unknown at every node gives both
+// the velocity of the whole cloud (m̃¹ + m̃²) v = p¹ + p²; sharing none gives
+// each its own solve; sharing some leaves equal velocities and opposite
+// residuals there, zero residuals elsewhere and Σ m v = Σ p.
+TEST(MassMatrix, SharedNodesCoupleTheSystemsOfMaterials)
+{
+  Cloud<2>           cloud(2, 9);
+  const unsigned int n = cloud.m.locally_owned_size();
+  // Material a: the points q with q % 2 == a.
+  struct Material
+  {
+    fmpm::CellwiseMatrix                K;
+    fmpm::GridScalar                    m, diagonal, weak;
+    fmpm::GridVectorField               p, v;
+    fmpm::MassMatrix::FullMassWorkspace workspace;
+  };
+  std::vector<Material>  materials(2);
+  constexpr unsigned int n_nodes = Cloud<2>::n_nodes;
+  for (unsigned int a = 0; a < 2; ++a)
+    {
+      Material &material = materials[a];
+      material.m         = cloud.m;
+      material.m         = 0;
+      material.p         = cloud.new_field();
+      material.v         = cloud.new_field();
+      material.K.clear(n_nodes);
+      std::array<double, n_nodes * n_nodes> local;
+      for (unsigned int q = a; q < cloud.S.size(); q += 2)
+        {
+          for (unsigned int i = 0; i < n_nodes; ++i)
+            {
+              material.m.local_element(cloud.nodes[q][i]) +=
+                cloud.M[q] * cloud.S[q][i];
+              for (unsigned int d = 0; d < 2; ++d)
+                material.p.block(d).local_element(cloud.nodes[q][i]) +=
+                  cloud.M[q] * cloud.S[q][i] * cloud.V[q][d];
+              for (unsigned int j = 0; j < n_nodes; ++j)
+                local[i * n_nodes + j] =
+                  cloud.M[q] * cloud.S[q][i] * cloud.S[q][j];
+            }
+          material.K.add_cell(cloud.nodes[q].data(), local.data());
+        }
+      material.diagonal = cloud.m;
+      material.K.diagonal(material.diagonal);
+      material.weak = cloud.m;
+      material.weak = 0;
+    }
+  const auto systems = [&]() {
+    std::vector<fmpm::MassMatrix::FullMassSystem<fmpm::CellwiseMatrix>> list;
+    for (Material &material : materials)
+      list.push_back({&material.K,
+                      &material.diagonal,
+                      &material.m,
+                      &material.weak,
+                      &material.p,
+                      &material.v,
+                      &material.workspace});
+    return list;
+  };
+  fmpm::MassMatrix::FullMassSolveSettings settings;
+  settings.tolerance = 1e-12;
+  // Starts from m⁻¹p, at shared nodes from the common (m¹ + m²)⁻¹(p¹ + p²)
+  // (the corrections are shared, not the values).
+  const auto solve = [&](const fmpm::MassMatrix::SharedNodes &shared) {
+    std::vector<bool> is_shared(n, false);
+    for (const auto &[i, group] : shared)
+      is_shared[i] = true;
+    for (unsigned int d = 0; d < 2; ++d)
+      for (unsigned int i = 0; i < n; ++i)
+        for (Material &material : materials)
+          {
+            const double m_i = is_shared[i] ? cloud.m.local_element(i) :
+                                              material.m.local_element(i);
+            const double p_i = is_shared[i] ?
+                                 cloud.p.block(d).local_element(i) :
+                                 material.p.block(d).local_element(i);
+            material.v.block(d).local_element(i) = m_i > 0 ? p_i / m_i : 0.;
+          }
+    const auto result = fmpm::MassMatrix::solve_full_mass_systems(
+      systems(),
+      shared,
+      nullptr,
+      fmpm::MassMatrix::FullMassStart::given,
+      settings);
+    EXPECT_TRUE(result.converged);
+    EXPECT_GT(result.iterations, 1u);
+  };
+
+  // The whole cloud, solved alone.
+  const fmpm::CellwiseMatrix cellwise = cloud.cellwise_matrix();
+  fmpm::GridScalar           diagonal(cloud.m), no_weak(cloud.m);
+  no_weak = 0;
+  cellwise.diagonal(diagonal);
+  fmpm::GridVectorField v_whole = cloud.new_field();
+  fmpm::MassMatrix::solve_full_mass_system(cellwise,
+                                           diagonal,
+                                           cloud.m,
+                                           nullptr,
+                                           no_weak,
+                                           cloud.p,
+                                           v_whole,
+                                           false,
+                                           settings);
+  fmpm::MassMatrix::SharedNodes everywhere;
+  for (unsigned int i = 0; i < n; ++i)
+    everywhere.emplace_back(i, 3u);
+  solve(everywhere);
+  for (const Material &material : materials)
+    EXPECT_LT(difference(material.v, v_whole), 1e-8 * v_whole.l2_norm());
+
+  // No shared nodes: each material's own solve.
+  solve({});
+  for (Material &material : materials)
+    {
+      fmpm::GridVectorField v_alone = cloud.new_field();
+      fmpm::MassMatrix::solve_full_mass_system(material.K,
+                                               material.diagonal,
+                                               material.m,
+                                               nullptr,
+                                               material.weak,
+                                               material.p,
+                                               v_alone,
+                                               false,
+                                               settings);
+      EXPECT_LT(difference(material.v, v_alone), 1e-8 * v_alone.l2_norm());
+    }
+
+  // Every third node shared.
+  fmpm::MassMatrix::SharedNodes some;
+  std::vector<bool>             is_shared(n, false);
+  for (unsigned int i = 0; i < n; i += 3)
+    {
+      some.emplace_back(i, 3u);
+      is_shared[i] = true;
+    }
+  solve(some);
+  std::vector<fmpm::GridVectorField> residual(2, cloud.new_field());
+  double                             p_norm = 0;
+  for (unsigned int a = 0; a < 2; ++a)
+    {
+      materials[a].K.vmult(residual[a], materials[a].v);
+      residual[a].sadd(-1., 1., materials[a].p);
+      p_norm += materials[a].p.norm_sqr();
+    }
+  p_norm = std::sqrt(p_norm);
+  for (unsigned int d = 0; d < 2; ++d)
+    {
+      double momentum = 0;
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          const double r_0 = residual[0].block(d).local_element(i),
+                       r_1 = residual[1].block(d).local_element(i);
+          if (is_shared[i])
+            {
+              EXPECT_NEAR(materials[0].v.block(d).local_element(i),
+                          materials[1].v.block(d).local_element(i),
+                          1e-12 * v_whole.l2_norm());
+              EXPECT_LT(std::abs(r_0 + r_1), 1e-10 * p_norm);
+            }
+          else
+            {
+              EXPECT_LT(std::abs(r_0), 1e-10 * p_norm);
+              EXPECT_LT(std::abs(r_1), 1e-10 * p_norm);
+            }
+          for (const Material &material : materials)
+            momentum += material.p.block(d).local_element(i) -
+                        material.m.local_element(i) *
+                          material.v.block(d).local_element(i);
+        }
+      EXPECT_LT(std::abs(momentum), 1e-13 * p_norm);
+    }
+  // Contact forces remain at the shared nodes: the materials differ.
+  double force = 0;
+  for (const auto &[i, group] : some)
+    force += std::abs(residual[0].block(0).local_element(i));
+  EXPECT_GT(force, 1e-3 * p_norm);
 }

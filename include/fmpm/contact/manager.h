@@ -8,6 +8,7 @@
 #include <fmpm/contact/normals.h>
 #include <fmpm/contact/parameters.h>
 #include <fmpm/grid_vectors.h>
+#include <fmpm/mass_matrix/full.h>
 #include <fmpm/particle_update/interface.h>
 #include <fmpm/simulator_access.h>
 
@@ -51,8 +52,9 @@ namespace fmpm
       GridVectorField series_product;      // m̃^α z (multimaterial XPIC(k))
       GridVectorField series_rhs;       // q^α = p^α − m^α Δv^α (series)
       GridVectorField series_increment; // m^α δz^α (net incremental contact)
-      GridVectorField series_residual, series_direction, series_free;
-      GridScalar      weak_coupling; // c^α = m̃^α 1_W
+      // The exact solve: m̃^α_ii, the weak nodes and the CG's fields.
+      GridScalar                    full_mass_diagonal, weak;
+      MassMatrix::FullMassWorkspace solve_workspace;
       std::array<GridVectorField, ParticleUpdate::n_grid_fields> fields;
       std::array<bool, ParticleUpdate::n_grid_fields>            computed{};
     };
@@ -282,8 +284,6 @@ namespace fmpm
       /** The owned nodes with materials in contact and those materials
        * (bit a: material a). */
       std::vector<std::pair<unsigned int, unsigned int>> contact_groups;
-      /** Weak nodes, material by material. */
-      std::vector<char>       material_weak;
       std::vector<GridScalar> known_velocity_mask, known_velocity_value;
       double                  material_solve_tolerance      = 1e-10;
       double                  material_weak_threshold       = 0.1;

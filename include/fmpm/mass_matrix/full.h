@@ -47,17 +47,79 @@ namespace fmpm
       bool conserve_momentum = true;
     };
 
-    /** @brief Scratch fields of solve_full_mass_system(), kept between
-     * solves so that a solve allocates nothing. */
+    /** @brief Scratch fields of one system of solve_full_mass_systems(),
+     * kept between solves so that a solve allocates nothing. */
     struct FullMassWorkspace
     {
       GridVectorField lumped_start, inverse_diagonal, residual, correction,
         direction, product, coupled_start;
+      /** c = K 1_W, and the diagonal of the operator at each node. */
+      GridScalar weak_coupling, diagonal;
 
       /** Give every field the layout of @p like (kept if it has it). */
       void
       reinit(const GridVectorField &like);
     };
+
+    /** @brief Where solve_full_mass_systems() starts CG. */
+    enum class FullMassStart
+    {
+      /** m⁻¹p on free nodes; v = 0 on empty nodes, m⁻¹p on weak ones */
+      lumped,
+      /** as lumped, or from the given v on free nodes where that leaves
+       * the smaller residual (a warm start) */
+      better_of_given_and_lumped,
+      /** from the given v on every node; fixed nodes keep it */
+      given
+    };
+
+    /** @brief One system K v = p of solve_full_mass_systems(). */
+    template <typename MatrixType>
+    struct FullMassSystem
+    {
+      /** K (m̃, or a material's m̃^α) and its diagonal K_ii (owned) */
+      const MatrixType *K;
+      const GridScalar *K_diagonal;
+      /** the lumped masses (the column sums of K) */
+      const GridScalar *m;
+      /** 1 on weak nodes (owned), else 0 */
+      const GridScalar      *weak;
+      const GridVectorField *p;
+      GridVectorField       *v;
+      FullMassWorkspace     *workspace;
+    };
+
+    /**
+     * @brief Owned nodes (local index) at which systems share one unknown
+     * correction, with the systems that share it (bit a: system a).
+     */
+    using SharedNodes = std::vector<std::pair<unsigned int, unsigned int>>;
+
+    /**
+     * @brief Solve K_a v_a = p_a for several systems a with one CG per
+     * component, each as solve_full_mass_system() describes (known, weak
+     * and empty nodes, δ, Jacobi, momentum restored over all systems).
+     *
+     * At @p shared nodes the systems take the same correction (so they keep
+     * equal velocities there if they start from equal ones) and only the
+     * sum of their residuals has to vanish (materials in contact: the equal
+     * and opposite contact forces remain). The preconditioner is there
+     * D Z (Zᵀ diag Z)⁻¹ Zᵀ D (Z: the shared unknown, D: free components),
+     * symmetric positive semi-definite, whose range is the subspace of equal
+     * corrections; the residual norm counts their sums. Without shared
+     * nodes the systems are independent.
+     *
+     * On breakdown or no convergence every v_a takes its lumped start (with
+     * FullMassStart::given: its input) and converged = false.
+     */
+    template <typename MatrixType>
+    FullMassSolve
+    solve_full_mass_systems(
+      const std::vector<FullMassSystem<MatrixType>> &systems,
+      const SharedNodes                             &shared,
+      const std::vector<GridScalar>                 *known_mask,
+      const FullMassStart                            start,
+      const FullMassSolveSettings                   &settings);
 
     /**
      * @brief Solve ((1 − δ) K' + δ m) v = p for all components at once with
