@@ -84,9 +84,13 @@ namespace fmpm
                        const std::vector<unsigned int> &excluded)
       {
         const unsigned int n = inverse_diagonal.block(0).locally_owned_size();
-        NodeRanges         ranges;
-        auto               next_excluded = excluded.begin();
-        bool               may_bridge    = false;
+        const unsigned int n_blocks = inverse_diagonal.n_blocks();
+        const double      *inverse[3];
+        for (unsigned int b = 0; b < n_blocks; ++b)
+          inverse[b] = inverse_diagonal.block(b).begin();
+        NodeRanges ranges;
+        auto       next_excluded = excluded.begin();
+        bool       may_bridge    = false;
         for (unsigned int i = 0; i < n; ++i)
           {
             if (next_excluded != excluded.end() && *next_excluded == i)
@@ -96,8 +100,8 @@ namespace fmpm
                 continue;
               }
             bool is_free = false;
-            for (unsigned int b = 0; b < inverse_diagonal.n_blocks(); ++b)
-              is_free |= inverse_diagonal.block(b).local_element(i) != 0;
+            for (unsigned int b = 0; b < n_blocks; ++b)
+              is_free |= inverse[b][i] != 0;
             if (!is_free)
               continue;
             if (may_bridge && i < ranges.back().second + 16)
@@ -484,32 +488,37 @@ namespace fmpm
           // iteration: v on known nodes, m⁻¹p on weak ones, 0 on empty ones
           // (FullMassStart::given: v on all three), and on free nodes m⁻¹p
           // or the given v.
+          const bool    given  = start == FullMassStart::given;
+          const double *m_data = m.begin(), *weak_data = weak.begin();
           for (unsigned int b = 0; b < n_blocks; ++b)
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                const double m_i = m.local_element(i);
-                const bool   is_known =
-                  known_mask && (*known_mask)[b].local_element(i) != 0;
-                const bool is_weak  = weak.local_element(i) != 0;
-                const bool is_empty = !(m_i > floor);
-                const bool is_fixed = is_known || is_weak || is_empty;
-                double    &v_i      = v.block(b).local_element(i);
-                if (start != FullMassStart::given)
-                  {
-                    if (is_empty)
-                      v_i = 0;
-                    else if (is_weak)
-                      v_i = p.block(b).local_element(i) / m_i;
-                  }
-                w.lumped_start.block(b).local_element(i) =
-                  is_fixed || start == FullMassStart::given ?
-                    v_i :
-                    p.block(b).local_element(i) / m_i;
-                // 1 marks free nodes here; their inverse diagonal below.
-                w.inverse_diagonal.block(b).local_element(i) = is_fixed ? 0 : 1;
-                if (is_known || is_weak || (is_empty && m_i != 0))
-                  A.fixed_rows[b].push_back(i);
-              }
+            {
+              const double *p_b = p.block(b).begin();
+              const double *known_b =
+                known_mask ? (*known_mask)[b].begin() : nullptr;
+              double *v_b       = v.block(b).begin();
+              double *start_b   = w.lumped_start.block(b).begin();
+              double *inverse_b = w.inverse_diagonal.block(b).begin();
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  const double m_i      = m_data[i];
+                  const bool   is_known = known_b && known_b[i] != 0;
+                  const bool   is_weak  = weak_data[i] != 0;
+                  const bool   is_empty = !(m_i > floor);
+                  const bool   is_fixed = is_known || is_weak || is_empty;
+                  if (!given)
+                    {
+                      if (is_empty)
+                        v_b[i] = 0;
+                      else if (is_weak)
+                        v_b[i] = p_b[i] / m_i;
+                    }
+                  start_b[i] = is_fixed || given ? v_b[i] : p_b[i] / m_i;
+                  // 1 marks free nodes here; their inverse diagonal below.
+                  inverse_b[i] = is_fixed ? 0 : 1;
+                  if (is_known || is_weak || (is_empty && m_i != 0))
+                    A.fixed_rows[b].push_back(i);
+                }
+            }
 
           // c = K 1_W: the couplings of each node to weak nodes, the
           // diagonal terms e = (1 − δ) c + δ m of A, and A's diagonal.
@@ -554,14 +563,15 @@ namespace fmpm
         std::sort(nodes.begin(), nodes.end());
       for (unsigned int a = 0; a < n_systems; ++a)
         {
-          FullMassWorkspace &w = *systems[a].workspace;
+          FullMassWorkspace  &w        = *systems[a].workspace;
+          const double *const diagonal = w.diagonal.begin();
           for (unsigned int b = 0; b < n_blocks; ++b)
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                double &inverse = w.inverse_diagonal.block(b).local_element(i);
-                const double diagonal = w.diagonal.local_element(i);
-                inverse = inverse != 0 && diagonal > 0 ? 1. / diagonal : 0.;
-              }
+            {
+              double *const inverse = w.inverse_diagonal.block(b).begin();
+              for (unsigned int i = 0; i < n; ++i)
+                inverse[i] =
+                  inverse[i] != 0 && diagonal[i] > 0 ? 1. / diagonal[i] : 0.;
+            }
         }
 
       // r0 = p − A x0 on free rows: the known values of x0 enter through
@@ -574,53 +584,59 @@ namespace fmpm
           FullMassWorkspace &w          = *system.workspace;
           GridVectorField   &x0_coupled = w.coupled_start;
           x0_coupled                    = x0;
+          const double *const m_data    = m.begin();
+          const double *const weak_data = system.weak->begin();
+          const double *const coupling  = w.weak_coupling.begin();
           for (unsigned int b = 0; b < n_blocks; ++b)
-            for (unsigned int i = 0; i < n; ++i)
-              if (system.weak->local_element(i) != 0 ||
-                  !(m.local_element(i) > floor))
-                x0_coupled.block(b).local_element(i) = 0;
+            {
+              double *const x_b = x0_coupled.block(b).begin();
+              for (unsigned int i = 0; i < n; ++i)
+                if (weak_data[i] != 0 || !(m_data[i] > floor))
+                  x_b[i] = 0;
+            }
           apply_full_mass(*system.K, r0, x0_coupled);
           for (unsigned int b = 0; b < n_blocks; ++b)
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                const double x_i = x0.block(b).local_element(i);
-                double      &r_i = r0.block(b).local_element(i);
-                r_i = w.inverse_diagonal.block(b).local_element(i) == 0 ?
-                        0. :
-                        system.p->block(b).local_element(i) -
-                          (1 - delta) *
-                            (r_i + w.weak_coupling.local_element(i) * x_i) -
-                          delta * m.local_element(i) * x_i;
-              }
+            {
+              const double *const x_b = x0.block(b).begin();
+              const double *const p_b = system.p->block(b).begin();
+              const double *const inverse_b =
+                w.inverse_diagonal.block(b).begin();
+              double *const r_b = r0.block(b).begin();
+              for (unsigned int i = 0; i < n; ++i)
+                r_b[i] = inverse_b[i] == 0 ?
+                           0. :
+                           p_b[i] -
+                             (1 - delta) * (r_b[i] + coupling[i] * x_b[i]) -
+                             delta * m_data[i] * x_b[i];
+            }
         };
       // FullMassStart::better_of_given_and_lumped: from v only where it is
       // the better start (it is not, e.g., in the first step or after the
       // mesh changed).
+      const bool compare_starts =
+        start == FullMassStart::better_of_given_and_lumped;
       double lumped_norm = 0, given_norm = 0;
       for (const auto &system : systems)
         {
           FullMassWorkspace &w = *system.workspace;
           initial_residual(system, w.lumped_start, w.residual);
-          lumped_norm += w.residual.norm_sqr();
-          if (start == FullMassStart::better_of_given_and_lumped)
+          if (compare_starts)
             {
+              lumped_norm += w.residual.norm_sqr();
               initial_residual(system, *system.v, w.correction);
               given_norm += w.correction.norm_sqr();
             }
         }
-      const bool from_given =
-        start == FullMassStart::better_of_given_and_lumped &&
-        given_norm < lumped_norm;
-      double p_norm_squared = 0;
+      const bool from_given     = compare_starts && given_norm < lumped_norm;
+      double     p_norm_squared = 0;
       for (unsigned int a = 0; a < n_systems; ++a)
         {
           const FullMassSystem<MatrixType> &system = systems[a];
           FullMassWorkspace                &w      = *system.workspace;
           if (from_given)
             w.residual.swap(w.correction);
-          else
+          else if (start != FullMassStart::given) // (given: v is its start)
             *system.v = w.lumped_start;
-          w.correction = 0;
           p_norm_squared += system.p->norm_sqr();
           cg[a].inverse_diagonal = &w.inverse_diagonal;
           cg[a].ranges    = free_node_ranges(w.inverse_diagonal, shared_of[a]);
@@ -643,8 +659,9 @@ namespace fmpm
                                        shared,
                                        settings.tolerance * norm,
                                        settings.max_iterations);
-          for (const auto &system : systems)
-            *system.v += system.workspace->correction;
+          if (result.iterations > 0)
+            for (const auto &system : systems)
+              *system.v += system.workspace->correction;
           if (settings.conserve_momentum)
             restore_momentum(systems, floor, known_mask);
         }
