@@ -302,12 +302,30 @@ namespace fmpm
         rebuild_cell_ranges();
         return;
       }
-    // Gather into a kept work array, which then becomes the array.
+    // Points keep their order between the few that moved: the permutation
+    // is long runs of consecutive places, copied as blocks into a kept work
+    // array, which then becomes the array.
+    permutation_runs.clear();
+    for (unsigned int k = first_change; k < n_kept;)
+      {
+        const unsigned int from   = permutation[k];
+        unsigned int       length = 1;
+        while (k + length < n_kept && permutation[k + length] == from + length)
+          ++length;
+        permutation_runs.push_back({k, from, length});
+        k += length;
+      }
     auto apply = [&](auto &values, auto &work) {
       work.resize(n_kept);
       std::copy(values.begin(), values.begin() + first_change, work.begin());
-      for (unsigned int k = first_change; k < n_kept; ++k)
-        work[k] = values[permutation[k]];
+      for (const auto &[to, from, length] : permutation_runs)
+        if (length < 8)
+          for (unsigned int j = 0; j < length; ++j)
+            work[to + j] = values[from + j];
+        else
+          std::copy(values.begin() + from,
+                    values.begin() + from + length,
+                    work.begin() + to);
       values.swap(work);
     };
     apply(position, point_scratch);
@@ -350,16 +368,18 @@ namespace fmpm
   std::size_t
   MaterialPoints<dim>::memory_consumption() const
   {
-    std::size_t bytes = position.capacity() * sizeof(Point<dim>) +
-                        reference_position.capacity() * sizeof(Point<dim>) +
-                        id.capacity() * sizeof(types::particle_index) +
-                        cell.capacity() * sizeof(unsigned int) +
-                        scratch.capacity() * sizeof(double) +
-                        point_scratch.capacity() * sizeof(Point<dim>) +
-                        id_scratch.capacity() * sizeof(types::particle_index) +
-                        cell_scratch.capacity() * sizeof(unsigned int) +
-                        permutation.capacity() * sizeof(unsigned int) +
-                        zeros.capacity() * sizeof(double);
+    std::size_t bytes =
+      position.capacity() * sizeof(Point<dim>) +
+      reference_position.capacity() * sizeof(Point<dim>) +
+      id.capacity() * sizeof(types::particle_index) +
+      cell.capacity() * sizeof(unsigned int) +
+      scratch.capacity() * sizeof(double) +
+      point_scratch.capacity() * sizeof(Point<dim>) +
+      id_scratch.capacity() * sizeof(types::particle_index) +
+      cell_scratch.capacity() * sizeof(unsigned int) +
+      permutation.capacity() * sizeof(unsigned int) +
+      permutation_runs.capacity() * sizeof(std::array<unsigned int, 3>) +
+      zeros.capacity() * sizeof(double);
     for (const auto &values : columns)
       bytes += values.capacity() * sizeof(double);
     return bytes;

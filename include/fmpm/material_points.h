@@ -11,6 +11,7 @@
 #include <deal.II/grid/tria.h>
 #include <deal.II/particles/particle_handler.h>
 
+#include <array>
 #include <vector>
 
 namespace fmpm
@@ -231,11 +232,14 @@ namespace fmpm
     std::vector<char> cell_received;
     bool              any_change_since_rebin = false;
     /** Work arrays of rebin(), kept between steps. */
-    std::vector<unsigned int>          permutation, count;
-    std::vector<double>                scratch;
-    std::vector<Point<dim>>            point_scratch;
-    std::vector<types::particle_index> id_scratch;
-    std::vector<unsigned int>          cell_scratch;
+    std::vector<unsigned int> permutation, count;
+    /** The permutation from its first change as runs of consecutive
+     * places: (first new place, first old place, length). */
+    std::vector<std::array<unsigned int, 3>> permutation_runs;
+    std::vector<double>                      scratch;
+    std::vector<Point<dim>>                  point_scratch;
+    std::vector<types::particle_index>       id_scratch;
+    std::vector<unsigned int>                cell_scratch;
   };
 } // namespace fmpm
 
