@@ -120,14 +120,10 @@ namespace fmpm
                             neighbor->active_cell_index()) == patch.end())
                 patch.push_back(neighbor->active_cell_index());
 
-          // Uniform patch: 3^dim axis-aligned cells of this cell's size,
-          // without hanging nodes.
-          CellData    &data    = cells[index];
-          bool         uniform = data.is_axis_aligned && !data.has_constraints;
-          unsigned int full    = 1;
-          for (unsigned int d = 0; d < dim; ++d)
-            full *= 3;
-          uniform = uniform && (patch.size() == full);
+          // Uniform patch: axis-aligned cells of this cell's size without
+          // hanging nodes (3^dim of them, fewer at the mesh boundary).
+          CellData &data    = cells[index];
+          bool      uniform = data.is_axis_aligned && !data.has_constraints;
           for (const unsigned int other : patch)
             {
               const CellData &o = cells[other];

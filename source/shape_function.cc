@@ -338,15 +338,15 @@ namespace fmpm
     bool
     limit_cpdi_domain(Tensor<2, dim> &s, const double r_max)
     {
-      constexpr unsigned int n_diagonals = 1u << (dim - 1);
+      constexpr unsigned int                  n_diagonals = 1u << (dim - 1);
       std::array<Tensor<1, dim>, n_diagonals> r, d;
       bool                                    limited = false;
       for (unsigned int k = 0; k < n_diagonals; ++k)
         {
           for (unsigned int j = 0; j + 1 < dim; ++j)
             r[k][j] = ((k >> j) & 1) ? -1. : 1.;
-          r[k][dim - 1] = 1.;
-          d[k]          = s * r[k];
+          r[k][dim - 1]       = 1.;
+          d[k]                = s * r[k];
           const double length = d[k].norm();
           if (length > r_max)
             {
@@ -512,13 +512,21 @@ namespace fmpm
           plane[d][3] = own.upper[d] + h[d];
         }
       local_index.fill(numbers::invalid_unsigned_int);
-      Assert(own.uniform_patch &&
-               transfer.patch(cell_index).size() == Utilities::pow(3, dim),
-             ExcMessage("UniformGimpPatch needs a uniform patch of 3^dim "
-                        "cells."));
+      has_cell.fill(false);
+      Assert(own.uniform_patch,
+             ExcMessage("UniformGimpPatch needs a uniform patch."));
       for (const unsigned int other : transfer.patch(cell_index))
         {
-          const auto &cell = transfer.cell_data(other);
+          const auto  &cell   = transfer.cell_data(other);
+          unsigned int column = 0, stride = 1;
+          for (unsigned int d = 0; d < dim; ++d, stride *= 3)
+            {
+              const double centre = 0.5 * (cell.lower[d] + cell.upper[d]);
+              column += stride * (centre < own.lower[d] ? 0 :
+                                  centre < own.upper[d] ? 1 :
+                                                          2);
+            }
+          has_cell[column] = true;
           // Each vertex's planes from its coordinates (any vertex order).
           for (unsigned int i = 0; i < GridTransfer<dim>::n_nodes; ++i)
             {
@@ -546,9 +554,26 @@ namespace fmpm
     UniformGimpPatch<dim>::applies(const Point<dim>     &x,
                                    const Tensor<1, dim> &l) const
     {
+      unsigned int first[dim], last[dim];
       for (unsigned int d = 0; d < dim; ++d)
-        if (l[d] > 0.5 * h[d] || x[d] < plane[d][1] || x[d] > plane[d][2])
-          return false;
+        {
+          if (l[d] > 0.5 * h[d] || x[d] < plane[d][1] || x[d] > plane[d][2])
+            return false;
+          overlapped_columns(x, l, d, first[d], last[d]);
+        }
+      // Every overlapped cell is in the patch (at the mesh boundary it may
+      // not be: the general path reports the box).
+      for (unsigned int c0 = first[0]; c0 < last[0]; ++c0)
+        for (unsigned int c1 = first[1]; c1 < last[1]; ++c1)
+          if constexpr (dim == 2)
+            {
+              if (!has_cell[c0 + 3 * c1])
+                return false;
+            }
+          else
+            for (unsigned int c2 = first[2]; c2 < last[2]; ++c2)
+              if (!has_cell[c0 + 3 * c1 + 9 * c2])
+                return false;
       return true;
     }
 

@@ -57,9 +57,10 @@ namespace fmpm
       /** Bit f set if face f (xi_{f/2} = f%2) lies on the mesh boundary. */
       unsigned int boundary_faces = 0;
       /**
-       * Locally owned cell whose neighbours (the cells sharing a vertex)
-       * are all axis-aligned boxes of its own size without hanging nodes:
-       * GIMP's closed forms (seed 001 Eq. gimp_shape) hold around it.
+       * Locally owned cell whose neighbours (the cells sharing a vertex;
+       * fewer than 3^dim at the mesh boundary) are all axis-aligned boxes
+       * of its own size without hanging nodes: GIMP's closed forms (seed
+       * 001 Eq. gimp_shape) hold around it for boxes inside those cells.
        */
       bool uniform_patch = false;
     };

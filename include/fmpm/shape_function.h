@@ -195,6 +195,8 @@ namespace fmpm
      * CellData::uniform_patch): the patch's nodes lie on four planes per
      * direction (own lower − h, lower, upper, upper + h), so a point's
      * support is the tensor product of 1D weights, evaluated once per plane.
+     * At the mesh boundary the patch lacks cells; the closed forms hold for
+     * boxes that overlap only cells it has.
      * Built once per cell, read by each of its points.
      */
     template <int dim>
@@ -207,7 +209,8 @@ namespace fmpm
 
       /**
        * @brief Whether the closed forms hold for a point at @p x with
-       * half-lengths @p l: x in the cell and l ≤ h/2.
+       * half-lengths @p l: x in the cell, l ≤ h/2, and the box x ± l
+       * overlaps only cells of the patch.
        */
       bool
       applies(const Point<dim> &x, const Tensor<1, dim> &l) const;
@@ -233,14 +236,7 @@ namespace fmpm
         double       w[dim][4], dw[dim][4];
         for (unsigned int d = 0; d < dim; ++d)
           {
-            first_plane[d] = 4;
-            last_plane[d]  = 0;
-            for (unsigned int c = 0; c < 3; ++c)
-              if (plane[d][c] < x[d] + l[d] && plane[d][c + 1] > x[d] - l[d])
-                {
-                  first_plane[d] = std::min(first_plane[d], c);
-                  last_plane[d]  = c + 1;
-                }
+            overlapped_columns(x, l, d, first_plane[d], last_plane[d]);
             for (unsigned int p = first_plane[d]; p <= last_plane[d]; ++p)
               gimp_1d(x[d] - plane[d][p], h[d], l[d], w[d][p], dw[d][p]);
           }
@@ -272,7 +268,29 @@ namespace fmpm
       }
 
     private:
+      /** The columns c (cells between planes c and c + 1) the box x ± l
+       * overlaps in direction d: [first, last). */
+      void
+      overlapped_columns(const Point<dim>     &x,
+                         const Tensor<1, dim> &l,
+                         const unsigned int    d,
+                         unsigned int         &first,
+                         unsigned int         &last) const
+      {
+        first = 3;
+        last  = 0;
+        for (unsigned int c = 0; c < 3; ++c)
+          if (plane[d][c] < x[d] + l[d] && plane[d][c + 1] > x[d] - l[d])
+            {
+              first = std::min(first, c);
+              last  = c + 1;
+            }
+      }
+
       static constexpr unsigned int n_slots = 1u << (2 * dim); // 4^dim
+      /** Whether the patch has the cell in columns (c_0, c_1[, c_2]), at
+       * Σ c_d 3^d. */
+      std::array<bool, dim == 2 ? 9 : 27> has_cell;
       /** Plane coordinates per direction, and the cell size h. */
       double plane[dim][4];
       double h[dim];
