@@ -22,11 +22,13 @@
 // deal.II 9.4's <deal.II/base/mpi_tags.h> (enum starting at 300) and of
 // Trilinos' Epetra_MpiCommData.h:
 //   p2p:particles      329-331  particle_handler_send_recv_particles_*
+//   p2p:some-to-some   300-301  Utilities::MPI::some_to_some() (fmpm's
+//                               point exchange after the re-bin, contact)
 //   p2p:ghost          336-748  partitioner_import/export_*, noncontiguous
 //                               partitioner: ghost values and compress() of
 //                               LinearAlgebra::distributed::Vector
-//   p2p:dealii-other   300-760  the other deal.II tags (consensus
-//                               algorithms, some-to-some, ...)
+//   p2p:dealii-other   302-760  the other deal.II tags (consensus
+//                               algorithms, ...)
 //   p2p:epetra         24050-24099  Epetra import/export (Trilinos matrices)
 //   p2p:other          everything else (p4est, Open MPI-internal, ...)
 // Collectives are classified by call ("coll:MPI_Allreduce", ...); one call
@@ -245,6 +247,8 @@ tag_kind(const int tag)
 {
   if (tag >= 329 && tag <= 331)
     return "p2p:particles";
+  if (tag == 300 || tag == 301)
+    return "p2p:some-to-some";
   if (tag >= 336 && tag <= 748)
     return "p2p:ghost";
   if (tag >= 300 && tag <= 760)

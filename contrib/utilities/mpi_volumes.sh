@@ -31,6 +31,8 @@
 #               the largest run of each method and scaling [0]
 #   RESULTS     if set, the per-step figures are also written there as JSON
 #   KEEP        1: keep the temporary directory [0]
+#   REUSE       a directory that KEEP=1 kept: no runs, only the tables from
+#               its counts (same PROCS, STEPS, METHODS, SCALINGS)
 #   BUILD_DIR   [build]
 set -euo pipefail
 
@@ -51,15 +53,22 @@ if [ ! -x "$benchmark" ]; then
   exit 1
 fi
 
-tmp="$(mktemp -d "${TMPDIR:-/tmp}/mpi_volumes.XXXXXX")"
-if [ "${KEEP:-0}" = 1 ]; then
+if [ -n "${REUSE:-}" ]; then
+  tmp="$(realpath "$REUSE")"
+  methods_runs=""
+else
+  tmp="$(mktemp -d "${TMPDIR:-/tmp}/mpi_volumes.XXXXXX")"
+  methods_runs="$methods"
+fi
+if [ "${KEEP:-0}" = 1 ] || [ -n "${REUSE:-}" ]; then
   echo "mpi_volumes: keeping $tmp"
 else
   trap 'rm -rf "$tmp"' EXIT
 fi
 
-mpicc -shared -fPIC -O2 -o "$tmp/libmpi_counter.so" \
-  "$here/contrib/utilities/mpi_counter.c" -ldl
+[ -n "$methods_runs" ] &&
+  mpicc -shared -fPIC -O2 -o "$tmp/libmpi_counter.so" \
+    "$here/contrib/utilities/mpi_counter.c" -ldl
 
 export OMPI_MCA_rmaps_base_oversubscribe=1
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
@@ -80,7 +89,7 @@ method_settings() {
   esac
 }
 
-for method in $methods; do
+for method in $methods_runs; do
   for scaling in $scalings; do
     for p in $procs; do
       for n in "$steps" "$((2 * steps))"; do
@@ -143,7 +152,8 @@ def in_mass_matrix(context):
     return "fmpm::MassMatrix::" in context_name(context)
 
 # The categories of the tables, from (context, kind).
-CATEGORIES = ["particle exchange", "ghost values", "collectives",
+CATEGORIES = ["particle exchange", "particle exchange: collectives",
+              "ghost values", "collectives",
               "full-mass solve: ghost values", "full-mass solve: collectives",
               "other point-to-point"]
 
@@ -152,6 +162,15 @@ def category(context, kind):
         return None  # one-rank communicators: no traffic
     if kind == "p2p:particles":
         return "particle exchange"
+    # The sort sends the points that leave the rank with deal.II's
+    # some_to_some(): its data messages, the empty messages and barriers of
+    # the consensus algorithm that counts the senders, and the sort's own
+    # reduction. Some-to-some elsewhere (contact) is not particle exchange.
+    if "sort_particles_into_cells" in context_name(context):
+        if kind.startswith("coll:"):
+            return "particle exchange: collectives"
+        if kind in ("p2p:some-to-some", "p2p:dealii-other"):
+            return "particle exchange"
     mass = in_mass_matrix(context)
     if kind == "p2p:ghost":
         return "full-mass solve: ghost values" if mass else "ghost values"
@@ -203,7 +222,12 @@ for method in methods:
             long, l_summary = load(f"{method}-{scaling}-{p}-{2 * steps}")
             ranks = per_step(short, long, category)
             peers = {k: max(r["peers"].get(k, 0) for r in long.values())
-                     for k in ("p2p:ghost", "p2p:particles")}
+                     for k in ("p2p:ghost", "p2p:particles",
+                               "p2p:some-to-some")}
+            # Particles travel by ParticleHandler (adaptation, the full
+            # sort) or by some-to-some (the re-bin of every step).
+            peers["p2p:particles"] = max(peers["p2p:particles"],
+                                         peers.pop("p2p:some-to-some"))
             n_points = l_summary["n_particles"]
             iterations = (cg_iterations(l_summary) -
                           cg_iterations(s_summary)) / steps
