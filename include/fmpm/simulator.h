@@ -536,6 +536,11 @@ namespace fmpm
     bool                has_hanging_nodes = false;
     GridTransfer<dim>   transfer;
     ShapeFunction::Type shape_function = ShapeFunction::Type::classic;
+    /** GIMP's closed forms around the cells with points that have a uniform
+     * patch, built once per mesh: the patch of active cell c is
+     * gimp_patches[gimp_patch_of_cell[c]] (invalid: not built yet). */
+    std::vector<ShapeFunction::UniformGimpPatch<dim>> gimp_patches;
+    std::vector<unsigned int>                         gimp_patch_of_cell;
 
     /** Multimaterial contact: the per-material fields and the corrections
      * (null without contact). */

@@ -139,6 +139,8 @@ namespace fmpm
                     constraints,
                     *partitioner,
                     shape_function != ShapeFunction::Type::classic);
+    gimp_patches.clear();
+    gimp_patch_of_cell.clear();
     vertex_to_cells = GridTools::vertex_to_cell_map(triangulation);
     owned_cells_in_id_order.clear();
     for (const auto &cell : triangulation.active_cell_iterators())

@@ -403,7 +403,10 @@ namespace fmpm
     std::vector<ShapeFunction::Node<dim>> support;
     const bool gimp = (shape_function == ShapeFunction::Type::ugimp ||
                        shape_function == ShapeFunction::Type::cpgimp);
-    ShapeFunction::UniformGimpPatch<dim> gimp_patch;
+    if (gimp)
+      gimp_patch_of_cell.resize(triangulation.n_active_cells(),
+                                numbers::invalid_unsigned_int);
+    const ShapeFunction::UniformGimpPatch<dim> *gimp_patch = nullptr;
     // The points in the store's order: cell by cell (cells in the order of
     // their ids, so that the sums over points onto nodes do not depend on
     // the mesh's storage order, which a mesh loaded from a checkpoint does
@@ -417,7 +420,15 @@ namespace fmpm
         const unsigned int c    = points.cell_index[cell_number];
         const auto        &data = transfer.cell_data(c);
         if (gimp && data.uniform_patch)
-          gimp_patch.reinit(transfer, c);
+          {
+            if (gimp_patch_of_cell[c] == numbers::invalid_unsigned_int)
+              {
+                gimp_patch_of_cell[c] = gimp_patches.size();
+                gimp_patches.emplace_back();
+                gimp_patches.back().reinit(transfer, c);
+              }
+            gimp_patch = &gimp_patches[gimp_patch_of_cell[c]];
+          }
         for (unsigned int k = points.cell_point_begin[cell_number];
              k < points.cell_point_begin[cell_number + 1];
              ++k)
@@ -462,21 +473,21 @@ namespace fmpm
                      ShapeFunction::gimp_half_lengths(shape_function, F, l0) :
                      l0;
                 if (gimp && data.uniform_patch &&
-                    gimp_patch.applies(location, l))
+                    gimp_patch->applies(location, l))
                   {
                     // No hanging nodes on a uniform patch: straight into
                     // the cache.
-                    gimp_patch.for_each_node(location,
-                                             l,
-                                             [&](const unsigned int local_index,
-                                                 const types::global_dof_index,
-                                                 const double          S_ip,
-                                                 const Tensor<1, dim> &G_ip) {
-                                               supports.node.push_back(
-                                                 local_index);
-                                               supports.S.push_back(S_ip);
-                                               supports.G.push_back(G_ip);
-                                             });
+                    gimp_patch->for_each_node(
+                      location,
+                      l,
+                      [&](const unsigned int local_index,
+                          const types::global_dof_index,
+                          const double          S_ip,
+                          const Tensor<1, dim> &G_ip) {
+                        supports.node.push_back(local_index);
+                        supports.S.push_back(S_ip);
+                        supports.G.push_back(G_ip);
+                      });
                     supports.support_begin.push_back(supports.node.size());
                     continue;
                   }
