@@ -555,26 +555,7 @@ namespace fmpm
                                    const Tensor<1, dim> &l) const
     {
       unsigned int first[dim], last[dim];
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          if (l[d] > 0.5 * h[d] || x[d] < plane[d][1] || x[d] > plane[d][2])
-            return false;
-          overlapped_columns(x, l, d, first[d], last[d]);
-        }
-      // Every overlapped cell is in the patch (at the mesh boundary it may
-      // not be: the general path reports the box).
-      for (unsigned int c0 = first[0]; c0 < last[0]; ++c0)
-        for (unsigned int c1 = first[1]; c1 < last[1]; ++c1)
-          if constexpr (dim == 2)
-            {
-              if (!has_cell[c0 + 3 * c1])
-                return false;
-            }
-          else
-            for (unsigned int c2 = first[2]; c2 < last[2]; ++c2)
-              if (!has_cell[c0 + 3 * c1 + 9 * c2])
-                return false;
-      return true;
+      return columns_if_applies(x, l, first, last);
     }
 
 

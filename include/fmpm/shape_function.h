@@ -228,18 +228,93 @@ namespace fmpm
                     const Tensor<1, dim> &l,
                     Sink                &&sink) const
       {
-        // The planes next to the columns (cells between planes c and c + 1)
-        // the box overlaps, and their 1D weights. The patch holds all 3^dim
-        // cells: the nodes of the overlapped cells are the slots whose planes
-        // all lie in these ranges.
         unsigned int first_plane[dim], last_plane[dim];
-        double       w[dim][4], dw[dim][4];
+        for (unsigned int d = 0; d < dim; ++d)
+          overlapped_columns(x, l, d, first_plane[d], last_plane[d]);
+        sink_nodes(x, l, first_plane, last_plane, sink);
+      }
+
+      /**
+       * @brief for_each_node() if applies(), in one pass; returns
+       * applies().
+       */
+      template <typename Sink>
+      bool
+      for_each_node_if_applies(const Point<dim>     &x,
+                               const Tensor<1, dim> &l,
+                               Sink                &&sink) const
+      {
+        unsigned int first_plane[dim], last_plane[dim];
+        if (!columns_if_applies(x, l, first_plane, last_plane))
+          return false;
+        sink_nodes(x, l, first_plane, last_plane, sink);
+        return true;
+      }
+
+    private:
+      /** The columns c (cells between planes c and c + 1) the box x ± l
+       * overlaps in direction d: [first, last). */
+      void
+      overlapped_columns(const Point<dim>     &x,
+                         const Tensor<1, dim> &l,
+                         const unsigned int    d,
+                         unsigned int         &first,
+                         unsigned int         &last) const
+      {
+        first = 3;
+        last  = 0;
+        for (unsigned int c = 0; c < 3; ++c)
+          if (plane[d][c] < x[d] + l[d] && plane[d][c + 1] > x[d] - l[d])
+            {
+              first = std::min(first, c);
+              last  = c + 1;
+            }
+      }
+
+      /** The overlapped columns of each direction, and whether the closed
+       * forms apply (see applies()). */
+      bool
+      columns_if_applies(const Point<dim>     &x,
+                         const Tensor<1, dim> &l,
+                         unsigned int (&first)[dim],
+                         unsigned int (&last)[dim]) const
+      {
         for (unsigned int d = 0; d < dim; ++d)
           {
-            overlapped_columns(x, l, d, first_plane[d], last_plane[d]);
-            for (unsigned int p = first_plane[d]; p <= last_plane[d]; ++p)
-              gimp_1d(x[d] - plane[d][p], h[d], l[d], w[d][p], dw[d][p]);
+            if (l[d] > 0.5 * h[d] || x[d] < plane[d][1] || x[d] > plane[d][2])
+              return false;
+            overlapped_columns(x, l, d, first[d], last[d]);
           }
+        // Every overlapped cell is in the patch (at the mesh boundary it
+        // may not be: the general path reports the box).
+        for (unsigned int c0 = first[0]; c0 < last[0]; ++c0)
+          for (unsigned int c1 = first[1]; c1 < last[1]; ++c1)
+            if constexpr (dim == 2)
+              {
+                if (!has_cell[c0 + 3 * c1])
+                  return false;
+              }
+            else
+              for (unsigned int c2 = first[2]; c2 < last[2]; ++c2)
+                if (!has_cell[c0 + 3 * c1 + 9 * c2])
+                  return false;
+        return true;
+      }
+
+      /** The nodes of the planes [first_plane, last_plane] (inclusive) of
+       * each direction: their 1D weights, then their products. */
+      template <typename Sink>
+      void
+      sink_nodes(const Point<dim>     &x,
+                 const Tensor<1, dim> &l,
+                 const unsigned int (&first_plane)[dim],
+                 const unsigned int (&last_plane)[dim],
+                 Sink &sink) const
+      {
+        double w[dim][4], dw[dim][4];
+        for (unsigned int d = 0; d < dim; ++d)
+          for (unsigned int p = first_plane[d]; p <= last_plane[d]; ++p)
+            gimp_1d(x[d] - plane[d][p], h[d], l[d], w[d][p], dw[d][p]);
         for (unsigned int slot = 0; slot < n_slots; ++slot)
           {
             unsigned int p[dim];
@@ -265,26 +340,6 @@ namespace fmpm
             if (value != 0 || gradient.norm_square() != 0)
               sink(local_index[slot], dof[slot], value, gradient);
           }
-      }
-
-    private:
-      /** The columns c (cells between planes c and c + 1) the box x ± l
-       * overlaps in direction d: [first, last). */
-      void
-      overlapped_columns(const Point<dim>     &x,
-                         const Tensor<1, dim> &l,
-                         const unsigned int    d,
-                         unsigned int         &first,
-                         unsigned int         &last) const
-      {
-        first = 3;
-        last  = 0;
-        for (unsigned int c = 0; c < 3; ++c)
-          if (plane[d][c] < x[d] + l[d] && plane[d][c + 1] > x[d] - l[d])
-            {
-              first = std::min(first, c);
-              last  = c + 1;
-            }
       }
 
       static constexpr unsigned int n_slots = 1u << (2 * dim); // 4^dim

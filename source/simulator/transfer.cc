@@ -472,12 +472,10 @@ namespace fmpm
                   gimp ?
                      ShapeFunction::gimp_half_lengths(shape_function, F, l0) :
                      l0;
+                // No hanging nodes on a uniform patch: straight into the
+                // cache.
                 if (gimp && data.uniform_patch &&
-                    gimp_patch->applies(location, l))
-                  {
-                    // No hanging nodes on a uniform patch: straight into
-                    // the cache.
-                    gimp_patch->for_each_node(
+                    gimp_patch->for_each_node_if_applies(
                       location,
                       l,
                       [&](const unsigned int local_index,
@@ -487,7 +485,8 @@ namespace fmpm
                         supports.node.push_back(local_index);
                         supports.S.push_back(S_ip);
                         supports.G.push_back(G_ip);
-                      });
+                      }))
+                  {
                     supports.support_begin.push_back(supports.node.size());
                     continue;
                   }
