@@ -3,8 +3,6 @@
 
 #include <fmpm/grid_transfer.h>
 
-#include <deal.II/grid/grid_tools.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -16,7 +14,8 @@ namespace fmpm
   GridTransfer<dim>::reinit(const DoFHandler<dim>             &dof_handler,
                             const AffineConstraints<double>   &constraints,
                             const Utilities::MPI::Partitioner &partitioner,
-                            const bool                         with_patches)
+                            const bool                         with_patches,
+                            const VertexCells<dim>            *vertex_cells)
   {
     AssertThrow(dof_handler.get_fe().dofs_per_cell == n_nodes,
                 ExcMessage("GridTransfer needs an FE_Q(1) DoFHandler."));
@@ -103,8 +102,12 @@ namespace fmpm
     patches.resize(cells.size());
     if (!with_patches)
       return;
-    const auto vertex_to_cells =
-      GridTools::vertex_to_cell_map(dof_handler.get_triangulation());
+    VertexCells<dim> own_vertex_cells;
+    if (vertex_cells == nullptr)
+      {
+        own_vertex_cells.reinit(dof_handler.get_triangulation());
+        vertex_cells = &own_vertex_cells;
+      }
     for (const auto &cell :
          dof_handler.get_triangulation().active_cell_iterators())
       if (cell->is_locally_owned())
@@ -113,12 +116,15 @@ namespace fmpm
           std::vector<unsigned int> &patch = patches[index];
           patch.push_back(index);
           for (const unsigned int v : cell->vertex_indices())
-            for (const auto &neighbor : vertex_to_cells[cell->vertex_index(v)])
-              if (!neighbor->is_artificial() &&
-                  std::find(patch.begin(),
-                            patch.end(),
-                            neighbor->active_cell_index()) == patch.end())
-                patch.push_back(neighbor->active_cell_index());
+            for (const auto &other : (*vertex_cells)[cell->vertex_index(v)])
+              {
+                const auto neighbor = vertex_cells->iterator(other);
+                if (!neighbor->is_artificial() &&
+                    std::find(patch.begin(),
+                              patch.end(),
+                              neighbor->active_cell_index()) == patch.end())
+                  patch.push_back(neighbor->active_cell_index());
+              }
 
           // Uniform patch: axis-aligned cells of this cell's size without
           // hanging nodes (3^dim of them, fewer at the mesh boundary).

@@ -4,6 +4,8 @@
 #ifndef fmpm_grid_transfer_h
 #define fmpm_grid_transfer_h
 
+#include <fmpm/vertex_cells.h>
+
 #include <deal.II/base/geometry_info.h>
 #include <deal.II/base/partitioner.h>
 #include <deal.II/base/point.h>
@@ -69,13 +71,16 @@ namespace fmpm
      * @brief Cache the data of every locally owned and ghost cell, and for
      * each locally owned cell its patch (the cell, then the owned or ghost
      * cells sharing a vertex with it, hanging vertices included) unless
-     * @p with_patches is false (classic shape functions need none).
+     * @p with_patches is false (classic shape functions need none). The
+     * patches come from @p vertex_cells when given (the map of the mesh of
+     * @p dof_handler), else from a map built here.
      */
     void
     reinit(const DoFHandler<dim>             &dof_handler,
            const AffineConstraints<double>   &constraints,
            const Utilities::MPI::Partitioner &partitioner,
-           const bool                         with_patches = true);
+           const bool                         with_patches = true,
+           const VertexCells<dim>            *vertex_cells = nullptr);
 
     /** @brief The patch of a locally owned cell (active cell indices). */
     const std::vector<unsigned int> &

@@ -20,6 +20,7 @@
 #include <fmpm/support_cache.h>
 #include <fmpm/time_step_stability.h>
 #include <fmpm/velocity_conditions.h>
+#include <fmpm/vertex_cells.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/function.h>
@@ -612,8 +613,7 @@ namespace fmpm
     /** Corrections Δv (of v) and Δv⁺ (of v⁺) per node condition. */
     std::array<std::vector<double>, 2> velocity_corrections;
     /** Cells around each vertex, for finding the new cell of a moved point. */
-    std::vector<std::set<typename Triangulation<dim>::active_cell_iterator>>
-      vertex_to_cells;
+    VertexCells<dim> vertex_to_cells;
     /** Points (store places) whose new position left their cell in this
      * step. */
     std::vector<unsigned int> points_that_left_their_cell;

@@ -135,13 +135,14 @@ namespace fmpm
     for (auto &field : grid_fields)
       reinit_field(field);
 
+    vertex_to_cells.reinit(triangulation);
     transfer.reinit(dof_handler,
                     constraints,
                     *partitioner,
-                    shape_function != ShapeFunction::Type::classic);
+                    shape_function != ShapeFunction::Type::classic,
+                    &vertex_to_cells);
     gimp_patches.clear();
     gimp_patch_of_cell.clear();
-    vertex_to_cells = GridTools::vertex_to_cell_map(triangulation);
     owned_cells_in_id_order.clear();
     for (const auto &cell : triangulation.active_cell_iterators())
       if (cell->is_locally_owned())

@@ -1486,9 +1486,9 @@ namespace fmpm
         if (target.state() != IteratorState::valid)
           for (const unsigned int v : cell->vertex_indices())
             {
-              for (const auto &candidate :
-                   vertex_to_cells[cell->vertex_index(v)])
+              for (const auto &other : vertex_to_cells[cell->vertex_index(v)])
                 {
+                  const auto candidate = vertex_to_cells.iterator(other);
                   if (candidate == cell || candidate->is_artificial())
                     continue;
                   xi = GridTransfer<dim>::reference_point(
