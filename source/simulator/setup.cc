@@ -307,68 +307,89 @@ namespace fmpm
     for (const auto &body : parameters.bodies)
       body_boxes.push_back(body_bounding_box<dim>(body));
 
-    struct NewPoint
-    {
-      typename Triangulation<dim>::active_cell_iterator cell;
-      Point<dim>                                        x;
-      Point<dim>                                        xi;
-      std::vector<double>                               properties;
+    // Two passes over the same points: the first counts them (the store is
+    // then allocated once, at its size), the second writes each point
+    // straight into the store. Cells outer, bodies inner: the global order
+    // (and so the ids) is the same on any number of ranks.
+    const auto for_each_new_point = [&](const auto &on_point) {
+      for (const auto &cell : triangulation.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const BoundingBox<dim> cell_box = cell->bounding_box();
+            for (unsigned int b = 0; b < n_bodies; ++b)
+              {
+                const BodyParameters &body = parameters.bodies[b];
+                if (cell_box.get_neighbor_type(body_boxes[b]) ==
+                    NeighborType::not_neighbors)
+                  continue;
+                FEValues<dim> &fe_values =
+                  *fe_values_for_ppc[body.points_per_cell];
+                fe_values.reinit(cell);
+                const Quadrature<dim> &quadrature = fe_values.get_quadrature();
+                for (unsigned int q = 0; q < quadrature.size(); ++q)
+                  {
+                    const Point<dim> &x = fe_values.quadrature_point(q);
+                    if (!inside_body(body, x))
+                      continue;
+                    bool claimed = false;
+                    for (unsigned int earlier = 0; earlier < b; ++earlier)
+                      if (inside_body(parameters.bodies[earlier], x))
+                        claimed = true;
+                    if (claimed)
+                      continue;
+                    on_point(cell, b, fe_values, q);
+                  }
+              }
+          }
     };
-    std::vector<NewPoint> new_points;
+    unsigned int n_new_points = 0;
+    for_each_new_point(
+      [&](const auto &, const unsigned int, const auto &, const unsigned int) {
+        ++n_new_points;
+      });
 
-    // Cells outer, bodies inner: the global order (and so the ids) is the
-    // same on any number of ranks.
-    for (const auto &cell : triangulation.active_cell_iterators())
-      if (cell->is_locally_owned())
+    // The points go straight into the store (not through the handler);
+    // their ids are set below, before the store is put in cell order.
+    points.initialize(particle_properties.n_properties(),
+                      MaterialPoints<dim>::plane_strain_zero_slots(),
+                      MaterialPoints<dim>::invariant_core_slots());
+    points.reserve(n_new_points);
+    /** The cells with new points, in creation order, and their counts. */
+    std::vector<std::pair<typename Triangulation<dim>::active_cell_iterator,
+                          unsigned int>>
+                                    cell_runs;
+    std::vector<unsigned long long> points_per_body(n_bodies, 0);
+    std::vector<double>             p(particle_properties.n_properties());
+    for_each_new_point([&](const auto          &cell,
+                           const unsigned int   b,
+                           const FEValues<dim> &fe_values,
+                           const unsigned int   q) {
+      const BodyParameters     &body     = parameters.bodies[b];
+      const Point<dim>         &x        = fe_values.quadrature_point(q);
+      const MaterialParameters &material = parameters.materials[body.material];
+      const double              volume   = fe_values.JxW(q);
+      std::fill(p.begin(), p.end(), 0.);
+      p[Index::mass]           = material.density * volume;
+      p[Index::volume]         = volume;
+      p[Index::initial_volume] = volume;
+      for (unsigned int d = 0; d < dim; ++d)
+        p[Index::velocity + d] = initial_velocity[b]->value(x, d);
+      for (unsigned int i = 0; i < 3; ++i)
+        p[Index::deformation_gradient + 4 * i] = 1.0;
+      p[Index::material_id] = body.material;
+      p[Index::body_id]     = b;
+      for (unsigned int d = 0; d < dim; ++d)
         {
-          const BoundingBox<dim> cell_box = cell->bounding_box();
-          for (unsigned int b = 0; b < n_bodies; ++b)
-            {
-              const BodyParameters &body = parameters.bodies[b];
-              if (cell_box.get_neighbor_type(body_boxes[b]) ==
-                  NeighborType::not_neighbors)
-                continue;
-              FEValues<dim> &fe_values =
-                *fe_values_for_ppc[body.points_per_cell];
-              fe_values.reinit(cell);
-              const Quadrature<dim> &quadrature = fe_values.get_quadrature();
-              for (unsigned int q = 0; q < quadrature.size(); ++q)
-                {
-                  const Point<dim> &x = fe_values.quadrature_point(q);
-                  if (!inside_body(body, x))
-                    continue;
-                  bool claimed = false;
-                  for (unsigned int earlier = 0; earlier < b; ++earlier)
-                    if (inside_body(parameters.bodies[earlier], x))
-                      claimed = true;
-                  if (claimed)
-                    continue;
-
-                  const MaterialParameters &material =
-                    parameters.materials[body.material];
-                  const double        volume = fe_values.JxW(q);
-                  std::vector<double> p(particle_properties.n_properties(), 0.);
-                  p[Index::mass]           = material.density * volume;
-                  p[Index::volume]         = volume;
-                  p[Index::initial_volume] = volume;
-                  for (unsigned int d = 0; d < dim; ++d)
-                    p[Index::velocity + d] = initial_velocity[b]->value(x, d);
-                  for (unsigned int i = 0; i < 3; ++i)
-                    p[Index::deformation_gradient + 4 * i] = 1.0;
-                  p[Index::material_id] = body.material;
-                  p[Index::body_id]     = b;
-                  for (unsigned int d = 0; d < dim; ++d)
-                    {
-                      p[Index::initial_position + d] = x[d];
-                      p[Index::initial_half_length + d] =
-                        0.5 * cell->extent_in_direction(d) /
-                        body.points_per_cell;
-                    }
-                  new_points.push_back(
-                    NewPoint{cell, x, quadrature.point(q), std::move(p)});
-                }
-            }
+          p[Index::initial_position + d] = x[d];
+          p[Index::initial_half_length + d] =
+            0.5 * cell->extent_in_direction(d) / body.points_per_cell;
         }
+      points.add(0, x, fe_values.get_quadrature().point(q), cell, p.data());
+      if (cell_runs.empty() || cell_runs.back().first != cell)
+        cell_runs.emplace_back(cell, 0);
+      ++cell_runs.back().second;
+      ++points_per_body[b];
+    });
 
     // Globally unique ids, the same on any number of ranks. On a mesh
     // that is not adapted, the ids count the points in the order of the
@@ -382,25 +403,20 @@ namespace fmpm
     // the number of points of every cell (by CellId) and numbers the cells
     // in the order of their CellId strings, the points of a cell in
     // creation order.
-    std::vector<unsigned long long> ids(new_points.size());
+    std::vector<types::particle_index> &ids = points.id;
     if (!parameters.refinement.adaptive())
       {
         const unsigned int              n_coarse = triangulation.n_cells(0);
         std::vector<unsigned long long> local_count(n_coarse, 0);
-        std::vector<unsigned int>       coarse_index(new_points.size());
-        for (unsigned int i = 0; i < new_points.size(); ++i)
+        std::vector<unsigned int>       coarse_index(cell_runs.size());
+        for (unsigned int r = 0; r < cell_runs.size(); ++r)
           {
-            if (i > 0 && new_points[i].cell == new_points[i - 1].cell)
-              coarse_index[i] = coarse_index[i - 1];
-            else
-              {
-                typename Triangulation<dim>::cell_iterator coarse =
-                  new_points[i].cell;
-                while (coarse->level() > 0)
-                  coarse = coarse->parent();
-                coarse_index[i] = coarse->index();
-              }
-            ++local_count[coarse_index[i]];
+            typename Triangulation<dim>::cell_iterator coarse =
+              cell_runs[r].first;
+            while (coarse->level() > 0)
+              coarse = coarse->parent();
+            coarse_index[r] = coarse->index();
+            local_count[coarse_index[r]] += cell_runs[r].second;
           }
         std::vector<unsigned long long> on_earlier_ranks(n_coarse, 0);
         const int                       ierr = MPI_Exscan(local_count.data(),
@@ -422,18 +438,17 @@ namespace fmpm
             next_id[c] = before + on_earlier_ranks[c];
             before += total[c];
           }
-        for (unsigned int i = 0; i < new_points.size(); ++i)
-          ids[i] = next_id[coarse_index[i]]++;
+        unsigned int i = 0;
+        for (unsigned int r = 0; r < cell_runs.size(); ++r)
+          for (unsigned int j = 0; j < cell_runs[r].second; ++j)
+            ids[i++] = next_id[coarse_index[r]]++;
       }
     else
       {
-        // The points of a cell are consecutive in new_points.
+        // The points of a cell are consecutive in the store.
         std::vector<std::pair<std::string, unsigned int>> cell_counts;
-        for (unsigned int i = 0; i < new_points.size(); ++i)
-          if (i == 0 || new_points[i].cell != new_points[i - 1].cell)
-            cell_counts.emplace_back(new_points[i].cell->id().to_string(), 1);
-          else
-            ++cell_counts.back().second;
+        for (const auto &run : cell_runs)
+          cell_counts.emplace_back(run.first->id().to_string(), run.second);
         std::vector<std::pair<std::string, unsigned int>> all_counts;
         for (const auto &rank_counts :
              Utilities::MPI::all_gather(mpi_communicator, cell_counts))
@@ -448,20 +463,16 @@ namespace fmpm
             first_id_of_cell[entry.first] = next;
             next += entry.second;
           }
-        unsigned long long id = 0;
-        for (unsigned int i = 0; i < new_points.size(); ++i)
+        unsigned int i = 0;
+        for (unsigned int r = 0; r < cell_runs.size(); ++r)
           {
-            if (i == 0 || new_points[i].cell != new_points[i - 1].cell)
-              id = first_id_of_cell[new_points[i].cell->id().to_string()];
-            ids[i] = id++;
+            unsigned long long id = first_id_of_cell[cell_counts[r].first];
+            for (unsigned int j = 0; j < cell_runs[r].second; ++j)
+              ids[i++] = id++;
           }
       }
 
     // Every body must have produced points.
-    std::vector<unsigned long long> points_per_body(n_bodies, 0);
-    for (const auto &point : new_points)
-      ++points_per_body[static_cast<unsigned int>(
-        point.properties[Index::body_id])];
     Utilities::MPI::sum(points_per_body, mpi_communicator, points_per_body);
     for (unsigned int b = 0; b < n_bodies; ++b)
       AssertThrow(points_per_body[b] > 0,
@@ -471,21 +482,6 @@ namespace fmpm
                              "spacing. Check its Center and Half lengths "
                              "against the Mesh subsection."));
 
-    // The points go straight into the store (not through the handler),
-    // each record freed once copied.
-    points.initialize(particle_properties.n_properties(),
-                      MaterialPoints<dim>::plane_strain_zero_slots(),
-                      MaterialPoints<dim>::invariant_core_slots());
-    points.reserve(new_points.size());
-    for (unsigned int i = 0; i < new_points.size(); ++i)
-      {
-        points.add(ids[i],
-                   new_points[i].x,
-                   new_points[i].xi,
-                   new_points[i].cell,
-                   new_points[i].properties.data());
-        std::vector<double>().swap(new_points[i].properties);
-      }
     points.rebin();
     n_global_material_points =
       Utilities::MPI::sum<unsigned long long>(points.n_points(),
