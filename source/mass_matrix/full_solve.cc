@@ -461,11 +461,10 @@ namespace fmpm
       Assert(systems.size() <= 32, ExcInternalError());
       const unsigned int n_systems = systems.size();
       const GridScalar  &m0        = *systems[0].m;
-      const MPI_Comm     comm  = m0.get_partitioner()->get_mpi_communicator();
-      const unsigned int n     = m0.locally_owned_size();
-      const double       delta = settings.lumped_fraction;
-      const double       floor = settings.mass_floor;
-      const unsigned int n_blocks = systems[0].p->n_blocks();
+      const unsigned int n         = m0.locally_owned_size();
+      const double       delta     = settings.lumped_fraction;
+      const double       floor     = settings.mass_floor;
+      const unsigned int n_blocks  = systems[0].p->n_blocks();
       FullMassSolve      result;
 
       std::vector<CgSystem<MatrixType>> cg(n_systems);
@@ -523,7 +522,7 @@ namespace fmpm
           // c = K 1_W: the couplings of each node to weak nodes, the
           // diagonal terms e = (1 − δ) c + δ m of A, and A's diagonal.
           w.weak_coupling = 0;
-          if (Utilities::MPI::max(weak.linfty_norm(), comm) > 0)
+          if (weak.linfty_norm() > 0) // (over all ranks)
             {
               for (unsigned int b = 0; b < n_blocks; ++b)
                 w.direction.block(b) = weak;

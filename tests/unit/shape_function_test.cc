@@ -53,17 +53,7 @@ namespace
   std::string
   name(const Type type)
   {
-    switch (type)
-      {
-        case Type::classic:
-          return "classic";
-        case Type::ugimp:
-          return "ugimp";
-        case Type::cpgimp:
-          return "cpgimp";
-        default:
-          return "cpdi";
-      }
+    return fmpm::ShapeFunction::parameter_name(type);
   }
 
   std::string
