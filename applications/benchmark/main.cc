@@ -128,8 +128,10 @@ namespace
    * Bytes the passes of one FLIP-type step move per point: the columns of
    * the point store each pass reads and writes (8 bytes per value; Q
    * property columns, of which 6 are not stored in 2D: plane strain), and
-   * s support entries per point of 4 + 8 + 8 dim bytes (node, S, G). Grid
-   * vectors (a few per cent of the points' bytes) are left out.
+   * s support entries per point of 4 + 8 + 8 dim bytes (node, S, G), stored
+   * for a fraction s_stored/s of them; the others are computed from ξ (read
+   * in each pass, copied once). Grid vectors (a few per cent of the points'
+   * bytes) are left out.
    *   supports:          read x or ξ (8 dim), write the entries and 4
    *   particles to grid: read the entries, M, V, the volume and σ
    *   stress update:     read node and G, read and write F, write σ, e, V
@@ -142,19 +144,27 @@ namespace
   double
   bytes_per_point_step(const boost::property_tree::ptree &summary)
   {
-    const double dim       = summary.get<double>("dimension");
-    const double Q         = summary.get<double>("n_properties", 0.);
-    const double s         = summary.get<double>("support_entries_per_point", 0.);
-    const double entry     = 4 + 8 + 8 * dim;
-    const double x         = 8. * dim;
-    const double n_F       = dim == 2 ? 5 : 9;
-    const double n_sigma   = dim == 2 ? 4 : 6;
-    const double stored    = Q - (dim == 2 ? 6 : 0);
-    const double support   = x + s * entry + 4.;
-    const double p2g       = s * entry + 8 * (2 + dim + n_sigma);
-    const double stress    = s * (4 + 8 * dim) + 8 * (2 * n_F + n_sigma + 3);
-    const double update    = s * (4 + 8) + 2 * 3 * x;
-    const double sort      = 2 * (8 * stored + 2 * x + 8 + 4) + 4;
+    const double dim = summary.get<double>("dimension");
+    const double Q   = summary.get<double>("n_properties", 0.);
+    const double s   = summary.get<double>("support_entries_per_point", 0.);
+    const double s_stored =
+      summary.get<double>("support_entries_stored_per_point", s);
+    const double stored_fraction = s > 0 ? s_stored / s : 1.;
+    const double computed        = 1 - stored_fraction;
+    const double entry           = 4 + 8 + 8 * dim;
+    const double x               = 8. * dim;
+    const double n_F             = dim == 2 ? 5 : 9;
+    const double n_sigma         = dim == 2 ? 4 : 6;
+    const double stored          = Q - (dim == 2 ? 6 : 0);
+    const double support =
+      stored_fraction * (x + s * entry + 4.) + computed * 2 * x;
+    const double p2g =
+      stored_fraction * s * entry + computed * x + 8 * (2 + dim + n_sigma);
+    const double stress = stored_fraction * s * (4 + 8 * dim) + computed * x +
+                          8 * (2 * n_F + n_sigma + 3);
+    const double update =
+      stored_fraction * s * (4 + 8) + computed * x + 2 * 3 * x;
+    const double sort = 2 * (8 * stored + 2 * x + 8 + 4) + 4;
     return support + p2g + stress + update + sort;
   }
 

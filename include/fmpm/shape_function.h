@@ -315,31 +315,37 @@ namespace fmpm
         for (unsigned int d = 0; d < dim; ++d)
           for (unsigned int p = first_plane[d]; p <= last_plane[d]; ++p)
             gimp_1d(x[d] - plane[d][p], h[d], l[d], w[d][p], dw[d][p]);
-        for (unsigned int slot = 0; slot < n_slots; ++slot)
-          {
-            unsigned int p[dim];
-            bool         used = true;
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                p[d] = (slot >> (2 * d)) & 3;
-                used = used && p[d] >= first_plane[d] && p[d] <= last_plane[d];
-              }
-            if (!used)
-              continue;
-            double         value = 1;
-            Tensor<1, dim> gradient;
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                value *= w[d][p[d]];
-                double g = dw[d][p[d]];
-                for (unsigned int e = 0; e < dim; ++e)
-                  if (e != d)
-                    g *= w[e][p[e]];
-                gradient[d] = g;
-              }
-            if (value != 0 || gradient.norm_square() != 0)
+        // The nodes in slot order (p_0 fastest).
+        auto sink_node = [&](const unsigned int(&p)[dim]) {
+          double         value = 1;
+          Tensor<1, dim> gradient;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              value *= w[d][p[d]];
+              double g = dw[d][p[d]];
+              for (unsigned int e = 0; e < dim; ++e)
+                if (e != d)
+                  g *= w[e][p[e]];
+              gradient[d] = g;
+            }
+          if (value != 0 || gradient.norm_square() != 0)
+            {
+              unsigned int slot = 0;
+              for (unsigned int d = 0; d < dim; ++d)
+                slot += p[d] << (2 * d);
               sink(local_index[slot], dof[slot], value, gradient);
-          }
+            }
+        };
+        unsigned int p[dim];
+        if constexpr (dim == 2)
+          for (p[1] = first_plane[1]; p[1] <= last_plane[1]; ++p[1])
+            for (p[0] = first_plane[0]; p[0] <= last_plane[0]; ++p[0])
+              sink_node(p);
+        else
+          for (p[2] = first_plane[2]; p[2] <= last_plane[2]; ++p[2])
+            for (p[1] = first_plane[1]; p[1] <= last_plane[1]; ++p[1])
+              for (p[0] = first_plane[0]; p[0] <= last_plane[0]; ++p[0])
+                sink_node(p);
       }
 
       static constexpr unsigned int n_slots = 1u << (2 * dim); // 4^dim

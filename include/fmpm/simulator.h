@@ -395,15 +395,20 @@ namespace fmpm
       explicit ForceColumns(const MaterialPoints<dim> &points);
       const double *mass, *volume, *stress[6];
     };
-    /** f += −V σ G + S M b for point @p k of the store (Eq. 2.11; b with
-     * gravity @p gravity). */
+    /** f += −V σ G + S M b for point @p k of the store with its support
+     * entries j < n_entries (Eq. 2.11; b with gravity @p gravity). */
+    template <typename Count>
     void
-    scatter_point_force(const unsigned int    k,
-                        const ForceColumns   &columns,
-                        const Tensor<1, dim> &gravity,
-                        const bool            uniform_body_force,
-                        double *const        *f,
-                        double *const        *f_a);
+    scatter_point_force(const unsigned int          k,
+                        const unsigned int *const   node,
+                        const double *const         S,
+                        const Tensor<1, dim> *const G,
+                        const Count                 n_entries,
+                        const ForceColumns         &columns,
+                        const Tensor<1, dim>       &gravity,
+                        const bool                  uniform_body_force,
+                        double *const              *f,
+                        double *const              *f_a);
     /** Gravity, the scene's b(·, t) at @p expression_point (x, or X for
      * manufactured solutions) and the rotating frame's terms at a point at
      * x moving with V. */

@@ -4,10 +4,14 @@
 #ifndef fmpm_support_cache_h
 #define fmpm_support_cache_h
 
+#include <fmpm/grid_transfer.h>
+
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/grid/tria.h>
 
+#include <array>
+#include <type_traits>
 #include <vector>
 
 namespace fmpm
@@ -20,10 +24,11 @@ namespace fmpm
    * for GIMP/CPDI).
    *
    * Built once per step, at the positions of the step's start and in cell
-   * order, for every shape function (classic included). Every pass of the
-   * step reads it: m, p, f and m̃ to the grid (Sᵀ, Gᵀ), the strain update
-   * (G), the particle update (S) and the USL+/USAVG+ re-extrapolation. No
-   * pass evaluates a shape function.
+   * order, for every shape function. Every pass of the step reads it
+   * (through SupportReader): m, p, f and m̃ to the grid (Sᵀ, Gᵀ), the strain
+   * update (G), the particle update (S) and the USL+/USAVG+
+   * re-extrapolation. Classic supports on affine cells are computed from ξ
+   * instead of stored (implicit_classic).
    *
    * Hanging nodes are resolved here: a constrained node i with
    * v_i = Σ_j c_ij v_j passes its weights to its masters (S_jp += c_ij S_ip,
@@ -40,6 +45,18 @@ namespace fmpm
   template <int dim>
   struct SupportCache
   {
+    /**
+     * Classic shape functions with every cell of the points affine and free
+     * of hanging nodes (and no contact, whose corrections read the entries):
+     * no entry is stored. A pass computes S_ip and G_ip of the cell's nodes
+     * from the point's reference location at the step's start when it reads
+     * them, with the operations that would have filled the entries (the
+     * same bits).
+     */
+    bool implicit_classic = false;
+    /** ξ_p at the step's start (implicit classic supports only). */
+    std::vector<Point<dim>> reference_position;
+
     /** @name Per point, in the order of the point store */
     /** @{ */
     /** Material index of the point (filled with several materials only). */
@@ -63,13 +80,26 @@ namespace fmpm
     unsigned int
     n_points() const
     {
+      if (implicit_classic)
+        return reference_position.size();
       return support_begin.empty() ? 0 : support_begin.size() - 1;
+    }
+
+    /** @brief Number of support entries (computed or stored). */
+    std::size_t
+    n_entries(const unsigned int entries_per_implicit_point) const
+    {
+      return implicit_classic ?
+               std::size_t(entries_per_implicit_point) * n_points() :
+               node.size();
     }
 
     /** @brief Forget everything (keeps the memory). */
     void
     clear()
     {
+      implicit_classic = false;
+      reference_position.clear();
       material.clear();
       support_begin.assign(1, 0);
       node.clear();
@@ -104,12 +134,123 @@ namespace fmpm
     std::size_t
     memory_consumption() const
     {
-      return material.capacity() +
+      return reference_position.capacity() * sizeof(Point<dim>) +
+             material.capacity() +
              (support_begin.capacity() + node.capacity()) *
                sizeof(unsigned int) +
              S.capacity() * sizeof(double) +
              G.capacity() * sizeof(Tensor<1, dim>);
     }
+  };
+
+  /**
+   * @brief A point's support entries as the passes read them: from the
+   * cache, or for implicit classic supports computed from ξ_p at the
+   * step's start on its affine cell (GridTransfer::values_and_gradients:
+   * S = Π(1 − ξ | ξ), G = J⁻ᵀ∇̂S, the same operations).
+   *
+   * visit() calls body(node, S, G, n) with the entries j < n; for computed
+   * entries n is a compile-time constant, so that S and G stay in
+   * registers.
+   */
+  template <int dim>
+  class SupportReader
+  {
+  public:
+    using CellData = typename GridTransfer<dim>::CellData;
+    static constexpr unsigned int n_nodes = GridTransfer<dim>::n_nodes;
+
+    /** @p point_cell: the active cell index of each point (the store's). */
+    SupportReader(const SupportCache<dim>  &cache,
+                  const GridTransfer<dim>  &transfer,
+                  const unsigned int *const point_cell)
+      : cache(cache)
+      , transfer(transfer)
+      , point_cell(point_cell)
+    {}
+
+    /** Point @p k's entries, G only if @p with_gradients; @p cell is the
+     * data of the point's cell. */
+    template <typename Body>
+    DEAL_II_ALWAYS_INLINE void
+    visit(const unsigned int k,
+          const CellData    &cell,
+          const bool         with_gradients,
+          const Body        &body) const
+    {
+      if (!cache.implicit_classic)
+        visit_cached(k, body);
+      else
+        visit_computed(k, cell, with_gradients, body);
+    }
+
+    /** Point @p k's entries (its cell looked up). */
+    template <typename Body>
+    DEAL_II_ALWAYS_INLINE void
+    visit(const unsigned int k,
+          const bool         with_gradients,
+          const Body        &body) const
+    {
+      if (!cache.implicit_classic)
+        visit_cached(k, body);
+      else
+        visit_computed(k,
+                       transfer.cell_data(point_cell[k]),
+                       with_gradients,
+                       body);
+    }
+
+    /** Point @p k's computed entries (implicit classic supports only). */
+    DEAL_II_ALWAYS_INLINE void
+    compute(const unsigned int                   k,
+            const CellData                      &cell,
+            const bool                           with_gradients,
+            std::array<double, n_nodes>         &S,
+            std::array<Tensor<1, dim>, n_nodes> &G) const
+    {
+      const Point<dim> &xi = cache.reference_position[k];
+      GridTransfer<dim>::values(xi, S);
+      if (with_gradients)
+        {
+          GridTransfer<dim>::reference_gradients(xi, G);
+          const Tensor<2, dim> inverse_jacobian_transpose =
+            cell.inverse_jacobian_transpose;
+          for (unsigned int i = 0; i < n_nodes; ++i)
+            G[i] = inverse_jacobian_transpose * G[i];
+        }
+    }
+
+  private:
+    template <typename Body>
+    DEAL_II_ALWAYS_INLINE void
+    visit_cached(const unsigned int k, const Body &body) const
+    {
+      const unsigned int begin = cache.support_begin[k];
+      body(cache.node.data() + begin,
+           cache.S.data() + begin,
+           cache.G.data() + begin,
+           cache.support_begin[k + 1] - begin);
+    }
+
+    template <typename Body>
+    DEAL_II_ALWAYS_INLINE void
+    visit_computed(const unsigned int k,
+                   const CellData    &cell,
+                   const bool         with_gradients,
+                   const Body        &body) const
+    {
+      std::array<double, n_nodes>         S;
+      std::array<Tensor<1, dim>, n_nodes> G;
+      compute(k, cell, with_gradients, S, G);
+      body(cell.local_index.data(),
+           S.data(),
+           G.data(),
+           std::integral_constant<unsigned int, n_nodes>());
+    }
+
+    const SupportCache<dim>  &cache;
+    const GridTransfer<dim>  &transfer;
+    const unsigned int *const point_cell;
   };
 } // namespace fmpm
 

@@ -667,6 +667,10 @@ namespace fmpm
     const double resident_bytes =
       Utilities::MPI::sum(1024. * memory_stats.VmRSS, mpi_communicator);
     const double support_entries =
+      Utilities::MPI::sum(static_cast<double>(
+                            supports.n_entries(GridTransfer<dim>::n_nodes)),
+                          mpi_communicator);
+    const double stored_entries =
       Utilities::MPI::sum(static_cast<double>(supports.node.size()),
                           mpi_communicator);
     const double cached_points =
@@ -718,6 +722,9 @@ namespace fmpm
         << ",\n";
     out << "  \"support_entries_per_point\": "
         << number(cached_points > 0 ? support_entries / cached_points : 0.)
+        << ",\n";
+    out << "  \"support_entries_stored_per_point\": "
+        << number(cached_points > 0 ? stored_entries / cached_points : 0.)
         << ",\n";
     out << "  \"support_cache_bytes\": " << number(support_cache_bytes)
         << ",\n";

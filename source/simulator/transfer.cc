@@ -177,12 +177,12 @@ namespace fmpm
      * that the compiler keeps it in a register (an array or Tensor summand
      * went through the stack on every entry).
      */
-    template <int dim>
+    template <int dim, typename Count>
     inline void
     interpolate(const unsigned int *const  node,
                 const double *const        S,
                 const unsigned int         begin,
-                const unsigned int         end,
+                const Count                end,
                 const double *const *const v,
                 Tensor<1, dim>            &value)
     {
@@ -202,12 +202,12 @@ namespace fmpm
         value[2] = z;
     }
 
-    template <int dim>
+    template <int dim, typename Count>
     inline void
     velocity_gradient(const unsigned int *const   node,
                       const Tensor<1, dim> *const G,
                       const unsigned int          begin,
-                      const unsigned int          end,
+                      const Count                 end,
                       const double *const *const  v,
                       BatchEntries               &L,
                       const unsigned int          q)
@@ -361,15 +361,42 @@ namespace fmpm
     const unsigned int n_points = points.n_points();
     if (n_points == 0)
       return;
+    const bool classic = (shape_function == ShapeFunction::Type::classic);
+    const bool multiple_materials   = constitutive_models.size() > 1;
+    const double *const material_id = points.column(Index::material_id);
+    if (multiple_materials)
+      {
+        supports.material.resize(n_points);
+        for (unsigned int k = 0; k < n_points; ++k)
+          supports.material[k] = static_cast<unsigned char>(material_id[k]);
+      }
+
+    // Classic on affine cells without hanging nodes: the passes compute the
+    // entries from the step's ξ (SupportReader).
+    if (classic && !contact_active())
+      {
+        bool affine_without_hanging_nodes = true;
+        for (unsigned int c = 0; c < points.n_cells(); ++c)
+          {
+            const auto &data = transfer.cell_data(points.cell_index[c]);
+            affine_without_hanging_nodes = affine_without_hanging_nodes &&
+                                           data.is_affine &&
+                                           !data.has_constraints;
+          }
+        if (affine_without_hanging_nodes)
+          {
+            supports.implicit_classic   = true;
+            supports.reference_position = points.reference_position;
+            return;
+          }
+      }
+
     supports.support_begin.reserve(n_points + 1);
     supports.node.reserve(n * n_points);
     supports.S.reserve(n * n_points);
     supports.G.reserve(n * n_points);
-    const auto &partitioner = *lumped_mass.get_partitioner();
-    const bool  classic     = (shape_function == ShapeFunction::Type::classic);
-    const bool  multiple_materials  = constitutive_models.size() > 1;
-    const double *const material_id = points.column(Index::material_id);
-    const double       *F_column[dim][dim], *l0_column[dim];
+    const auto   &partitioner = *lumped_mass.get_partitioner();
+    const double *F_column[dim][dim], *l0_column[dim];
     for (unsigned int a = 0; a < dim; ++a)
       {
         l0_column[a] = points.column(Index::initial_half_length + a);
@@ -377,8 +404,6 @@ namespace fmpm
           F_column[a][b] =
             points.column(Index::deformation_gradient + 3 * a + b);
       }
-    if (multiple_materials)
-      supports.material.resize(n_points);
 
     // A node of a support: itself, or for a hanging node its masters with
     // the constraint weights (S_jp += c_ij S_ip).
@@ -411,9 +436,6 @@ namespace fmpm
     // their ids, so that the sums over points onto nodes do not depend on
     // the mesh's storage order, which a mesh loaded from a checkpoint does
     // not share: bitwise resumes), by id in a cell.
-    if (multiple_materials)
-      for (unsigned int k = 0; k < n_points; ++k)
-        supports.material[k] = static_cast<unsigned char>(material_id[k]);
     for (unsigned int cell_number = 0; cell_number < points.n_cells();
          ++cell_number)
       {
@@ -677,6 +699,7 @@ namespace fmpm
     const unsigned int *const   node = supports.node.data();
     const double *const         S    = supports.S.data();
     const Tensor<1, dim> *const G    = supports.G.data();
+    const SupportReader<dim> support_of(supports, transfer, points.cell.data());
     // The columns this pass reads: M, V (and V, σ for the forces; X for
     // contact positions).
     const double *const mass_column   = points.column(Index::mass);
@@ -697,6 +720,73 @@ namespace fmpm
 
     for (unsigned int c = 0; c < points.n_cells(); ++c)
       {
+        if (supports.implicit_classic)
+          {
+            // Computed supports (never with contact): the cell's nodes for
+            // all its points, m̃ over them.
+            constexpr unsigned int n = GridTransfer<dim>::n_nodes;
+            const auto &cell_data    = transfer.cell_data(points.cell_index[c]);
+            const std::array<unsigned int, n> &cell_node =
+              cell_data.local_index;
+            if (with_full_mass)
+              local_full_mass.assign(n * n, 0.);
+            for (unsigned int k = points.cell_point_begin[c];
+                 k < points.cell_point_begin[c + 1];
+                 ++k)
+              {
+                std::array<double, n>         S_k;
+                std::array<Tensor<1, dim>, n> G_k;
+                support_of.compute(k, cell_data, with_forces, S_k, G_k);
+                const double M = mass_column[k];
+                double       MV[dim];
+                for (unsigned int d = 0; d < dim; ++d)
+                  MV[d] = M * velocity_column[d][k];
+                for (unsigned int j = 0; j < n; ++j)
+                  {
+                    const unsigned int i = cell_node[j];
+                    if (masses)
+                      m[i] += M * S_k[j];
+                    for (unsigned int d = 0; d < dim; ++d)
+                      p[d][i] += MV[d] * S_k[j];
+                  }
+                if (with_forces)
+                  {
+                    const Tensor<1, dim> b =
+                      uniform_body_force ? gravity :
+                                           external_acceleration(k, gravity);
+                    double sigma[dim][dim];
+                    stress_block<dim>(stress_column, k, sigma);
+                    const double V = volume_column[k];
+                    for (unsigned int j = 0; j < n; ++j)
+                      for (unsigned int a = 0; a < dim; ++a)
+                        f[a][cell_node[j]] +=
+                          nodal_force<dim>(a, M * S_k[j], b, V, sigma, G_k[j]);
+                  }
+                if (with_full_mass) // m̃ = SᵀMS (1.9)
+                  for (unsigned int i = 0; i < n; ++i)
+                    {
+                      const double MS_i = M * S_k[i];
+                      for (unsigned int j = 0; j < n; ++j)
+                        local_full_mass[i * n + j] += MS_i * S_k[j];
+                    }
+              }
+            if (with_full_mass && use_cellwise_full_mass)
+              cellwise_full_mass.add_cell(n,
+                                          cell_node.data(),
+                                          local_full_mass.data());
+            else if (assemble_full)
+              {
+                dofs.resize(n);
+                for (unsigned int i = 0; i < n; ++i)
+                  dofs[i] = partitioner.local_to_global(cell_node[i]);
+                for (unsigned int i = 0; i < n; ++i)
+                  full_mass_matrix.add(dofs[i],
+                                       n,
+                                       dofs.data(),
+                                       &local_full_mass[i * n]);
+              }
+            continue;
+          }
         const unsigned int first_entry =
           supports.support_begin[points.cell_point_begin[c]];
         if (with_full_mass || material_full_mass)
@@ -920,14 +1010,27 @@ namespace fmpm
       }
 
     const ForceColumns columns(points);
+    SupportReader<dim> support_of(supports, transfer, points.cell.data());
     for (unsigned int k = 0; k < supports.n_points(); ++k)
-      scatter_point_force(k,
-                          columns,
-                          gravity,
-                          uniform_body_force,
-                          f,
-                          contact ? &f_alpha[supports.material[k] * dim] :
-                                    nullptr);
+      support_of.visit(k,
+                       true,
+                       [&](const unsigned int *const   node,
+                           const double *const         S,
+                           const Tensor<1, dim> *const G,
+                           const auto                  n_entries) {
+                         scatter_point_force(
+                           k,
+                           node,
+                           S,
+                           G,
+                           n_entries,
+                           columns,
+                           gravity,
+                           uniform_body_force,
+                           f,
+                           contact ? &f_alpha[supports.material[k] * dim] :
+                                     nullptr);
+                       });
     force.compress(VectorOperation::add);
     for (auto &field : material_fields)
       field.force.compress(VectorOperation::add);
@@ -947,27 +1050,27 @@ namespace fmpm
 
 
   template <int dim>
-  void
-  Simulator<dim>::scatter_point_force(const unsigned int    k,
-                                      const ForceColumns   &columns,
-                                      const Tensor<1, dim> &gravity,
-                                      const bool            uniform_body_force,
-                                      double *const        *f,
-                                      double *const        *f_a)
+  template <typename Count>
+  inline void
+  Simulator<dim>::scatter_point_force(const unsigned int          k,
+                                      const unsigned int *const   node,
+                                      const double *const         S,
+                                      const Tensor<1, dim> *const G,
+                                      const Count                 n_entries,
+                                      const ForceColumns         &columns,
+                                      const Tensor<1, dim>       &gravity,
+                                      const bool     uniform_body_force,
+                                      double *const *f,
+                                      double *const *f_a)
   {
-    using Index                      = PropertyIndex<dim>;
-    const unsigned int *const   node = supports.node.data();
-    const double *const         S    = supports.S.data();
-    const Tensor<1, dim> *const G    = supports.G.data();
-    const double                M    = columns.mass[k];
-    const double                V    = columns.volume[k];
-    double                      sigma[dim][dim];
+    using Index    = PropertyIndex<dim>;
+    const double M = columns.mass[k];
+    const double V = columns.volume[k];
+    double       sigma[dim][dim];
     stress_block<dim>(columns.stress, k, sigma);
     const Tensor<1, dim> b =
       uniform_body_force ? gravity : external_acceleration(k, gravity);
-    for (unsigned int j = supports.support_begin[k];
-         j < supports.support_begin[k + 1];
-         ++j)
+    for (unsigned int j = 0; j < n_entries; ++j)
       for (unsigned int a = 0; a < dim; ++a)
         {
           const double f_ja = nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
@@ -1021,9 +1124,8 @@ namespace fmpm
     std::vector<Point<dim>>     old_position;
     double                      max_V2 = 0;
     const bool has_moving_walls        = velocity_conditions.has_moving_boxes();
-    const unsigned int *const node     = supports.node.data();
-    const double *const       S        = supports.S.data();
-    double                   *velocity_column[dim];
+    SupportReader<dim> support_of(supports, transfer, points.cell.data());
+    double            *velocity_column[dim];
     for (unsigned int d = 0; d < dim; ++d)
       velocity_column[d] = points.column(Index::velocity + d);
     const double *const mass_column = points.column(Index::mass);
@@ -1043,21 +1145,28 @@ namespace fmpm
             const unsigned int k = first_point + q;
             for (unsigned int d = 0; d < dim; ++d)
               batch.velocity[q][d] = velocity_column[d][k];
-            batch.position[q]        = points.position[k];
-            const unsigned int begin = supports.support_begin[k];
-            const unsigned int end   = supports.support_begin[k + 1];
-            const FieldViews  &field_values =
+            batch.position[q] = points.position[k];
+            const FieldViews &field_values =
               views[contact ? supports.material[k] : 0];
-            for (unsigned int field = 0; field < n_fields; ++field)
-              {
-                const unsigned int f = fields[field];
-                interpolate<dim>(node,
-                                 S,
-                                 begin,
-                                 end,
-                                 field_values[f].data(),
-                                 batch.grid[f][q]);
-              }
+            support_of.visit(k,
+                             data,
+                             false,
+                             [&](const unsigned int *const node,
+                                 const double *const       S,
+                                 const Tensor<1, dim> *,
+                                 const auto n_entries) {
+                               for (unsigned int field = 0; field < n_fields;
+                                    ++field)
+                                 {
+                                   const unsigned int f = fields[field];
+                                   interpolate<dim>(node,
+                                                    S,
+                                                    0,
+                                                    n_entries,
+                                                    field_values[f].data(),
+                                                    batch.grid[f][q]);
+                                 }
+                             });
           }
 
         // Keep V^(n), X^(n) where damping or the dissipation measure need
@@ -1181,8 +1290,12 @@ namespace fmpm
         v_a[a] = v.block(a).begin();
     };
     view_velocities(grid_fields[field]);
-    const unsigned int *const   node = supports.node.data();
-    const Tensor<1, dim> *const G    = supports.G.data();
+    SupportReader<dim> support_of(supports, transfer, points.cell.data());
+    // Computed supports: S and G of the batch's points.
+    constexpr unsigned int              n_nodes = GridTransfer<dim>::n_nodes;
+    std::array<double, n_nodes>         batch_S[stress_batch_size];
+    std::array<Tensor<1, dim>, n_nodes> batch_G[stress_batch_size];
+    const unsigned int                 *batch_node[stress_batch_size];
 
     // USF/USAVG: f from the new stresses in this sweep when the points are
     // visited in cache order (one material: the sums are those of
@@ -1268,13 +1381,37 @@ namespace fmpm
             for (unsigned int q = 0; q < n_group; ++q)
               {
                 const unsigned int k = group_points[q];
-                velocity_gradient<dim>(node,
+                if (supports.implicit_classic)
+                  {
+                    // Computed once for L and the forces.
+                    const auto &cell = transfer.cell_data(points.cell[k]);
+                    support_of.compute(k, cell, true, batch_S[q], batch_G[q]);
+                    batch_node[q] = cell.local_index.data();
+                    velocity_gradient<dim>(
+                      batch_node[q],
+                      batch_G[q].data(),
+                      0,
+                      std::integral_constant<unsigned int, n_nodes>(),
+                      v_a,
+                      inputs.velocity_gradient,
+                      q);
+                  }
+                else
+                  support_of.visit(k,
+                                   true,
+                                   [&](const unsigned int *const node,
+                                       const double *,
+                                       const Tensor<1, dim> *const G,
+                                       const auto                  n_entries) {
+                                     velocity_gradient<dim>(
+                                       node,
                                        G,
-                                       supports.support_begin[k],
-                                       supports.support_begin[k + 1],
+                                       0,
+                                       n_entries,
                                        v_a,
                                        inputs.velocity_gradient,
                                        q);
+                                   });
                 for (unsigned int c = 0; c < n_stress_entries; ++c)
                   inputs.old_stress[c][q] = stress_column[c][k];
                 inputs.old_strain_energy_density[q] = energy_column[k];
@@ -1372,14 +1509,38 @@ namespace fmpm
                           << ") is not finite (NaN or Inf)";
                   local_failure = message.str();
                 }
-            if (forces_here)
+            if (forces_here && supports.implicit_classic)
               for (unsigned int q = 0; q < n_group; ++q)
-                scatter_point_force(group_points[q],
-                                    force_columns,
-                                    gravity,
-                                    uniform_body_force,
-                                    f,
-                                    nullptr);
+                scatter_point_force(
+                  group_points[q],
+                  batch_node[q],
+                  batch_S[q].data(),
+                  batch_G[q].data(),
+                  std::integral_constant<unsigned int, n_nodes>(),
+                  force_columns,
+                  gravity,
+                  uniform_body_force,
+                  f,
+                  nullptr);
+            else if (forces_here)
+              for (unsigned int q = 0; q < n_group; ++q)
+                support_of.visit(group_points[q],
+                                 true,
+                                 [&](const unsigned int *const   node,
+                                     const double *const         S,
+                                     const Tensor<1, dim> *const G,
+                                     const auto                  n_entries) {
+                                   scatter_point_force(group_points[q],
+                                                       node,
+                                                       S,
+                                                       G,
+                                                       n_entries,
+                                                       force_columns,
+                                                       gravity,
+                                                       uniform_body_force,
+                                                       f,
+                                                       nullptr);
+                                 });
             if (constitutive_models[m]->computes_wave_speed())
               for (unsigned int q = 0; q < n_group; ++q)
                 wave_speed = std::max(wave_speed, outputs.wave_speed[q]);
