@@ -213,10 +213,24 @@ namespace fmpm
       if (with_gradients)
         {
           GridTransfer<dim>::reference_gradients(xi, G);
-          const Tensor<2, dim> inverse_jacobian_transpose =
-            cell.inverse_jacobian_transpose;
+          // G_i = J⁻ᵀ ∇̂S_i, summed as deal.II's Tensor product does.
+          double A[dim][dim];
+          for (unsigned int a = 0; a < dim; ++a)
+            for (unsigned int b = 0; b < dim; ++b)
+              A[a][b] = cell.inverse_jacobian_transpose[a][b];
           for (unsigned int i = 0; i < n_nodes; ++i)
-            G[i] = inverse_jacobian_transpose * G[i];
+            {
+              double g[dim];
+              for (unsigned int b = 0; b < dim; ++b)
+                g[b] = G[i][b];
+              for (unsigned int a = 0; a < dim; ++a)
+                {
+                  double sum = A[a][0] * g[0];
+                  for (unsigned int b = 1; b < dim; ++b)
+                    sum += A[a][b] * g[b];
+                  G[i][a] = sum;
+                }
+            }
         }
     }
 
