@@ -23,12 +23,15 @@
 // Trilinos' Epetra_MpiCommData.h:
 //   p2p:particles      329-331  particle_handler_send_recv_particles_*
 //   p2p:some-to-some   300-301  Utilities::MPI::some_to_some() (fmpm's
-//                               point exchange after the re-bin, contact)
+//                               point exchange and contact before 2026-11-26)
 //   p2p:ghost          336-748  partitioner_import/export_*, noncontiguous
 //                               partitioner: ghost values and compress() of
 //                               LinearAlgebra::distributed::Vector
 //   p2p:dealii-other   302-760  the other deal.II tags (consensus
 //                               algorithms, ...)
+//   p2p:fmpm-points    1100     fmpm's point exchange after the re-bin
+//                               (include/fmpm/neighbour_exchange.h)
+//   p2p:fmpm-contact   1101     fmpm's contact point clouds
 //   p2p:epetra         24050-24099  Epetra import/export (Trilinos matrices)
 //   p2p:other          everything else (p4est, Open MPI-internal, ...)
 // Collectives are classified by call ("coll:MPI_Allreduce", ...); one call
@@ -253,6 +256,10 @@ tag_kind(const int tag)
     return "p2p:ghost";
   if (tag >= 300 && tag <= 760)
     return "p2p:dealii-other";
+  if (tag == 1100)
+    return "p2p:fmpm-points";
+  if (tag == 1101)
+    return "p2p:fmpm-contact";
   if (tag >= 24050 && tag <= 24099)
     return "p2p:epetra";
   return "p2p:other";

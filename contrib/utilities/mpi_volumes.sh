@@ -160,12 +160,13 @@ CATEGORIES = ["particle exchange", "particle exchange: collectives",
 def category(context, kind):
     if kind.startswith("self:"):
         return None  # one-rank communicators: no traffic
-    if kind == "p2p:particles":
+    if kind in ("p2p:particles", "p2p:fmpm-points"):
         return "particle exchange"
-    # The sort sends the points that leave the rank with deal.II's
+    # The sort sends the points that leave the rank to its ghost neighbours
+    # (fmpm's neighbour exchange, tag 1100; before 2026-11-26 deal.II's
     # some_to_some(): its data messages, the empty messages and barriers of
-    # the consensus algorithm that counts the senders, and the sort's own
-    # reduction. Some-to-some elsewhere (contact) is not particle exchange.
+    # the consensus algorithm that counts the senders), after the sort's
+    # own reduction. Exchanges elsewhere (contact) are not particle exchange.
     if "sort_particles_into_cells" in context_name(context):
         if kind.startswith("coll:"):
             return "particle exchange: collectives"
@@ -223,11 +224,13 @@ for method in methods:
             ranks = per_step(short, long, category)
             peers = {k: max(r["peers"].get(k, 0) for r in long.values())
                      for k in ("p2p:ghost", "p2p:particles",
-                               "p2p:some-to-some")}
+                               "p2p:some-to-some", "p2p:fmpm-points")}
             # Particles travel by ParticleHandler (adaptation, the full
-            # sort) or by some-to-some (the re-bin of every step).
+            # sort) or by the exchange after the re-bin of every step
+            # (some-to-some before 2026-11-26, now to the ghost neighbours).
             peers["p2p:particles"] = max(peers["p2p:particles"],
-                                         peers.pop("p2p:some-to-some"))
+                                         peers.pop("p2p:some-to-some"),
+                                         peers.pop("p2p:fmpm-points"))
             n_points = l_summary["n_particles"]
             iterations = (cg_iterations(l_summary) -
                           cg_iterations(s_summary)) / steps

@@ -7,6 +7,7 @@
 #include <fmpm/contact/manager.h>
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/material_points.h>
+#include <fmpm/neighbour_exchange.h>
 #include <fmpm/support_cache.h>
 #include <fmpm/velocity_conditions.h>
 
@@ -95,10 +96,21 @@ namespace fmpm
                 sent[ghost_owner[i - n_owned]].push_back(point);
             }
         }
-      if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
-        for (const auto &[rank, points] :
-             Utilities::MPI::some_to_some(mpi_communicator, sent))
-          owned_points.insert(owned_points.end(), points.begin(), points.end());
+      // Each rank sends to the owners of its ghost nodes and receives from
+      // the ranks that have its nodes as ghosts (the partitioner's import
+      // targets): one message each way, possibly empty, no collective.
+      std::vector<unsigned int> send_to, receive_from;
+      for (const auto &[rank, count] : partitioner.ghost_targets())
+        send_to.push_back(rank);
+      for (const auto &[rank, count] : partitioner.import_targets())
+        receive_from.push_back(rank);
+      for (const auto &[rank, points] :
+           neighbour_exchange(mpi_communicator,
+                              send_to,
+                              receive_from,
+                              sent,
+                              MPITags::contact_point_clouds))
+        owned_points.insert(owned_points.end(), points.begin(), points.end());
 
       // Sort into the clouds of the owned nodes (counting sort).
       cloud_begin.assign(n_owned + 1, 0);

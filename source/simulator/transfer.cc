@@ -6,6 +6,7 @@
 // particle update (S) and the strain update (G), and the re-sorting of
 // moved points into cells. Every pass loops over the support cache.
 
+#include <fmpm/neighbour_exchange.h>
 #include <fmpm/simulator.h>
 
 #include <algorithm>
@@ -1715,12 +1716,23 @@ namespace fmpm
           points.remove(move.k);
         }
     // Only the points that change rank travel, to the owners of their new
-    // cells (deal.II's some-to-some exchange; every rank takes part, a rank
-    // may receive without sending).
+    // cells. A new cell is owned or a ghost cell, so each rank exchanges
+    // one message (empty if no point moves) with each owner of its ghost
+    // cells: a neighbour exchange without collectives. With one ghost layer
+    // the ghost owners are symmetric (a ghost cell touches an owned cell,
+    // so that cell is a ghost cell on the other rank). The full sort covers
+    // everything else.
     if (global_counts[2] != 0)
       {
+        const std::vector<unsigned int> neighbours(
+          triangulation.ghost_owners().begin(),
+          triangulation.ghost_owners().end());
         const std::map<unsigned int, std::vector<double>> received =
-          Utilities::MPI::some_to_some(mpi_communicator, sent);
+          neighbour_exchange(mpi_communicator,
+                             neighbours,
+                             neighbours,
+                             sent,
+                             MPITags::point_exchange);
         const unsigned int record = 1 + dim + 4 + n_properties;
         for (const auto &from_rank : received)
           {
