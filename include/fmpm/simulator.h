@@ -438,6 +438,9 @@ namespace fmpm
     /** Compute a nodal field (once per step) with BCs, ghosts, constraints. */
     void
     compute_field(const ParticleUpdate::GridField field);
+    /** Size grid field @p field on the current mesh (zero) unless it is. */
+    void
+    allocate_grid_field(const ParticleUpdate::GridField field);
     /** Update the stresses with the velocity field @p grid_velocity over
      * @p dt; with @p with_forces also f (as compute_forces()) from the new
      * stresses in the same sweep where the point order allows (one
@@ -574,12 +577,14 @@ namespace fmpm
     GridVectorField momentum;         // p = SᵀMV
     GridVectorField force;            // f
     GridVectorField updated_momentum; // p⁺ = p + fΔt
+    /** Allocated on the mesh when a step may read them (field_needed,
+     * lumped_step_fields, contact), the others when first computed. */
     std::array<GridVectorField, ParticleUpdate::n_grid_fields> grid_fields;
     /** The grid fields a step computes and the particle update reads:
      * field_needed for the configured update, lumped_step_fields for the
      * FLIP of the lumped steps of a periodic FMPM(k) (active_fields()). */
-    std::array<bool, ParticleUpdate::n_grid_fields> field_needed;
-    std::array<bool, ParticleUpdate::n_grid_fields> lumped_step_fields;
+    std::array<bool, ParticleUpdate::n_grid_fields> field_needed{};
+    std::array<bool, ParticleUpdate::n_grid_fields> lumped_step_fields{};
     std::array<bool, ParticleUpdate::n_grid_fields> field_computed;
     TrilinosWrappers::SparseMatrix                  full_mass_matrix;
     /** m̃ as one local matrix per cell (FMPM(k) without hanging nodes). */

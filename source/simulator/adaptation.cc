@@ -143,6 +143,7 @@ namespace fmpm
         // (supports of the points on the current mesh).
         compute_supports();
         particles_to_grid(false);
+        allocate_grid_field(ParticleUpdate::lumped_velocity);
         GridVectorField &v = grid_fields[ParticleUpdate::lumped_velocity];
         MassMatrix::apply_lumped_inverse(lumped_mass,
                                          momentum,

@@ -270,10 +270,17 @@ namespace fmpm
     points_to_handler();
     particle_handler.prepare_for_serialization();
     std::vector<GridScalar> ghosted;
+    // A field not allocated is zero.
     for (const auto &field : grid_fields)
       for (unsigned int d = 0; d < dim; ++d)
         {
-          ghosted.push_back(field.block(d));
+          if (field.n_blocks() == dim)
+            ghosted.push_back(field.block(d));
+          else
+            {
+              ghosted.push_back(lumped_mass);
+              ghosted.back() = 0.;
+            }
           ghosted.back().update_ghost_values();
         }
     std::vector<const GridScalar *> fields;
@@ -485,12 +492,21 @@ namespace fmpm
           }
         field_transfer.interpolate(new_fields);
       }
+    // A zero field stays unallocated unless a step reads it.
     for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          grid_fields[f].block(d) = loaded[f * dim + d];
-          grid_fields[f].block(d).update_ghost_values();
-        }
+      {
+        bool zero = true;
+        for (unsigned int d = 0; d < dim; ++d)
+          zero = zero && loaded[f * dim + d].linfty_norm() == 0;
+        if (zero && grid_fields[f].n_blocks() != dim)
+          continue;
+        allocate_grid_field(static_cast<ParticleUpdate::GridField>(f));
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            grid_fields[f].block(d) = loaded[f * dim + d];
+            grid_fields[f].block(d).update_ghost_values();
+          }
+      }
     points_from_handler();
     // The node conditions at the restored wall positions and time.
     setup_boundary_conditions();

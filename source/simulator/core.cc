@@ -503,13 +503,29 @@ namespace fmpm
 
   template <int dim>
   void
+  Simulator<dim>::allocate_grid_field(const ParticleUpdate::GridField field)
+  {
+    GridVectorField &target = grid_fields[field];
+    if (target.n_blocks() == dim)
+      return;
+    target.reinit(dim);
+    for (unsigned int d = 0; d < dim; ++d)
+      target.block(d).reinit(lumped_mass.get_partitioner());
+    target.collect_sizes();
+  }
+
+
+
+  template <int dim>
+  void
   Simulator<dim>::compute_field(const ParticleUpdate::GridField field)
   {
     using namespace ParticleUpdate;
     if (field_computed[field])
       return;
     TimerOutput::Scope timer(computing_timer, "grid solve");
-    GridVectorField   &target = grid_fields[field];
+    allocate_grid_field(field);
+    GridVectorField &target = grid_fields[field];
     // The time of the field's velocities (acceleration: over the step).
     const double t_begin = momentum_time,
                  t_end   = control.time() + control.time_step();

@@ -132,8 +132,13 @@ namespace fmpm
     reinit_field(momentum);
     reinit_field(force);
     reinit_field(updated_momentum);
-    for (auto &field : grid_fields)
-      reinit_field(field);
+    field_computed.fill(false);
+    for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
+      {
+        grid_fields[f].reinit(0);
+        if (field_needed[f] || lumped_step_fields[f] || contact)
+          allocate_grid_field(static_cast<ParticleUpdate::GridField>(f));
+      }
 
     vertex_to_cells.reinit(triangulation);
     transfer.reinit(dof_handler,
