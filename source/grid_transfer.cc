@@ -22,7 +22,13 @@ namespace fmpm
     cells.clear();
     cells.resize(dof_handler.get_triangulation().n_active_cells());
     has_data.assign(cells.size(), false);
+    full_vertices.clear();
+    // Per cell its entry of full_vertices (pointers once the list is
+    // complete).
+    std::vector<unsigned int>            full_index(cells.size(),
+                                         numbers::invalid_unsigned_int);
     std::vector<types::global_dof_index> dofs(n_nodes);
+    std::array<Point<dim>, n_nodes>      vertex;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
         {
@@ -35,20 +41,23 @@ namespace fmpm
             {
               data.dof_index[i]   = dofs[i];
               data.local_index[i] = partitioner.global_to_local(dofs[i]);
-              data.vertex[i]      = cell->vertex(i);
+              vertex[i]           = cell->vertex(i);
               if (constraints.is_constrained(dofs[i]))
                 {
                   data.has_constraints = true;
                   data.constrained_nodes |= (1u << i);
                 }
             }
+          data.vertex.first = vertex[0];
+          data.vertex.last  = vertex[n_nodes - 1];
+          data.vertex.full  = nullptr;
 
           // The multilinear map is affine if every vertex is where the
           // affine map through vertices 0, 1, 2 (and 4) puts it.
           Tensor<2, dim> J;
           for (unsigned int d = 0; d < dim; ++d)
             {
-              const Tensor<1, dim> edge = data.vertex[1u << d] - data.vertex[0];
+              const Tensor<1, dim> edge = vertex[1u << d] - vertex[0];
               for (unsigned int c = 0; c < dim; ++c)
                 J[c][d] = edge[c];
             }
@@ -56,11 +65,11 @@ namespace fmpm
           data.is_affine     = true;
           for (unsigned int i = 0; i < n_nodes; ++i)
             {
-              Point<dim> affine = data.vertex[0];
+              Point<dim> affine = vertex[0];
               for (unsigned int d = 0; d < dim; ++d)
                 if ((i >> d) & 1)
-                  affine += data.vertex[1u << d] - data.vertex[0];
-              if ((affine - data.vertex[i]).norm() > 1e-12 * scale)
+                  affine += vertex[1u << d] - vertex[0];
+              if ((affine - vertex[i]).norm() > 1e-12 * scale)
                 data.is_affine = false;
             }
           data.inverse_jacobian_transpose = transpose(invert(J));
@@ -70,38 +79,50 @@ namespace fmpm
             for (unsigned int d = 0; d < dim; ++d)
               if (c != d && std::abs(J[c][d]) > 1e-12 * scale)
                 data.is_axis_aligned = false;
-          data.lower     = data.vertex[0];
-          data.upper     = data.vertex[n_nodes - 1];
-          data.box_lower = data.vertex[0];
-          data.box_upper = data.vertex[0];
-          for (unsigned int i = 1; i < n_nodes; ++i)
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                data.box_lower[d] =
-                  std::min(data.box_lower[d], data.vertex[i][d]);
-                data.box_upper[d] =
-                  std::max(data.box_upper[d], data.vertex[i][d]);
-              }
-          const double margin =
-            1e-10 * (data.box_upper - data.box_lower).norm();
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              data.box_lower[d] -= margin;
-              data.box_upper[d] += margin;
-            }
           data.boundary_faces = 0;
           for (const unsigned int f : cell->face_indices())
             if (cell->face(f)->at_boundary())
               data.boundary_faces |= (1u << f);
+
+          // The full vertex list for the cells that need it: GIMP's
+          // patches read every vertex, other cells their bounding box.
+          if (with_patches || !data.is_axis_aligned)
+            {
+              full_index[cell->active_cell_index()] = full_vertices.size();
+              full_vertices.emplace_back();
+              FullVertices &full = full_vertices.back();
+              full.vertex        = vertex;
+              full.box_lower     = vertex[0];
+              full.box_upper     = vertex[0];
+              for (unsigned int i = 1; i < n_nodes; ++i)
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    full.box_lower[d] =
+                      std::min(full.box_lower[d], vertex[i][d]);
+                    full.box_upper[d] =
+                      std::max(full.box_upper[d], vertex[i][d]);
+                  }
+              const double margin =
+                1e-10 * (full.box_upper - full.box_lower).norm();
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  full.box_lower[d] -= margin;
+                  full.box_upper[d] += margin;
+                }
+            }
         }
+    full_vertices.shrink_to_fit();
+    for (unsigned int c = 0; c < cells.size(); ++c)
+      if (full_index[c] != numbers::invalid_unsigned_int)
+        cells[c].vertex.full = &full_vertices[full_index[c]];
 
     // Patches: the cell first, then the other cells around its vertices
     // (deal.II's vertex-to-cell map includes the coarse cells next to
     // hanging vertices).
     patches.clear();
-    patches.resize(cells.size());
     if (!with_patches)
       return;
+    patches.resize(cells.size());
     VertexCells<dim> own_vertex_cells;
     if (vertex_cells == nullptr)
       {
@@ -136,9 +157,9 @@ namespace fmpm
               if (!o.is_axis_aligned || o.has_constraints)
                 uniform = false;
               for (unsigned int d = 0; d < dim; ++d)
-                if (std::abs((o.upper[d] - o.lower[d]) -
-                             (data.upper[d] - data.lower[d])) >
-                    1e-12 * (data.upper[d] - data.lower[d]))
+                if (std::abs((o.upper()[d] - o.lower()[d]) -
+                             (data.upper()[d] - data.lower()[d])) >
+                    1e-12 * (data.upper()[d] - data.lower()[d]))
                   uniform = false;
             }
           data.uniform_patch = uniform;
@@ -181,13 +202,7 @@ namespace fmpm
     Point<dim>       center;
     for (unsigned int d = 0; d < dim; ++d)
       center[d] = 0.5;
-    auto in_box = [&](const CellData &cell) {
-      for (unsigned int d = 0; d < dim; ++d)
-        if (x[d] < cell.box_lower[d] || x[d] > cell.box_upper[d])
-          return false;
-      return true;
-    };
-    if (has_cell_data(hint) && in_box(cells[hint]))
+    if (has_cell_data(hint) && in_box(hint, x))
       {
         const Point<dim> xi = reference_point(cells[hint], x, center);
         if (contains(cells[hint], xi, tolerance, 0) &&
@@ -198,12 +213,12 @@ namespace fmpm
             return LocateStatus::found;
           }
       }
-    const std::vector<unsigned int> &candidates = patches[home_cell];
+    const std::vector<unsigned int> &candidates = patch(home_cell);
     // Cells that hold x, then boundary cells whose extended basis reaches x.
     for (const double reach : {0., extension})
       for (const unsigned int c : candidates)
         if ((c != hint || reach > 0) &&
-            (reach > 0 ? cells[c].boundary_faces != 0 : in_box(cells[c])))
+            (reach > 0 ? cells[c].boundary_faces != 0 : in_box(c, x)))
           {
             const Point<dim> xi = reference_point(cells[c], x, center);
             if (contains(cells[c], xi, tolerance, reach) &&
@@ -222,6 +237,33 @@ namespace fmpm
         return LocateStatus::outside_mesh;
     return LocateStatus::beyond_patch;
   }
+
+  template <int dim>
+  bool
+  GridTransfer<dim>::in_box(const unsigned int cell, const Point<dim> &x) const
+  {
+    const CellData &data = cells[cell];
+    if (data.vertex.full != nullptr)
+      {
+        for (unsigned int d = 0; d < dim; ++d)
+          if (x[d] < data.vertex.full->box_lower[d] ||
+              x[d] > data.vertex.full->box_upper[d])
+            return false;
+        return true;
+      }
+    // An axis-aligned box: contains() decides within 1e-10 of its size, so
+    // any wider margin gives the same cells.
+    double margin = 0;
+    for (unsigned int d = 0; d < dim; ++d)
+      margin += data.upper()[d] - data.lower()[d];
+    margin *= 1e-10;
+    for (unsigned int d = 0; d < dim; ++d)
+      if (x[d] < data.lower()[d] - margin || x[d] > data.upper()[d] + margin)
+        return false;
+    return true;
+  }
+
+
 
   template class GridTransfer<2>;
   template class GridTransfer<3>;

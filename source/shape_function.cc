@@ -185,7 +185,8 @@ namespace fmpm
                 for (unsigned int d = 0; d < dim && split_direction == dim; ++d)
                   {
                     const double margin = 1e-10 * (hi[d] - lo[d]);
-                    for (const double plane : {cell.lower[d], cell.upper[d]})
+                    for (const double plane :
+                         {cell.lower()[d], cell.upper()[d]})
                       if (plane > lo[d] + margin && plane < hi[d] - margin)
                         {
                           split_direction = d;
@@ -429,7 +430,7 @@ namespace fmpm
                 {
                   double h = std::numeric_limits<double>::max();
                   for (unsigned int d = 0; d < dim; ++d)
-                    h = std::min(h, own.upper[d] - own.lower[d]);
+                    h = std::min(h, own.upper()[d] - own.lower()[d]);
                   limit_cpdi_domain(s, cpdi_critical_radius * h);
                 }
               const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
@@ -505,11 +506,11 @@ namespace fmpm
       const auto &own = transfer.cell_data(cell_index);
       for (unsigned int d = 0; d < dim; ++d)
         {
-          h[d]        = own.upper[d] - own.lower[d];
-          plane[d][0] = own.lower[d] - h[d];
-          plane[d][1] = own.lower[d];
-          plane[d][2] = own.upper[d];
-          plane[d][3] = own.upper[d] + h[d];
+          h[d]        = own.upper()[d] - own.lower()[d];
+          plane[d][0] = own.lower()[d] - h[d];
+          plane[d][1] = own.lower()[d];
+          plane[d][2] = own.upper()[d];
+          plane[d][3] = own.upper()[d] + h[d];
         }
       local_index.fill(numbers::invalid_unsigned_int);
       has_cell.fill(false);
@@ -521,10 +522,10 @@ namespace fmpm
           unsigned int column = 0, stride = 1;
           for (unsigned int d = 0; d < dim; ++d, stride *= 3)
             {
-              const double centre = 0.5 * (cell.lower[d] + cell.upper[d]);
-              column += stride * (centre < own.lower[d] ? 0 :
-                                  centre < own.upper[d] ? 1 :
-                                                          2);
+              const double centre = 0.5 * (cell.lower()[d] + cell.upper()[d]);
+              column += stride * (centre < own.lower()[d] ? 0 :
+                                  centre < own.upper()[d] ? 1 :
+                                                            2);
             }
           has_cell[column] = true;
           // Each vertex's planes from its coordinates (any vertex order).
@@ -534,10 +535,10 @@ namespace fmpm
               for (unsigned int d = 0; d < dim; ++d)
                 {
                   const double       v = cell.vertex[i][d];
-                  const unsigned int p = v < own.lower[d] - 0.5 * h[d] ? 0 :
-                                         v < own.lower[d] + 0.5 * h[d] ? 1 :
-                                         v < own.upper[d] + 0.5 * h[d] ? 2 :
-                                                                         3;
+                  const unsigned int p = v < own.lower()[d] - 0.5 * h[d] ? 0 :
+                                         v < own.lower()[d] + 0.5 * h[d] ? 1 :
+                                         v < own.upper()[d] + 0.5 * h[d] ? 2 :
+                                                                           3;
                   plane[d][p]          = v;
                   slot |= p << (2 * d);
                 }

@@ -26,7 +26,8 @@ namespace fmpm
    * gradients, Eq. 2.8) at a point given by its reference coordinates in its
    * cell.
    *
-   * Per locally owned and ghost cell it caches the vertices, the DoFs as global
+   * Per locally owned and ghost cell it caches the vertices (an axis-aligned
+   * box without patches: vertex 0 and the last), the DoFs as global
    * and as local (ghosted vector) indices, whether a hanging-node constraint
    * touches the cell, and for parallelogram/parallelepiped cells the constant
    * inverse Jacobian. The shape functions equal those of FE_Q<dim>(1) with a
@@ -41,23 +42,45 @@ namespace fmpm
     static constexpr unsigned int n_nodes =
       GeometryInfo<dim>::vertices_per_cell;
 
+    /** The vertex list of a cell that keeps it, and its bounding box
+     * (widened by 1e-10 of its size). */
+    struct FullVertices
+    {
+      std::array<Point<dim>, n_nodes> vertex;
+      Point<dim>                      box_lower, box_upper;
+    };
+
+    /**
+     * @brief A cell's vertices: vertex 0 and vertex n_nodes - 1 always,
+     * the others only for cells with their full list (not an axis-aligned
+     * box, or a run with patches).
+     */
+    struct Vertices
+    {
+      Point<dim> first, last;
+      /** The full list, or nullptr. */
+      const FullVertices *full = nullptr;
+
+      const Point<dim> &
+      operator[](const unsigned int i) const
+      {
+        Assert(i == 0 || i == n_nodes - 1 || full != nullptr,
+               ExcMessage("Only vertices 0 and n_nodes - 1 of this cell are "
+                          "kept."));
+        return i == 0 ? first : (full != nullptr ? full->vertex[i] : last);
+      }
+    };
+
     struct CellData
     {
       std::array<unsigned int, n_nodes>            local_index;
       std::array<types::global_dof_index, n_nodes> dof_index;
-      std::array<Point<dim>, n_nodes>              vertex;
+      Vertices                                     vertex;
       Tensor<2, dim>                               inverse_jacobian_transpose;
       bool                                         is_affine       = true;
       bool                                         has_constraints = false;
-      /** Bit i set if DoF i is constrained (a hanging node). */
-      unsigned int constrained_nodes = 0;
       /** Edges parallel to the axes (a box): then lower/upper bound it. */
-      bool       is_axis_aligned = false;
-      Point<dim> lower, upper;
-      /** Bounding box of the vertices, widened by 1e-10 of its size. */
-      Point<dim> box_lower, box_upper;
-      /** Bit f set if face f (xi_{f/2} = f%2) lies on the mesh boundary. */
-      unsigned int boundary_faces = 0;
+      bool is_axis_aligned = false;
       /**
        * Locally owned cell whose neighbours (the cells sharing a vertex;
        * fewer than 3^dim at the mesh boundary) are all axis-aligned boxes
@@ -65,6 +88,22 @@ namespace fmpm
        * 001 Eq. gimp_shape) hold around it for boxes inside those cells.
        */
       bool uniform_patch = false;
+      /** Bit i set if DoF i is constrained (a hanging node). */
+      unsigned char constrained_nodes = 0;
+      /** Bit f set if face f (xi_{f/2} = f%2) lies on the mesh boundary. */
+      unsigned char boundary_faces = 0;
+
+      /** Vertex 0 and vertex n_nodes - 1: an axis-aligned box's corners. */
+      const Point<dim> &
+      lower() const
+      {
+        return vertex.first;
+      }
+      const Point<dim> &
+      upper() const
+      {
+        return vertex.last;
+      }
     };
 
     /**
@@ -86,7 +125,9 @@ namespace fmpm
     const std::vector<unsigned int> &
     patch(const unsigned int active_cell_index) const
     {
-      return patches[active_cell_index];
+      static const std::vector<unsigned int> none;
+      return active_cell_index < patches.size() ? patches[active_cell_index] :
+                                                  none;
     }
 
     /** @brief Where a point was found: its cell and reference point. */
@@ -281,9 +322,21 @@ namespace fmpm
       return active_cell_index < has_data.size() && has_data[active_cell_index];
     }
 
+    GridTransfer() = default;
+    /** Not copyable: the cells point into full_vertices (moves keep it). */
+    GridTransfer(const GridTransfer &) = delete;
+    GridTransfer &
+    operator=(const GridTransfer &) = delete;
+
   private:
+    /** Whether @p x lies in the cell's bounding box (an axis-aligned
+     * cell's from lower() and upper(), widened). */
+    bool
+    in_box(const unsigned int cell, const Point<dim> &x) const;
+
     std::vector<CellData>                  cells;
     std::vector<bool>                      has_data;
+    std::vector<FullVertices>              full_vertices;
     std::vector<std::vector<unsigned int>> patches;
   };
 } // namespace fmpm
