@@ -476,9 +476,14 @@ namespace fmpm
     /** Install the SIGTERM/SIGINT handler that requests a checkpoint. */
     void
     install_signal_handlers();
+    /** This rank's checkpoint request: 2 after a signal, 1 when the wall
+     * time interval has passed, else 0 (check_step_failures() reduces it
+     * with its flags). */
+    int
+    local_checkpoint_request() const;
     /** Whether a checkpoint is due after this step (step interval, wall
-     * time, or a signal on any rank: one reduction of a flag). Sets
-     * stop_requested when a signal arrived. */
+     * time, or a signal on any rank: the request check_step_failures()
+     * reduced). Sets stop_requested when a signal arrived. */
     bool
     checkpoint_due();
     /** Write <Output/Directory>/checkpoint/step-NNNNNN/ (through a
@@ -720,6 +725,9 @@ namespace fmpm
     /** The newest complete checkpoint of this run (or the one it resumed
      * from); summary.json names it. */
     std::string latest_checkpoint;
+    /** The largest local_checkpoint_request() of the ranks in the last
+     * check_step_failures(). */
+    int checkpoint_request = 0;
     /** A signal asked to checkpoint and stop; the run stopped so. */
     bool stop_requested    = false;
     bool stopped_on_signal = false;

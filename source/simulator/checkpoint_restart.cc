@@ -159,8 +159,8 @@ namespace fmpm
 
 
   template <int dim>
-  bool
-  Simulator<dim>::checkpoint_due()
+  int
+  Simulator<dim>::local_checkpoint_request() const
   {
     // Tests raise the signal on the last rank only at a given step (a
     // signal may reach only some ranks).
@@ -172,12 +172,21 @@ namespace fmpm
           Utilities::MPI::n_mpi_processes(mpi_communicator) - 1)
       std::raise(SIGTERM);
 
-    int request = checkpoint_signal_received != 0               ? 2 :
-                  control.checkpoint_wall_time_due(MPI_Wtime()) ? 1 :
-                                                                  0;
-    // One reduction of a flag: every rank checkpoints (and stops) together.
-    if (Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
-      request = Utilities::MPI::max(request, mpi_communicator);
+    return checkpoint_signal_received != 0               ? 2 :
+           control.checkpoint_wall_time_due(MPI_Wtime()) ? 1 :
+                                                           0;
+  }
+
+
+
+  template <int dim>
+  bool
+  Simulator<dim>::checkpoint_due()
+  {
+    // The maximum over the ranks came with the step's failure flags (no
+    // reduction of its own): every rank checkpoints (and stops) together.
+    const int request  = checkpoint_request;
+    checkpoint_request = 0;
     if (request == 2)
       stop_requested = true;
     return request > 0 || control.checkpoint_step_due();

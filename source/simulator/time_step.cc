@@ -322,16 +322,19 @@ namespace fmpm
     // The largest wave speed and the largest point speed are reduced
     // separately, as one rank finds them: the maximum over ranks of their
     // per-rank sums is smaller when they lie on different ranks, and the
-    // time step would then depend on the partition.
-    const double flags[4] = {local_failure.empty() ? 0. : 1.,
+    // time step would then depend on the partition. The checkpoint request
+    // (a signal or the wall time, on any rank) takes the same reduction.
+    const double flags[5] = {local_failure.empty() ? 0. : 1.,
                              static_cast<double>(n_lost_points),
                              local_max_wave_speed,
-                             local_max_point_speed};
-    double global_flags[4];
+                             local_max_point_speed,
+                             static_cast<double>(local_checkpoint_request())};
+    double global_flags[5];
     Utilities::MPI::max(make_array_view(flags),
                         mpi_communicator,
                         make_array_view(global_flags));
-    max_signal_speed = global_flags[2] + global_flags[3];
+    max_signal_speed   = global_flags[2] + global_flags[3];
+    checkpoint_request = static_cast<int>(global_flags[4]);
     if (global_flags[0] > 0)
       {
         const auto messages =
