@@ -718,6 +718,24 @@ namespace fmpm
       material_full_mass ? n_materials : 0);
     std::vector<char> material_in_cell(material_full_mass ? n_materials : 0);
     std::vector<types::global_dof_index> dofs;
+    // A cell's m̃ (local_full_mass over its n nodes) into the cell-wise or
+    // the assembled matrix.
+    auto add_cell_full_mass = [&](const unsigned int        n,
+                                  const unsigned int *const nodes) {
+      if (with_full_mass && use_cellwise_full_mass)
+        cellwise_full_mass.add_cell(n, nodes, local_full_mass.data());
+      else if (assemble_full)
+        {
+          dofs.resize(n);
+          for (unsigned int i = 0; i < n; ++i)
+            dofs[i] = partitioner.local_to_global(nodes[i]);
+          for (unsigned int i = 0; i < n; ++i)
+            full_mass_matrix.add(dofs[i],
+                                 n,
+                                 dofs.data(),
+                                 &local_full_mass[i * n]);
+        }
+    };
 
     for (unsigned int c = 0; c < points.n_cells(); ++c)
       {
@@ -771,21 +789,7 @@ namespace fmpm
                         local_full_mass[i * n + j] += MS_i * S_k[j];
                     }
               }
-            if (with_full_mass && use_cellwise_full_mass)
-              cellwise_full_mass.add_cell(n,
-                                          cell_node.data(),
-                                          local_full_mass.data());
-            else if (assemble_full)
-              {
-                dofs.resize(n);
-                for (unsigned int i = 0; i < n; ++i)
-                  dofs[i] = partitioner.local_to_global(cell_node[i]);
-                for (unsigned int i = 0; i < n; ++i)
-                  full_mass_matrix.add(dofs[i],
-                                       n,
-                                       dofs.data(),
-                                       &local_full_mass[i * n]);
-              }
+            add_cell_full_mass(n, cell_node.data());
             continue;
           }
         const unsigned int first_entry =
@@ -932,21 +936,7 @@ namespace fmpm
                   local_material_mass[a].data());
                 material_in_cell[a] = 0;
               }
-        if (with_full_mass && use_cellwise_full_mass)
-          cellwise_full_mass.add_cell(n_cell_nodes,
-                                      cell_nodes.data(),
-                                      local_full_mass.data());
-        else if (assemble_full)
-          {
-            dofs.resize(n_cell_nodes);
-            for (unsigned int i = 0; i < n_cell_nodes; ++i)
-              dofs[i] = partitioner.local_to_global(cell_nodes[i]);
-            for (unsigned int i = 0; i < n_cell_nodes; ++i)
-              full_mass_matrix.add(dofs[i],
-                                   n_cell_nodes,
-                                   dofs.data(),
-                                   &local_full_mass[i * n_cell_nodes]);
-          }
+        add_cell_full_mass(n_cell_nodes, cell_nodes.data());
       }
 
     if (masses)
