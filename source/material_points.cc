@@ -4,6 +4,7 @@
 #include <fmpm/material_points.h>
 
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 
 namespace fmpm
@@ -27,6 +28,7 @@ namespace fmpm
     for (const unsigned int s : invariant_slots)
       invariant_slot[s] = 1;
     uniform_slot = invariant_slot; // (no points yet)
+    uniform_value.assign(n_properties, 0.);
     refresh_column_pointers();
     rebuild_cell_ranges();
   }
@@ -49,6 +51,18 @@ namespace fmpm
 
 
 
+  namespace
+  {
+    /** Equal bit for bit (so that −0 and 0 are told apart). */
+    bool
+    same_value(const double a, const double b)
+    {
+      return std::memcmp(&a, &b, sizeof(double)) == 0;
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   MaterialPoints<dim>::find_uniform_slots()
@@ -56,11 +70,17 @@ namespace fmpm
     for (unsigned int s = 0; s < columns.size(); ++s)
       if (invariant_slot[s] && !zero_slot[s])
         {
-          const std::vector<double> &values = columns[s];
+          std::vector<double> &values = columns[s];
           uniform_slot[s] =
             std::all_of(values.begin(), values.end(), [&](const double v) {
-              return v == values.front();
+              return same_value(v, values.front());
             });
+          if (uniform_slot[s])
+            {
+              if (!values.empty())
+                uniform_value[s] = values.front();
+              std::vector<double>().swap(values);
+            }
         }
   }
 
@@ -87,11 +107,36 @@ namespace fmpm
   void
   MaterialPoints<dim>::refresh_column_pointers()
   {
+    const std::size_t length = std::max(id.capacity(), id.size());
     if (zeros.size() < id.size())
-      zeros.resize(std::max<std::size_t>(id.capacity(), id.size()), 0.);
+      zeros.resize(length, 0.);
+    // One array per distinct value of the uniform columns (a value 0
+    // reads the zeros); arrays of values no column has any more go.
+    std::vector<std::pair<double, std::vector<double>>> kept_arrays;
+    auto array_of = [&](const double value) -> const double * {
+      if (same_value(value, 0.))
+        return zeros.data();
+      for (auto &[kept_value, values] : kept_arrays)
+        if (same_value(kept_value, value))
+          return values.data();
+      for (auto &[old_value, values] : uniform_arrays)
+        if (same_value(old_value, value) && !values.empty())
+          {
+            if (values.size() < id.size())
+              values.assign(length, value);
+            kept_arrays.emplace_back(value, std::move(values));
+            return kept_arrays.back().second.data();
+          }
+      kept_arrays.emplace_back(value, std::vector<double>(length, value));
+      return kept_arrays.back().second.data();
+    };
     column_pointers.resize(columns.size());
     for (unsigned int s = 0; s < columns.size(); ++s)
-      column_pointers[s] = zero_slot[s] ? zeros.data() : columns[s].data();
+      column_pointers[s] =
+        zero_slot[s]    ? zeros.data() :
+        uniform_slot[s] ? const_cast<double *>(array_of(uniform_value[s])) :
+                          columns[s].data();
+    uniform_arrays.swap(kept_arrays);
   }
 
 
@@ -102,21 +147,23 @@ namespace fmpm
                                    double            *record_values) const
   {
     for (unsigned int s = 0; s < columns.size(); ++s)
-      record_values[s] = zero_slot[s] ? 0. : columns[s][k];
+      record_values[s] = zero_slot[s]    ? 0. :
+                         uniform_slot[s] ? uniform_value[s] :
+                                           columns[s][k];
   }
 
 
 
   template <int dim>
   void
-  MaterialPoints<dim>::set_cell_order(const std::vector<CellIterator> &cells,
+  MaterialPoints<dim>::set_cell_order(std::vector<CellIterator> cells,
                                       const unsigned int n_active_cells)
   {
     cell_key.assign(n_active_cells, numbers::invalid_unsigned_int);
-    cell_of_key = cells;
-    for (unsigned int c = 0; c < cells.size(); ++c)
-      cell_key[cells[c]->active_cell_index()] = c;
-    cell_received.assign(cells.size(), 0);
+    cell_of_key = std::move(cells);
+    for (unsigned int c = 0; c < cell_of_key.size(); ++c)
+      cell_key[cell_of_key[c]->active_cell_index()] = c;
+    cell_received.assign(cell_of_key.size(), 0);
   }
 
 
@@ -188,7 +235,7 @@ namespace fmpm
     id.reserve(n);
     cell.reserve(n);
     for (unsigned int s = 0; s < columns.size(); ++s)
-      if (!zero_slot[s])
+      if (!zero_slot[s] && !uniform_slot[s])
         columns[s].reserve(n);
   }
 
@@ -209,7 +256,7 @@ namespace fmpm
           handler.insert_particle(position[k],
                                   reference_position[k],
                                   id[k],
-                                  cell_iterator[c],
+                                  cell_iterator(c),
                                   make_array_view(record_values));
         }
     handler.update_cached_numbers();
@@ -225,6 +272,7 @@ namespace fmpm
                            const CellIterator         &cell,
                            const double               *record_values)
   {
+    const unsigned int n_before = n_points();
     position.push_back(x);
     reference_position.push_back(xi);
     this->id.push_back(id);
@@ -232,9 +280,18 @@ namespace fmpm
     for (unsigned int s = 0; s < columns.size(); ++s)
       if (!zero_slot[s])
         {
-          if (uniform_slot[s] && !columns[s].empty() &&
-              record_values[s] != columns[s].front())
-            uniform_slot[s] = 0;
+          if (uniform_slot[s])
+            {
+              if (n_before == 0)
+                uniform_value[s] = record_values[s];
+              if (n_before == 0 ||
+                  same_value(record_values[s], uniform_value[s]))
+                continue;
+              // The first other value: the column gets its own array.
+              uniform_slot[s] = 0;
+              columns[s].reserve(this->id.capacity());
+              columns[s].assign(n_before, uniform_value[s]);
+            }
           columns[s].push_back(record_values[s]);
         }
     cell_received[key(this->cell.size() - 1)] = 1;
@@ -333,9 +390,7 @@ namespace fmpm
     apply(id, id_scratch);
     apply(cell, cell_scratch);
     for (unsigned int s = 0; s < columns.size(); ++s)
-      if (uniform_slot[s]) // all values equal: only the count changes
-        columns[s].resize(n_kept);
-      else if (!zero_slot[s])
+      if (!zero_slot[s] && !uniform_slot[s])
         apply(columns[s], scratch);
     refresh_column_pointers();
     rebuild_cell_ranges();
@@ -348,7 +403,6 @@ namespace fmpm
   MaterialPoints<dim>::rebuild_cell_ranges()
   {
     cell_index.clear();
-    cell_iterator.clear();
     cell_point_begin.assign(1, 0);
     for (unsigned int k = 0; k < n_points(); ++k)
       if (k == 0 || cell[k] != cell[k - 1])
@@ -356,7 +410,6 @@ namespace fmpm
           if (k > 0)
             cell_point_begin.push_back(k);
           cell_index.push_back(cell[k]);
-          cell_iterator.push_back(cell_of_key[key(k)]);
         }
     if (n_points() > 0)
       cell_point_begin.push_back(n_points());
@@ -381,6 +434,8 @@ namespace fmpm
       permutation_runs.capacity() * sizeof(std::array<unsigned int, 3>) +
       zeros.capacity() * sizeof(double);
     for (const auto &values : columns)
+      bytes += values.capacity() * sizeof(double);
+    for (const auto &[value, values] : uniform_arrays)
       bytes += values.capacity() * sizeof(double);
     return bytes;
   }

@@ -340,17 +340,24 @@ namespace fmpm
     std::map<std::pair<types::boundary_id, unsigned int>, Tensor<1, dim>>
                        normals;
     const unsigned int n_owned = partitioner.locally_owned_size();
-    node_position.resize(n_owned);
+    // The nodes' positions only for walls given by a region or box.
+    const bool walls_by_region =
+      std::any_of(walls.begin(), walls.end(), [](const auto &wall) {
+        return wall.boundary_ids.empty();
+      });
+    node_position.assign(walls_by_region ? n_owned : 0, Point<dim>());
+    node_position.shrink_to_fit();
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
         {
-          for (const unsigned int v : cell->vertex_indices())
-            {
-              const auto dof = cell->vertex_dof_index(v, 0);
-              if (owned.is_element(dof))
-                node_position[partitioner.global_to_local(dof)] =
-                  cell->vertex(v);
-            }
+          if (walls_by_region)
+            for (const unsigned int v : cell->vertex_indices())
+              {
+                const auto dof = cell->vertex_dof_index(v, 0);
+                if (owned.is_element(dof))
+                  node_position[partitioner.global_to_local(dof)] =
+                    cell->vertex(v);
+              }
           for (const unsigned int f : cell->face_indices())
             if (cell->face(f)->at_boundary())
               {

@@ -25,7 +25,7 @@ namespace fmpm
    * position ξ_p in its cell, the id, the active cell index, and one column
    * per property slot of ParticleProperties (M, V₀, V, F, σ, ... and the
    * slots plugins request). The points are in cell order — the cells in the
-   * order of the passes (owned_cells_in_id_order), and in a cell by id — so
+   * order of the passes (set_cell_order()), and in a cell by id — so
    * that every sum over points runs in an order that depends neither on the
    * history of the moves nor on the number of ranks.
    *
@@ -81,6 +81,13 @@ namespace fmpm
       return cell_index.size();
     }
 
+    /** @brief The iterator of the @p c-th cell with points. */
+    const CellIterator &
+    cell_iterator(const unsigned int c) const
+    {
+      return cell_of_key[cell_key[cell_index[c]]];
+    }
+
     /** @brief Number of property columns. */
     unsigned int
     n_properties() const
@@ -118,8 +125,8 @@ namespace fmpm
      * in @p cells is its key. Call after every mesh change.
      */
     void
-    set_cell_order(const std::vector<CellIterator> &cells,
-                   const unsigned int               n_active_cells);
+    set_cell_order(std::vector<CellIterator> cells,
+                   const unsigned int        n_active_cells);
 
     /**
      * @brief Take every locally owned point of @p handler, in cell order,
@@ -193,7 +200,6 @@ namespace fmpm
     /** @name Per cell with points, in cell order */
     /** @{ */
     std::vector<unsigned int> cell_index;
-    std::vector<CellIterator> cell_iterator;
     /** The cell's points are [cell_point_begin[c], cell_point_begin[c+1]). */
     std::vector<unsigned int> cell_point_begin;
     /** @} */
@@ -207,12 +213,16 @@ namespace fmpm
     }
 
     /** Per slot: written only at creation (initialize()), and whether all
-     * its values are equal now. */
-    std::vector<char> invariant_slot, uniform_slot;
+     * its values are equal now. A uniform slot has no column of its own:
+     * it reads an array of its value, shared by the uniform slots of that
+     * value (uniform_arrays; the zeros for 0). */
+    std::vector<char>   invariant_slot, uniform_slot;
+    std::vector<double> uniform_value;
+    std::vector<std::pair<double, std::vector<double>>> uniform_arrays;
     /** uniform_slot of the invariant slots from the values. */
     void
     find_uniform_slots();
-    /** Rebuild cell_index, cell_iterator and cell_point_begin. */
+    /** Rebuild cell_index and cell_point_begin. */
     void
     rebuild_cell_ranges();
 

@@ -559,11 +559,6 @@ namespace fmpm
     /** Multimaterial contact: the per-material fields and the corrections
      * (null without contact). */
     std::unique_ptr<Contact::Manager<dim>> contact;
-    /** The locally owned cells in the order of the passes: sorted by
-     * CellId on adapted meshes, else in storage order (set at set-up and
-     * after remeshing). */
-    std::vector<typename Triangulation<dim>::active_cell_iterator>
-      owned_cells_in_id_order;
     /** Every locally owned material point: its state, in cell order. */
     MaterialPoints<dim> points;
     /** The number of points on all ranks (set when the store is filled). */

@@ -54,8 +54,12 @@ namespace fmpm
      * same bits).
      */
     bool implicit_classic = false;
-    /** ξ_p at the step's start (implicit classic supports only). */
-    std::vector<Point<dim>> reference_position;
+    /** ξ_p at the step's start (implicit classic supports only): the
+     * store's own ξ when no pass after the particle update (which moves
+     * it) reads the supports, else reference_position_copy. */
+    const Point<dim> *reference_position  = nullptr;
+    unsigned int      n_implicit_points   = 0;
+    std::vector<Point<dim>> reference_position_copy;
 
     /** @name Per point, in the order of the point store */
     /** @{ */
@@ -81,7 +85,7 @@ namespace fmpm
     n_points() const
     {
       if (implicit_classic)
-        return reference_position.size();
+        return n_implicit_points;
       return support_begin.empty() ? 0 : support_begin.size() - 1;
     }
 
@@ -99,7 +103,9 @@ namespace fmpm
     clear()
     {
       implicit_classic = false;
-      reference_position.clear();
+      reference_position = nullptr;
+      n_implicit_points  = 0;
+      reference_position_copy.clear();
       material.clear();
       support_begin.assign(1, 0);
       node.clear();
@@ -134,7 +140,7 @@ namespace fmpm
     std::size_t
     memory_consumption() const
     {
-      return reference_position.capacity() * sizeof(Point<dim>) +
+      return reference_position_copy.capacity() * sizeof(Point<dim>) +
              material.capacity() +
              (support_begin.capacity() + node.capacity()) *
                sizeof(unsigned int) +

@@ -240,7 +240,8 @@ namespace fmpm
     std::vector<double>        wall_displacement;
     std::vector<std::string>   source_labels;
     std::vector<NodeCondition> conditions;
-    /** Owned node positions by local index (box walls). */
+    /** Owned node positions by local index (only with walls given by a
+     * region or box). */
     std::vector<Point<dim>>            node_position;
     const DoFHandler<dim>             *dof_handler_pointer = nullptr;
     const Utilities::MPI::Partitioner *partitioner_pointer = nullptr;

@@ -330,7 +330,7 @@ namespace fmpm
     if (stability.warning_only_with_free_surfaces)
       {
         const bool every_cell_filled =
-          points.n_cells() == owned_cells_in_id_order.size();
+          points.n_cells() == triangulation.n_locally_owned_active_cells();
         // Keep what check_scene() added (" Also: ...").
         const auto also = stability.warning.find(" Also: ");
         if (Utilities::MPI::min(every_cell_filled ? 1 : 0, mpi_communicator) ==

@@ -148,7 +148,11 @@ namespace fmpm
                     &vertex_to_cells);
     gimp_patches.clear();
     gimp_patch_of_cell.clear();
-    owned_cells_in_id_order.clear();
+    // The locally owned cells in the order of the passes.
+    std::vector<typename Triangulation<dim>::active_cell_iterator>
+      owned_cells_in_id_order;
+    owned_cells_in_id_order.reserve(
+      triangulation.n_locally_owned_active_cells());
     for (const auto &cell : triangulation.active_cell_iterators())
       if (cell->is_locally_owned())
         owned_cells_in_id_order.push_back(cell);
@@ -160,7 +164,7 @@ namespace fmpm
       std::sort(owned_cells_in_id_order.begin(),
                 owned_cells_in_id_order.end(),
                 [](const auto &a, const auto &b) { return a->id() < b->id(); });
-    points.set_cell_order(owned_cells_in_id_order,
+    points.set_cell_order(std::move(owned_cells_in_id_order),
                           triangulation.n_active_cells());
     setup_contact();
 

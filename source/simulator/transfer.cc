@@ -386,8 +386,16 @@ namespace fmpm
           }
         if (affine_without_hanging_nodes)
           {
-            supports.implicit_classic   = true;
-            supports.reference_position = points.reference_position;
+            supports.implicit_classic  = true;
+            supports.n_implicit_points = n_points;
+            if (parameters.method.strain_update_scheme.update_last)
+              {
+                supports.reference_position_copy = points.reference_position;
+                supports.reference_position =
+                  supports.reference_position_copy.data();
+              }
+            else
+              supports.reference_position = points.reference_position.data();
             return;
           }
       }
@@ -1212,9 +1220,9 @@ namespace fmpm
             }
 
         // Scatter the new V and X, and the new reference location of each
-        // point still in its cell (no later pass of the step reads it: they
-        // use the support cache); the others are re-binned at the step's
-        // end.
+        // point still in its cell (the batch has read its supports; later
+        // passes of the step read the support cache's copy of ξ); the
+        // others are re-binned at the step's end.
         for (unsigned int q = 0; q < n_points; ++q)
           {
             const unsigned int    k  = first_point + q;
@@ -1316,7 +1324,7 @@ namespace fmpm
         cell_size_by_index.resize(triangulation.n_active_cells());
         for (unsigned int c = 0; c < points.n_cells(); ++c)
           cell_size_by_index[points.cell_index[c]] =
-            points.cell_iterator[c]->minimum_vertex_distance();
+            points.cell_iterator(c)->minimum_vertex_distance();
       }
 
     // Points of a batch grouped by material for the model call (one group
@@ -1594,7 +1602,7 @@ namespace fmpm
         // follows with a cursor.
         while (points.cell_point_begin[cell_with_points + 1] <= k)
           ++cell_with_points;
-        const auto       cell = points.cell_iterator[cell_with_points];
+        const auto       cell = points.cell_iterator(cell_with_points);
         const Point<dim> x    = points.position[k];
 
         // The new cell: across the face the point crossed, from neighbour
