@@ -157,7 +157,7 @@ namespace fmpm
   template <int dim>
   void
   MaterialPoints<dim>::set_cell_order(std::vector<CellIterator> cells,
-                                      const unsigned int n_active_cells)
+                                      const unsigned int        n_active_cells)
   {
     cell_key.assign(n_active_cells, numbers::invalid_unsigned_int);
     cell_of_key = std::move(cells);

@@ -57,8 +57,8 @@ namespace fmpm
     /** ξ_p at the step's start (implicit classic supports only): the
      * store's own ξ when no pass after the particle update (which moves
      * it) reads the supports, else reference_position_copy. */
-    const Point<dim> *reference_position  = nullptr;
-    unsigned int      n_implicit_points   = 0;
+    const Point<dim>       *reference_position = nullptr;
+    unsigned int            n_implicit_points  = 0;
     std::vector<Point<dim>> reference_position_copy;
 
     /** @name Per point, in the order of the point store */
@@ -102,7 +102,7 @@ namespace fmpm
     void
     clear()
     {
-      implicit_classic = false;
+      implicit_classic   = false;
       reference_position = nullptr;
       n_implicit_points  = 0;
       reference_position_copy.clear();
