@@ -19,6 +19,7 @@ namespace fmpm
   {
     AssertThrow(dof_handler.get_fe().dofs_per_cell == n_nodes,
                 ExcMessage("GridTransfer needs an FE_Q(1) DoFHandler."));
+    this->partitioner = &partitioner;
     cells.clear();
     cells.resize(dof_handler.get_triangulation().n_active_cells());
     has_data.assign(cells.size(), false);
@@ -39,7 +40,6 @@ namespace fmpm
           data.constrained_nodes = 0;
           for (unsigned int i = 0; i < n_nodes; ++i)
             {
-              data.dof_index[i]   = dofs[i];
               data.local_index[i] = partitioner.global_to_local(dofs[i]);
               vertex[i]           = cell->vertex(i);
               if (constraints.is_constrained(dofs[i]))

@@ -78,6 +78,7 @@ namespace fmpm
       template <int dim>
       inline void
       add_node(std::vector<Node<dim>>                     &support,
+               const GridTransfer<dim>                    &transfer,
                const typename GridTransfer<dim>::CellData &cell,
                const unsigned int                          i,
                const double                                S,
@@ -91,7 +92,7 @@ namespace fmpm
               return;
             }
         support.push_back(Node<dim>{cell.local_index[i],
-                                    cell.dof_index[i],
+                                    transfer.dof_index(cell, i),
                                     ((cell.constrained_nodes >> i) & 1) != 0,
                                     S,
                                     G});
@@ -286,7 +287,7 @@ namespace fmpm
                 }
             }
           for (unsigned int i = 0; i < Transfer::n_nodes; ++i)
-            add_node<dim>(support, cell, i, S_sum[i], G_sum[i]);
+            add_node<dim>(support, transfer, cell, i, S_sum[i], G_sum[i]);
         }
 
         void
@@ -321,7 +322,7 @@ namespace fmpm
               const auto &cell = transfer.cell_data(location.cell);
               Transfer::values_and_gradients(cell, location.xi, S, G);
               for (unsigned int i = 0; i < Transfer::n_nodes; ++i)
-                add_node<dim>(support, cell, i, w * S[i], w * G[i]);
+                add_node<dim>(support, transfer, cell, i, w * S[i], w * G[i]);
             }
         }
 
@@ -414,7 +415,7 @@ namespace fmpm
               const auto &cell = transfer.cell_data(location.cell);
               Transfer::values_and_gradients(cell, location.xi, S, G);
               for (unsigned int i = 0; i < n; ++i)
-                add_node<dim>(support, cell, i, S[i], G[i]);
+                add_node<dim>(support, transfer, cell, i, S[i], G[i]);
               return Status::ok;
             }
 
@@ -451,7 +452,8 @@ namespace fmpm
                   Transfer::values(location.xi, S);
                   const Tensor<1, dim> w = weight * (s_inverse_transpose * r);
                   for (unsigned int i = 0; i < n; ++i)
-                    add_node<dim>(support, cell, i, weight * S[i], S[i] * w);
+                    add_node<dim>(
+                      support, transfer, cell, i, weight * S[i], S[i] * w);
                 }
               return Status::ok;
             }
@@ -543,7 +545,7 @@ namespace fmpm
                   slot |= p << (2 * d);
                 }
               local_index[slot] = cell.local_index[i];
-              dof[slot]         = cell.dof_index[i];
+              dof[slot]         = transfer.dof_index(cell, i);
             }
         }
     }

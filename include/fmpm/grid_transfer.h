@@ -73,12 +73,11 @@ namespace fmpm
 
     struct CellData
     {
-      std::array<unsigned int, n_nodes>            local_index;
-      std::array<types::global_dof_index, n_nodes> dof_index;
-      Vertices                                     vertex;
-      Tensor<2, dim>                               inverse_jacobian_transpose;
-      bool                                         is_affine       = true;
-      bool                                         has_constraints = false;
+      std::array<unsigned int, n_nodes> local_index;
+      Vertices                          vertex;
+      Tensor<2, dim>                    inverse_jacobian_transpose;
+      bool                              is_affine       = true;
+      bool                              has_constraints = false;
       /** Edges parallel to the axes (a box): then lower/upper bound it. */
       bool is_axis_aligned = false;
       /**
@@ -120,6 +119,13 @@ namespace fmpm
            const Utilities::MPI::Partitioner &partitioner,
            const bool                         with_patches = true,
            const VertexCells<dim>            *vertex_cells = nullptr);
+
+    /** @brief The global DoF index of node @p i of @p cell. */
+    types::global_dof_index
+    dof_index(const CellData &cell, const unsigned int i) const
+    {
+      return partitioner->local_to_global(cell.local_index[i]);
+    }
 
     /** @brief The patch of a locally owned cell (active cell indices). */
     const std::vector<unsigned int> &
@@ -334,7 +340,9 @@ namespace fmpm
     bool
     in_box(const unsigned int cell, const Point<dim> &x) const;
 
-    std::vector<CellData>                  cells;
+    std::vector<CellData> cells;
+    /** The ghosted vectors' partitioner (local_index <-> DoF index). */
+    const Utilities::MPI::Partitioner     *partitioner = nullptr;
     std::vector<bool>                      has_data;
     std::vector<FullVertices>              full_vertices;
     std::vector<std::vector<unsigned int>> patches;

@@ -365,6 +365,13 @@ namespace fmpm
     {
       return parameters.method.lumped_strain_velocities;
     }
+    /** Whether the mass matrix's solves read the known velocities (else
+     * they are not allocated); only the constrained method sets any. */
+    bool
+    known_velocities_read() const
+    {
+      return mass_matrix->reads_known_velocities();
+    }
     /** Whether the velocity method's reactions are measured (they need v
      * and v⁺ of the centre of mass). */
     bool

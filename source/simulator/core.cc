@@ -534,7 +534,7 @@ namespace fmpm
                                                                         t_begin;
     const bool is_acceleration =
       (field == acceleration || field == lumped_acceleration);
-    if (velocity_conditions.uses_known_values())
+    if (velocity_conditions.uses_known_values() && known_velocities_read())
       {
         velocity_conditions.known_values(t_field,
                                          known_velocity_mask,
@@ -651,7 +651,7 @@ namespace fmpm
   {
     // With the constrained method the solves inside a method hold no known
     // values (the method is then lumped on momenta anyway).
-    if (velocity_conditions.uses_known_values())
+    if (velocity_conditions.uses_known_values() && known_velocities_read())
       for (unsigned int d = 0; d < dim; ++d)
         known_velocity_mask[d] = 0;
     velocity_conditions.impose_on_momenta(q,

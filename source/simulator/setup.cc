@@ -192,8 +192,11 @@ namespace fmpm
                   patch_dofs.clear();
                   for (const unsigned int other :
                        transfer.patch(cell->active_cell_index()))
-                    for (const auto dof : transfer.cell_data(other).dof_index)
-                      if (std::find(patch_dofs.begin(),
+                    for (unsigned int i = 0; i < GridTransfer<dim>::n_nodes;
+                         ++i)
+                      if (const auto dof =
+                            transfer.dof_index(transfer.cell_data(other), i);
+                          std::find(patch_dofs.begin(),
                                     patch_dofs.end(),
                                     dof) == patch_dofs.end())
                         patch_dofs.push_back(dof);
@@ -508,10 +511,16 @@ namespace fmpm
     known_velocity_mask.resize(dim);
     known_velocity_value.resize(dim);
     for (unsigned int d = 0; d < dim; ++d)
-      {
-        known_velocity_mask[d].reinit(lumped_mass.get_partitioner());
-        known_velocity_value[d].reinit(lumped_mass.get_partitioner());
-      }
+      if (known_velocities_read())
+        {
+          known_velocity_mask[d].reinit(lumped_mass.get_partitioner());
+          known_velocity_value[d].reinit(lumped_mass.get_partitioner());
+        }
+      else
+        {
+          known_velocity_mask[d].reinit(0);
+          known_velocity_value[d].reinit(0);
+        }
     step_impulse.assign(velocity_conditions.labels().size(), Tensor<1, dim>());
     reaction_forces = step_impulse;
 

@@ -481,7 +481,7 @@ namespace fmpm
                   for (unsigned int i = 0; i < n; ++i)
                     add_node(first,
                              data.local_index[i],
-                             data.dof_index[i],
+                             transfer.dof_index(data, i),
                              data.constrained_nodes & (1u << i),
                              S[i],
                              G[i]);

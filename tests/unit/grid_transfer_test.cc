@@ -247,7 +247,7 @@ namespace
         cell->get_dof_indices(dofs);
         for (unsigned int i = 0; i < n; ++i)
           {
-            EXPECT_EQ(data.dof_index[i], dofs[i]);
+            EXPECT_EQ(setup.transfer.dof_index(data, i), dofs[i]);
             EXPECT_EQ(data.local_index[i],
                       setup.partitioner->global_to_local(dofs[i]));
             EXPECT_LT((data.vertex[i] - cell->vertex(i)).norm(), 1e-14);

@@ -123,6 +123,12 @@ namespace fmpm
       }
 
       bool
+      reads_known_velocities() const override
+      {
+        return true;
+      }
+
+      bool
       begin_step(const unsigned int step,
                  const double       time,
                  const double       time_step) override;

@@ -195,6 +195,12 @@ namespace fmpm
       }
 
       bool
+      reads_known_velocities() const override
+      {
+        return true;
+      }
+
+      bool
       accepts_cellwise_full_mass_matrix() const override
       {
         return true;

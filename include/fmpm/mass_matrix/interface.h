@@ -48,6 +48,14 @@ namespace fmpm
         return false;
       }
 
+      /** @brief Whether the solves read the known velocities of the grid
+       * conditions (SimulatorAccess::get_known_velocity_mask()). */
+      virtual bool
+      reads_known_velocities() const
+      {
+        return false;
+      }
+
       /**
        * @brief Whether m̃ may come as cell-wise local matrices
        * (CellwiseMatrix) instead of an assembled sparse matrix, when the
