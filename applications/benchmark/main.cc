@@ -23,7 +23,7 @@
 // contact (net incremental and once per step), and prints the cost of
 // contact per order.
 //
-// With --sizes, benchmark_2d.prm at about 1e4, 1e5 and 1e6 points (the
+// With --sizes, benchmark_2d.prm at about 1e4, 1e5, 1e6 and 1e7 points (the
 // mesh refined with the points per cell kept), and prints the time per
 // particle-step and the peak resident memory per point of each size.
 //
@@ -467,33 +467,46 @@ namespace
   }
 
   /** The --sizes mode: time per particle-step and memory per point from
-   * about 1e4 to 1e6 points (issue 12: within 20 %). */
+   * about 1e4 to 1e7 points (issue 35: within 20 %). */
   void
   compare_sizes(const std::string              &scene,
                 const std::vector<std::string> &overrides)
   {
     const bool is_root =
       dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
-    // benchmark_2d: 2.545 n^2 points on n x n cells; steps for about 1e7
-    // point-steps (at least 10).
-    const std::vector<std::pair<unsigned int, unsigned int>> sizes = {
-      {63, 400}, {200, 100}, {627, 15}};
+    // benchmark_2d: 2.545 n^2 points on n x n cells, with n = subdivisions
+    // x 2^refinement (a coarse cell per p4est tree: 1e7 points on 31 x 31
+    // coarse cells refined 6 times); steps for about 1e7 point-steps, at
+    // least 5.
+    struct Size
+    {
+      unsigned int subdivisions, refinement, steps;
+    };
+    const std::vector<Size>                  sizes = {{63, 0, 400},
+                                                      {200, 0, 100},
+                                                      {627, 0, 15},
+                                                      {31, 6, 5}};
     std::vector<boost::property_tree::ptree> summaries;
     for (const auto &size : sizes)
       {
         std::vector<std::string> files = {scene};
         files.insert(files.end(), overrides.begin(), overrides.end());
         auto              sources = fmpm::load_scene_sources(files);
-        const std::string n       = std::to_string(size.first);
+        const std::string n       = std::to_string(size.subdivisions);
+        const std::string cells =
+          std::to_string(size.subdivisions << size.refinement);
         sources.emplace_back(
           "--sizes",
           "subsection Mesh\n  set Subdivisions = " + n + ", " + n +
+            "\n  set Initial global refinement = " +
+            std::to_string(size.refinement) +
             "\nend\nsubsection Time\n  set Maximum number of steps = " +
-            std::to_string(size.second) +
-            "\nend\nsubsection Output\n  set Directory = output-sizes-" + n +
-            "\nend\n");
+            std::to_string(size.steps) +
+            "\nend\nsubsection Output\n  set Directory = output-sizes-" +
+            cells + "\nend\n");
         if (is_root)
-          std::cout << "\n=== " << n << " x " << n << " cells" << std::endl;
+          std::cout << "\n=== " << cells << " x " << cells << " cells"
+                    << std::endl;
         summaries.push_back(run_scene(sources));
       }
     if (!is_root)
@@ -548,7 +561,7 @@ namespace
     "  --contact-orders [rounds]  FMPM(k)/XPIC(k), k = 1, 2, 5, and the\n"
     "                             exact solve, with and without contact\n"
     "                             [benchmark_contact_2d]\n"
-    "  --sizes                    about 1e4, 1e5 and 1e6 points: time per\n"
+    "  --sizes                    about 1e4, 1e5, 1e6 and 1e7 points: time per\n"
     "                             point-step and memory per point\n"
     "                             [benchmark_2d]\n";
 
