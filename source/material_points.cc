@@ -113,7 +113,7 @@ namespace fmpm
     // One array per distinct value of the uniform columns (a value 0
     // reads the zeros); arrays of values no column has any more go.
     std::vector<std::pair<double, std::vector<double>>> kept_arrays;
-    auto array_of = [&](const double value) -> const double * {
+    auto array_of = [&](const double value) -> double * {
       if (same_value(value, 0.))
         return zeros.data();
       for (auto &[kept_value, values] : kept_arrays)
@@ -132,10 +132,9 @@ namespace fmpm
     };
     column_pointers.resize(columns.size());
     for (unsigned int s = 0; s < columns.size(); ++s)
-      column_pointers[s] =
-        zero_slot[s]    ? zeros.data() :
-        uniform_slot[s] ? const_cast<double *>(array_of(uniform_value[s])) :
-                          columns[s].data();
+      column_pointers[s] = zero_slot[s]    ? zeros.data() :
+                           uniform_slot[s] ? array_of(uniform_value[s]) :
+                                             columns[s].data();
     uniform_arrays.swap(kept_arrays);
   }
 
@@ -369,7 +368,7 @@ namespace fmpm
         unsigned int       length = 1;
         while (k + length < n_kept && permutation[k + length] == from + length)
           ++length;
-        permutation_runs.push_back({k, from, length});
+        permutation_runs.push_back({{k, from, length}});
         k += length;
       }
     auto apply = [&](auto &values, auto &work) {
