@@ -147,6 +147,13 @@ namespace fmpm
   }
 
   template <int dim>
+  const GridTransfer<dim> &
+  SimulatorAccess<dim>::get_grid_transfer() const
+  {
+    return get_simulator().transfer;
+  }
+
+  template <int dim>
   const VelocityConditions<dim> &
   SimulatorAccess<dim>::get_velocity_conditions() const
   {

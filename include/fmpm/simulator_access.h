@@ -114,6 +114,10 @@ namespace fmpm
     /** S and G of every point of the store this step. */
     const SupportCache<dim> &
     get_support_cache() const;
+    /** The cells' nodes, geometry and shape functions (computed supports
+     * read it). */
+    const GridTransfer<dim> &
+    get_grid_transfer() const;
     const VelocityConditions<dim> &
     get_velocity_conditions() const;
     const MassMatrix::Interface<dim> &

@@ -47,11 +47,10 @@ namespace fmpm
   {
     /**
      * Classic shape functions with every cell of the points affine and free
-     * of hanging nodes (and no contact, whose corrections read the entries):
-     * no entry is stored. A pass computes S_ip and G_ip of the cell's nodes
-     * from the point's reference location at the step's start when it reads
-     * them, with the operations that would have filled the entries (the
-     * same bits).
+     * of hanging nodes: no entry is stored. A pass computes S_ip and G_ip of
+     * the cell's nodes from the point's reference location at the step's start
+     * when it reads them, with the operations that would have filled the
+     * entries (the same bits).
      */
     bool implicit_classic = false;
     /** ξ_p at the step's start (implicit classic supports only): the

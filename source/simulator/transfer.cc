@@ -374,7 +374,7 @@ namespace fmpm
 
     // Classic on affine cells without hanging nodes: the passes compute the
     // entries from the step's ξ (SupportReader).
-    if (classic && !contact_active())
+    if (classic)
       {
         bool affine_without_hanging_nodes = true;
         for (unsigned int c = 0; c < points.n_cells(); ++c)
@@ -705,9 +705,7 @@ namespace fmpm
         p[d] = momentum.block(d).begin();
         f[d] = force.block(d).begin();
       }
-    const unsigned int *const   node = supports.node.data();
-    const double *const         S    = supports.S.data();
-    const Tensor<1, dim> *const G    = supports.G.data();
+    const unsigned int *const cached_node = supports.node.data();
     const SupportReader<dim> support_of(supports, transfer, points.cell.data());
     // The columns this pass reads: M, V (and V, σ for the forces; X for
     // contact positions).
@@ -745,12 +743,16 @@ namespace fmpm
         }
     };
 
+    // Per point: the entries j of its support (computed: the cell's nodes;
+    // stored: the cache's), at place place_of(j) of the cell's nodes.
+    const bool with_gradients = with_forces || contact_needs_gradients;
     for (unsigned int c = 0; c < points.n_cells(); ++c)
       {
-        if (supports.implicit_classic)
+        if (supports.implicit_classic && !contact)
           {
-            // Computed supports (never with contact): the cell's nodes for
-            // all its points, m̃ over them.
+            // Computed supports, one velocity field (the general loop below
+            // keeps fewer values in registers): the cell's nodes for all its
+            // points, m̃ over them.
             constexpr unsigned int n = GridTransfer<dim>::n_nodes;
             const auto &cell_data    = transfer.cell_data(points.cell_index[c]);
             const std::array<unsigned int, n> &cell_node =
@@ -800,151 +802,178 @@ namespace fmpm
             add_cell_full_mass(n, cell_node.data());
             continue;
           }
-        const unsigned int first_entry =
-          supports.support_begin[points.cell_point_begin[c]];
-        if (with_full_mass || material_full_mass)
+        const auto        &cell_data = transfer.cell_data(points.cell_index[c]);
+        const unsigned int first_point = points.cell_point_begin[c];
+        const unsigned int end_point   = points.cell_point_begin[c + 1];
+        // m̃ of the cell over the union of its points' supports: computed
+        // supports have the cell's nodes, in the order of the entries.
+        const unsigned int *cell_node_list = cell_data.local_index.data();
+        unsigned int        n_cell_nodes   = GridTransfer<dim>::n_nodes;
+        unsigned int        first_entry    = 0;
+        if (!supports.implicit_classic)
           {
-            const unsigned int entry_end =
-              supports.support_begin[points.cell_point_begin[c + 1]];
-            cell_nodes.clear();
-            slot.resize(entry_end - first_entry);
-            for (unsigned int j = first_entry; j < entry_end; ++j)
+            first_entry = supports.support_begin[first_point];
+            if (with_full_mass || material_full_mass)
               {
-                const auto place =
-                  std::find(cell_nodes.begin(), cell_nodes.end(), node[j]);
-                slot[j - first_entry] = place - cell_nodes.begin();
-                if (place == cell_nodes.end())
-                  cell_nodes.push_back(node[j]);
+                const unsigned int entry_end =
+                  supports.support_begin[end_point];
+                cell_nodes.clear();
+                slot.resize(entry_end - first_entry);
+                for (unsigned int j = first_entry; j < entry_end; ++j)
+                  {
+                    const auto place      = std::find(cell_nodes.begin(),
+                                                 cell_nodes.end(),
+                                                 cached_node[j]);
+                    slot[j - first_entry] = place - cell_nodes.begin();
+                    if (place == cell_nodes.end())
+                      cell_nodes.push_back(cached_node[j]);
+                  }
+                cell_node_list = cell_nodes.data();
+                n_cell_nodes   = cell_nodes.size();
               }
-            if (with_full_mass)
-              local_full_mass.assign(cell_nodes.size() * cell_nodes.size(), 0.);
           }
-        const unsigned int n_cell_nodes = cell_nodes.size();
-        for (unsigned int k = points.cell_point_begin[c];
-             k < points.cell_point_begin[c + 1];
-             ++k)
-          {
-            const double       M     = mass_column[k];
-            const unsigned int begin = supports.support_begin[k];
-            const unsigned int end   = supports.support_begin[k + 1];
-            double             MV[dim];
-            for (unsigned int d = 0; d < dim; ++d)
-              MV[d] = M * velocity_column[d][k];
-            // m = SᵀM (Eq. 1.6), p = SᵀMV; with contact also m^α, p^α0 of
-            // the point's material (Eq. 5).
-            auto scatter_mass_momentum = [&](double *const        m_target,
-                                             double *const *const p_target) {
-              for (unsigned int j = begin; j < end; ++j)
-                {
-                  const unsigned int i = node[j];
-                  m_target[i] += M * S[j];
-                  for (unsigned int d = 0; d < dim; ++d)
-                    p_target[d][i] += MV[d] * S[j];
-                }
-            };
-            if (masses)
-              scatter_mass_momentum(m, p);
-            else
-              for (unsigned int j = begin; j < end; ++j)
-                for (unsigned int d = 0; d < dim; ++d)
-                  p[d][node[j]] += MV[d] * S[j];
-            if (with_forces)
-              {
-                // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
-                // τ/ρ₀ M = σ V; F_p the traction force)
-                const Tensor<1, dim> b = uniform_body_force ?
-                                           gravity :
-                                           external_acceleration(k, gravity);
-                double               sigma[dim][dim];
-                stress_block<dim>(stress_column, k, sigma);
-                const double   V = volume_column[k];
-                double *const *f_a =
-                  contact ? &f_alpha[supports.material[k] * dim] : nullptr;
-                for (unsigned int j = begin; j < end; ++j)
-                  for (unsigned int a = 0; a < dim; ++a)
-                    {
-                      const double f_ja =
-                        nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
-                      f[a][node[j]] += f_ja;
-                      if (contact) // f^α0 (Eq. 29)
-                        f_a[a][node[j]] += f_ja;
-                    }
-              }
-            if (contact)
-              {
-                // Eqs. 5 and 11 for the point's material α.
-                const unsigned int alpha = supports.material[k];
-                const double       V     = volume_column[k];
-                if (masses)
-                  scatter_mass_momentum(m_alpha[alpha], &p_alpha[alpha * dim]);
+        if (with_full_mass)
+          local_full_mass.assign(n_cell_nodes * n_cell_nodes, 0.);
+        for (unsigned int k = first_point; k < end_point; ++k)
+          support_of.visit(
+            k,
+            cell_data,
+            with_gradients,
+            [&](const unsigned int *const   node,
+                const double *const         S,
+                const Tensor<1, dim> *const G,
+                const auto                  n_entries) DEAL_II_ALWAYS_INLINE {
+              constexpr bool computed =
+                !std::is_same_v<std::decay_t<decltype(n_entries)>,
+                                unsigned int>;
+              const unsigned int *const entry_slot =
+                computed ?
+                  nullptr :
+                  slot.data() + (supports.support_begin[k] - first_entry);
+              auto place_of = [&](const unsigned int j) {
+                if constexpr (computed)
+                  return j;
                 else
-                  for (unsigned int j = begin; j < end; ++j)
-                    for (unsigned int d = 0; d < dim; ++d)
-                      p_alpha[alpha * dim + d][node[j]] += MV[d] * S[j];
-                if (contact_needs_gradients)
-                  for (unsigned int j = begin; j < end; ++j)
-                    for (unsigned int d = 0; d < dim; ++d)
-                      g_alpha[alpha * dim + d][node[j]] += V * G[j][d];
-                if (contact_needs_positions)
+                  return entry_slot[j];
+              };
+              const double M = mass_column[k];
+              double       MV[dim];
+              for (unsigned int d = 0; d < dim; ++d)
+                MV[d] = M * velocity_column[d][k];
+              // m = SᵀM (Eq. 1.6), p = SᵀMV; with contact also m^α, p^α0
+              // of the point's material (Eq. 5).
+              auto scatter_mass_momentum = [&](double *const        m_target,
+                                               double *const *const p_target) {
+                for (unsigned int j = 0; j < n_entries; ++j)
                   {
-                    const Point<dim> &X = points.position[k];
-                    for (unsigned int j = begin; j < end; ++j)
-                      for (unsigned int d = 0; d < dim; ++d)
-                        x_alpha[alpha * dim + d][node[j]] += M * S[j] * X[d];
-                  }
-                if (contact_needs_interface)
-                  {
-                    // u_p = x_p − X_p (the initial position).
-                    const Point<dim> &X = points.position[k];
+                    const unsigned int i = node[j];
+                    m_target[i] += M * S[j];
                     for (unsigned int d = 0; d < dim; ++d)
-                      {
-                        const double u_d =
-                          X[d] - points.column(Index::initial_position + d)[k];
-                        for (unsigned int j = begin; j < end; ++j)
-                          u_alpha[alpha * dim + d][node[j]] += M * S[j] * u_d;
-                      }
-                    for (unsigned int j = begin; j < end; ++j)
-                      volume_alpha[alpha][node[j]] += S[j] * V;
+                      p_target[d][i] += MV[d] * S[j];
                   }
-              }
-            if (with_full_mass) // m̃ = SᵀMS (1.9)
-              for (unsigned int i = begin; i < end; ++i)
+              };
+              if (masses)
+                scatter_mass_momentum(m, p);
+              else
+                for (unsigned int j = 0; j < n_entries; ++j)
+                  for (unsigned int d = 0; d < dim; ++d)
+                    p[d][node[j]] += MV[d] * S[j];
+              if (with_forces)
                 {
-                  const double MS_i = M * S[i];
-                  double      *row =
-                    &local_full_mass[slot[i - first_entry] * n_cell_nodes];
-                  for (unsigned int j = begin; j < end; ++j)
-                    row[slot[j - first_entry]] += MS_i * S[j];
+                  // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
+                  // τ/ρ₀ M = σ V; F_p the traction force)
+                  const Tensor<1, dim> b = uniform_body_force ?
+                                             gravity :
+                                             external_acceleration(k, gravity);
+                  double               sigma[dim][dim];
+                  stress_block<dim>(stress_column, k, sigma);
+                  const double   V = volume_column[k];
+                  double *const *f_a =
+                    contact ? &f_alpha[supports.material[k] * dim] : nullptr;
+                  for (unsigned int j = 0; j < n_entries; ++j)
+                    for (unsigned int a = 0; a < dim; ++a)
+                      {
+                        const double f_ja =
+                          nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
+                        f[a][node[j]] += f_ja;
+                        if (contact) // f^α0 (Eq. 29)
+                          f_a[a][node[j]] += f_ja;
+                      }
                 }
-            if (material_full_mass) // m̃^α of the point's material
-              {
-                const unsigned int   alpha = supports.material[k];
-                std::vector<double> &local = local_material_mass[alpha];
-                if (!material_in_cell[alpha])
-                  {
-                    local.assign(n_cell_nodes * n_cell_nodes, 0.);
-                    material_in_cell[alpha] = 1;
-                  }
-                for (unsigned int i = begin; i < end; ++i)
+              if (contact)
+                {
+                  // Eqs. 5 and 11 for the point's material α.
+                  const unsigned int alpha = supports.material[k];
+                  const double       V     = volume_column[k];
+                  if (masses)
+                    scatter_mass_momentum(m_alpha[alpha],
+                                          &p_alpha[alpha * dim]);
+                  else
+                    for (unsigned int j = 0; j < n_entries; ++j)
+                      for (unsigned int d = 0; d < dim; ++d)
+                        p_alpha[alpha * dim + d][node[j]] += MV[d] * S[j];
+                  if (contact_needs_gradients)
+                    for (unsigned int j = 0; j < n_entries; ++j)
+                      for (unsigned int d = 0; d < dim; ++d)
+                        g_alpha[alpha * dim + d][node[j]] += V * G[j][d];
+                  if (contact_needs_positions)
+                    {
+                      const Point<dim> &X = points.position[k];
+                      for (unsigned int j = 0; j < n_entries; ++j)
+                        for (unsigned int d = 0; d < dim; ++d)
+                          x_alpha[alpha * dim + d][node[j]] += M * S[j] * X[d];
+                    }
+                  if (contact_needs_interface)
+                    {
+                      // u_p = x_p − X_p (the initial position).
+                      const Point<dim> &X = points.position[k];
+                      for (unsigned int d = 0; d < dim; ++d)
+                        {
+                          const double u_d =
+                            X[d] -
+                            points.column(Index::initial_position + d)[k];
+                          for (unsigned int j = 0; j < n_entries; ++j)
+                            u_alpha[alpha * dim + d][node[j]] += M * S[j] * u_d;
+                        }
+                      for (unsigned int j = 0; j < n_entries; ++j)
+                        volume_alpha[alpha][node[j]] += S[j] * V;
+                    }
+                }
+              if (with_full_mass) // m̃ = SᵀMS (1.9)
+                for (unsigned int i = 0; i < n_entries; ++i)
                   {
                     const double MS_i = M * S[i];
-                    double *row = &local[slot[i - first_entry] * n_cell_nodes];
-                    for (unsigned int j = begin; j < end; ++j)
-                      row[slot[j - first_entry]] += MS_i * S[j];
+                    double *row = &local_full_mass[place_of(i) * n_cell_nodes];
+                    for (unsigned int j = 0; j < n_entries; ++j)
+                      row[place_of(j)] += MS_i * S[j];
                   }
-              }
-          }
+              if (material_full_mass) // m̃^α of the point's material
+                {
+                  const unsigned int   alpha = supports.material[k];
+                  std::vector<double> &local = local_material_mass[alpha];
+                  if (!material_in_cell[alpha])
+                    {
+                      local.assign(n_cell_nodes * n_cell_nodes, 0.);
+                      material_in_cell[alpha] = 1;
+                    }
+                  for (unsigned int i = 0; i < n_entries; ++i)
+                    {
+                      const double MS_i = M * S[i];
+                      double      *row  = &local[place_of(i) * n_cell_nodes];
+                      for (unsigned int j = 0; j < n_entries; ++j)
+                        row[place_of(j)] += MS_i * S[j];
+                    }
+                }
+            });
         if (material_full_mass)
           for (unsigned int a = 0; a < n_materials; ++a)
             if (material_in_cell[a])
               {
                 (*material_full_mass_matrices)[a].add_cell(
-                  n_cell_nodes,
-                  cell_nodes.data(),
-                  local_material_mass[a].data());
+                  n_cell_nodes, cell_node_list, local_material_mass[a].data());
                 material_in_cell[a] = 0;
               }
-        add_cell_full_mass(n_cell_nodes, cell_nodes.data());
+        add_cell_full_mass(n_cell_nodes, cell_node_list);
       }
 
     if (masses)
