@@ -394,8 +394,6 @@ namespace fmpm
     }
     void
     particles_to_grid(const bool with_forces, const bool momenta_only = false);
-    void
-    compute_forces();
     /** The store columns the force of a point reads: M, V and σ. */
     struct ForceColumns
     {
@@ -449,9 +447,9 @@ namespace fmpm
     void
     allocate_grid_field(const ParticleUpdate::GridField field);
     /** Update the stresses with the velocity field @p grid_velocity over
-     * @p dt; with @p with_forces also f (as compute_forces()) from the new
-     * stresses in the same sweep where the point order allows (one
-     * material), else by compute_forces(). */
+     * @p dt; with @p with_forces also f (Eq. 2.11; with contact f^α0, seed
+     * 004 Eq. 29) from the new stresses in the same sweep, summed in the
+     * store's point order. */
     void
     update_stresses(const ParticleUpdate::GridField grid_velocity,
                     const double                    dt,

@@ -58,51 +58,69 @@ namespace fmpm
 
       std::vector<CloudPoint<dim>>                         owned_points;
       std::map<unsigned int, std::vector<CloudPoint<dim>>> sent;
-      const SupportReader<dim>                             support_of(supports,
-                                          this->get_grid_transfer(),
+      const GridTransfer<dim> &transfer = this->get_grid_transfer();
+      const SupportReader<dim> support_of(supports,
+                                          transfer,
                                           points.cell.data());
-      for (unsigned int k = 0; k < supports.n_points(); ++k)
-        support_of.visit(
-          k,
-          false,
-          [&](const unsigned int *const node,
-              const double *const       S,
-              const Tensor<1, dim> *,
-              const auto n_entries) {
-            bool            filled = false;
-            CloudPoint<dim> point{};
-            for (unsigned int j = 0; j < n_entries; ++j)
-              {
-                const unsigned int i = node[j];
-                if (!shared[i] || !(S[j] > 0))
-                  continue;
-                if (!filled)
+      for (unsigned int c = 0; c < points.n_cells(); ++c)
+        {
+          // Computed supports are the cell's nodes: a cell without a
+          // shared node has no point in a cloud.
+          if (supports.implicit_classic)
+            {
+              bool any_shared = false;
+              for (const unsigned int i :
+                   transfer.cell_data(points.cell_index[c]).local_index)
+                any_shared = any_shared || shared[i];
+              if (!any_shared)
+                continue;
+            }
+          for (unsigned int k = points.cell_point_begin[c];
+               k < points.cell_point_begin[c + 1];
+               ++k)
+            support_of.visit(
+              k,
+              false,
+              [&](const unsigned int *const node,
+                  const double *const       S,
+                  const Tensor<1, dim> *,
+                  const auto n_entries) {
+                bool            filled = false;
+                CloudPoint<dim> point{};
+                for (unsigned int j = 0; j < n_entries; ++j)
                   {
-                    const PointRecord P = points.record(k);
-                    const Point<dim> &X = points.position[k];
-                    Tensor<2, dim>    F;
-                    for (unsigned int a = 0; a < dim; ++a)
-                      for (unsigned int b = 0; b < dim; ++b)
-                        F[a][b] = P[Index::deformation_gradient + 3 * a + b];
-                    const Tensor<2, dim> F_inverse = invert(F);
-                    point.material                 = supports.material[k];
-                    for (unsigned int a = 0; a < dim; ++a)
+                    const unsigned int i = node[j];
+                    if (!shared[i] || !(S[j] > 0))
+                      continue;
+                    if (!filled)
                       {
-                        point.position[a] = X[a];
-                        point.initial_radii[a] =
-                          P[Index::initial_half_length + a];
-                        for (unsigned int b = 0; b < dim; ++b)
-                          point.F_inverse[a * dim + b] = F_inverse[a][b];
+                        const PointRecord P = points.record(k);
+                        const Point<dim> &X = points.position[k];
+                        Tensor<2, dim>    F;
+                        for (unsigned int a = 0; a < dim; ++a)
+                          for (unsigned int b = 0; b < dim; ++b)
+                            F[a][b] =
+                              P[Index::deformation_gradient + 3 * a + b];
+                        const Tensor<2, dim> F_inverse = invert(F);
+                        point.material                 = supports.material[k];
+                        for (unsigned int a = 0; a < dim; ++a)
+                          {
+                            point.position[a] = X[a];
+                            point.initial_radii[a] =
+                              P[Index::initial_half_length + a];
+                            for (unsigned int b = 0; b < dim; ++b)
+                              point.F_inverse[a * dim + b] = F_inverse[a][b];
+                          }
+                        filled = true;
                       }
-                    filled = true;
+                    point.node = partitioner.local_to_global(i);
+                    if (i < n_owned)
+                      owned_points.push_back(point);
+                    else
+                      sent[ghost_owner[i - n_owned]].push_back(point);
                   }
-                point.node = partitioner.local_to_global(i);
-                if (i < n_owned)
-                  owned_points.push_back(point);
-                else
-                  sent[ghost_owner[i - n_owned]].push_back(point);
-              }
-          });
+              });
+        }
       // Each rank sends to the owners of its ghost nodes and receives from
       // the ranks that have its nodes as ghosts (the partitioner's import
       // targets): one message each way, possibly empty, no collective.

@@ -1012,61 +1012,6 @@ namespace fmpm
 
 
   template <int dim>
-  void
-  Simulator<dim>::compute_forces()
-  {
-    TimerOutput::Scope timer(computing_timer, "particles to grid");
-    using Index                       = PropertyIndex<dim>;
-    force                             = 0;
-    const bool     uniform_body_force = !has_point_body_force();
-    Tensor<1, dim> gravity;
-    for (unsigned int d = 0; d < dim; ++d)
-      gravity[d] = parameters.gravity[d];
-    double *f[dim];
-    for (unsigned int d = 0; d < dim; ++d)
-      f[d] = force.block(d).begin();
-    const bool                                contact = contact_active();
-    std::vector<Contact::MaterialField<dim>>  no_material_fields;
-    std::vector<Contact::MaterialField<dim>> &material_fields =
-      contact ? this->contact->material_fields() : no_material_fields;
-    std::vector<double *> f_alpha(material_fields.size() * dim);
-    for (unsigned int a = 0; a < material_fields.size(); ++a)
-      {
-        material_fields[a].force = 0;
-        for (unsigned int d = 0; d < dim; ++d)
-          f_alpha[a * dim + d] = material_fields[a].force.block(d).begin();
-      }
-
-    const ForceColumns columns(points);
-    SupportReader<dim> support_of(supports, transfer, points.cell.data());
-    for (unsigned int k = 0; k < supports.n_points(); ++k)
-      support_of.visit(k,
-                       true,
-                       [&](const unsigned int *const   node,
-                           const double *const         S,
-                           const Tensor<1, dim> *const G,
-                           const auto                  n_entries) {
-                         scatter_point_force(
-                           k,
-                           node,
-                           S,
-                           G,
-                           n_entries,
-                           columns,
-                           gravity,
-                           uniform_body_force,
-                           f,
-                           contact ? &f_alpha[supports.material[k] * dim] :
-                                     nullptr);
-                       });
-    force.compress(VectorOperation::add);
-    for (auto &field : material_fields)
-      field.force.compress(VectorOperation::add);
-  }
-
-
-
-  template <int dim>
   Simulator<dim>::ForceColumns::ForceColumns(const MaterialPoints<dim> &points)
     : mass(points.column(PropertyIndex<dim>::mass))
     , volume(points.column(PropertyIndex<dim>::volume))
@@ -1319,21 +1264,22 @@ namespace fmpm
     };
     view_velocities(grid_fields[field]);
     SupportReader<dim> support_of(supports, transfer, points.cell.data());
-    // Computed supports: S and G of the batch's points.
+    // Computed supports: S and G of the batch's points (by place in the
+    // batch).
     constexpr unsigned int              n_nodes = GridTransfer<dim>::n_nodes;
     std::array<double, n_nodes>         batch_S[stress_batch_size];
     std::array<Tensor<1, dim>, n_nodes> batch_G[stress_batch_size];
     const unsigned int                 *batch_node[stress_batch_size];
 
-    // USF/USAVG: f from the new stresses in this sweep when the points are
-    // visited in cache order (one material: the sums are those of
-    // compute_forces()); else compute_forces() after it.
-    const bool forces_here = with_forces && n_materials == 1 && !contact;
-    const ForceColumns force_columns(points);
-    double            *f[dim];
-    Tensor<1, dim>     gravity;
-    const bool         uniform_body_force = !has_point_body_force();
-    if (forces_here)
+    // USF/USAVG: f (and with contact f^α0, Eq. 29) from the new stresses
+    // in this sweep, each batch's points in the store's order once their
+    // stresses are updated.
+    const ForceColumns    force_columns(points);
+    double               *f[dim];
+    std::vector<double *> f_alpha;
+    Tensor<1, dim>        gravity;
+    const bool            uniform_body_force = !has_point_body_force();
+    if (with_forces)
       {
         force = 0;
         for (unsigned int d = 0; d < dim; ++d)
@@ -1341,6 +1287,13 @@ namespace fmpm
             f[d]       = force.block(d).begin();
             gravity[d] = parameters.gravity[d];
           }
+        if (contact)
+          for (auto &material_field : this->contact->material_fields())
+            {
+              material_field.force = 0;
+              for (unsigned int d = 0; d < dim; ++d)
+                f_alpha.push_back(material_field.force.block(d).begin());
+            }
       }
 
     // Cell sizes (Eq. 52's Δx) only for models that read them, by active
@@ -1412,12 +1365,13 @@ namespace fmpm
                 if (supports.implicit_classic)
                   {
                     // Computed once for L and the forces.
-                    const auto &cell = transfer.cell_data(points.cell[k]);
-                    support_of.compute(k, cell, true, batch_S[q], batch_G[q]);
-                    batch_node[q] = cell.local_index.data();
+                    const unsigned int b = k - batch_begin;
+                    const auto &cell     = transfer.cell_data(points.cell[k]);
+                    support_of.compute(k, cell, true, batch_S[b], batch_G[b]);
+                    batch_node[b] = cell.local_index.data();
                     velocity_gradient<dim>(
-                      batch_node[q],
-                      batch_G[q].data(),
+                      batch_node[b],
+                      batch_G[b].data(),
                       0,
                       std::integral_constant<unsigned int, n_nodes>(),
                       v_a,
@@ -1537,38 +1491,6 @@ namespace fmpm
                           << ") is not finite (NaN or Inf)";
                   local_failure = message.str();
                 }
-            if (forces_here && supports.implicit_classic)
-              for (unsigned int q = 0; q < n_group; ++q)
-                scatter_point_force(
-                  group_points[q],
-                  batch_node[q],
-                  batch_S[q].data(),
-                  batch_G[q].data(),
-                  std::integral_constant<unsigned int, n_nodes>(),
-                  force_columns,
-                  gravity,
-                  uniform_body_force,
-                  f,
-                  nullptr);
-            else if (forces_here)
-              for (unsigned int q = 0; q < n_group; ++q)
-                support_of.visit(group_points[q],
-                                 true,
-                                 [&](const unsigned int *const   node,
-                                     const double *const         S,
-                                     const Tensor<1, dim> *const G,
-                                     const auto                  n_entries) {
-                                   scatter_point_force(group_points[q],
-                                                       node,
-                                                       S,
-                                                       G,
-                                                       n_entries,
-                                                       force_columns,
-                                                       gravity,
-                                                       uniform_body_force,
-                                                       f,
-                                                       nullptr);
-                                 });
             if (constitutive_models[m]->computes_wave_speed())
               for (unsigned int q = 0; q < n_group; ++q)
                 wave_speed = std::max(wave_speed, outputs.wave_speed[q]);
@@ -1579,14 +1501,53 @@ namespace fmpm
                            parameters.materials[m].density,
                            ArrayView<const double>(J_of_group, n_group)));
           }
+        if (with_forces)
+          for (unsigned int k = batch_begin; k < batch_end; ++k)
+            {
+              double *const *f_a =
+                contact ? &f_alpha[supports.material[k] * dim] : nullptr;
+              if (supports.implicit_classic)
+                {
+                  const unsigned int b = k - batch_begin;
+                  scatter_point_force(
+                    k,
+                    batch_node[b],
+                    batch_S[b].data(),
+                    batch_G[b].data(),
+                    std::integral_constant<unsigned int, n_nodes>(),
+                    force_columns,
+                    gravity,
+                    uniform_body_force,
+                    f,
+                    f_a);
+                }
+              else
+                support_of.visit(k,
+                                 true,
+                                 [&](const unsigned int *const   node,
+                                     const double *const         S,
+                                     const Tensor<1, dim> *const G,
+                                     const auto                  n_entries) {
+                                   scatter_point_force(k,
+                                                       node,
+                                                       S,
+                                                       G,
+                                                       n_entries,
+                                                       force_columns,
+                                                       gravity,
+                                                       uniform_body_force,
+                                                       f,
+                                                       f_a);
+                                 });
+            }
       }
     local_max_wave_speed = wave_speed;
-    if (forces_here)
-      force.compress(VectorOperation::add);
-    else if (with_forces)
+    if (with_forces)
       {
-        timer.stop(); // compute_forces() times itself
-        compute_forces();
+        force.compress(VectorOperation::add);
+        if (contact)
+          for (auto &material_field : this->contact->material_fields())
+            material_field.force.compress(VectorOperation::add);
       }
   }
 
