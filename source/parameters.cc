@@ -397,10 +397,11 @@ namespace fmpm
       prm.declare_entry("Point weight",
                         format_number(defaults.point_weight),
                         Patterns::Integer(0, 100000),
-                        "Load balancing across MPI ranks when the mesh is "
-                        "adapted: a cell weighs 1 plus this number per "
-                        "material point it holds. 0 balances cells. Units: "
-                        "none.");
+                        "Load balancing across MPI ranks, before the first "
+                        "step, whenever the mesh is adapted and when a "
+                        "checkpoint is resumed on another number of ranks: "
+                        "a cell weighs 1 plus this number per material "
+                        "point it holds. 0 balances cells. Units: none.");
     }
     prm.leave_subsection();
   }

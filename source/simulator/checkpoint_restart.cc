@@ -466,16 +466,21 @@ namespace fmpm
       field_transfer.deserialize(fields);
     }
     // On the same number of ranks, restore the saved partition (see
-    // write_checkpoint()): the points and the grid fields move along.
-    if (saved_n_ranks == Utilities::MPI::n_mpi_processes(mpi_communicator) &&
-        saved_n_ranks > 1)
+    // write_checkpoint()); on another, balance the points (Point weight).
+    // The points and the grid fields move along.
+    const unsigned int n_ranks =
+      Utilities::MPI::n_mpi_processes(mpi_communicator);
+    const bool same_ranks = saved_n_ranks == n_ranks;
+    if ((same_ranks || parameters.refinement.point_weight > 0) && n_ranks > 1)
       {
         auto restore = triangulation.signals.weight.connect(
-          [&partition_weights](const typename parallel::distributed::
-                                 Triangulation<dim>::cell_iterator &cell,
-                               const typename Triangulation<dim>::CellStatus) {
-            return static_cast<unsigned int>(
-              partition_weights[cell->active_cell_index()]);
+          [&](const typename parallel::distributed::Triangulation<
+                dim>::cell_iterator                        &cell,
+              const typename Triangulation<dim>::CellStatus status) {
+            return same_ranks ?
+                     static_cast<unsigned int>(
+                       partition_weights[cell->active_cell_index()]) :
+                     cell_weight(cell, status);
           });
         std::vector<GridScalar>         ghosted(loaded);
         std::vector<const GridScalar *> fields;
@@ -519,8 +524,7 @@ namespace fmpm
     points_from_handler();
     // The node conditions at the restored wall positions and time.
     setup_boundary_conditions();
-    if (parameters.refinement.adaptive())
-      connect_cell_weights();
+    connect_cell_weights();
 
     // The PVD records end at the checkpoint (outputs written after it by
     // the run that stopped are written again).

@@ -91,24 +91,21 @@ namespace fmpm
     setup_boundary_conditions();
     initialize_stress_from_gravity();
     compute_mass_floor();
-    if (parameters.refinement.adaptive())
+    if (parameters.refinement.adaptive() &&
+        parameters.refinement.initial_refinement)
+      adapt_initial_mesh();
+    // Load balancing by material points (deal.II step-68): from the first
+    // step on, and whenever the mesh is adapted.
+    connect_cell_weights();
+    if (parameters.refinement.point_weight > 0 &&
+        Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
       {
-        if (parameters.refinement.initial_refinement)
-          adapt_initial_mesh();
-        // Load balancing by material points (deal.II step-68) whenever the
-        // mesh is adapted; a scene without adaptation connects nothing.
-        connect_cell_weights();
-        // Balance the points of the adapted mesh from the first step on.
-        if (parameters.refinement.point_weight > 0 &&
-            Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
-          {
-            points_to_handler();
-            particle_handler.prepare_for_coarsening_and_refinement();
-            triangulation.repartition();
-            particle_handler.unpack_after_coarsening_and_refinement();
-            setup_after_mesh_change();
-            points_from_handler();
-          }
+        points_to_handler();
+        particle_handler.prepare_for_coarsening_and_refinement();
+        triangulation.repartition();
+        particle_handler.unpack_after_coarsening_and_refinement();
+        setup_after_mesh_change();
+        points_from_handler();
       }
 
     max_signal_speed = compute_max_signal_speed();
