@@ -42,8 +42,12 @@ namespace fmpm
 
       // Nodes (owned and ghost) that see 2+ materials: the ghost masses are
       // current after the extrapolation.
+      if (!multimaterial_nodes_valid)
+        find_multimaterial_nodes();
       std::vector<char> shared(n_local, 0);
-      for (unsigned int i = 0; i < n_local; ++i)
+      for (const unsigned int i : multimaterial_nodes)
+        shared[i] = 1;
+      for (unsigned int i = n_owned; i < n_local; ++i)
         {
           unsigned int count = 0;
           for (unsigned int a = 0; a < n_materials; ++a)
@@ -153,31 +157,58 @@ namespace fmpm
 
 
     template <int dim>
+    void
+    Manager<dim>::find_multimaterial_nodes()
+    {
+      const unsigned int n_owned = this->get_lumped_mass().locally_owned_size();
+      const unsigned int n_materials = fields.size();
+      const double       floor       = this->get_mass_floor();
+      std::vector<const double *> m(n_materials);
+      for (unsigned int a = 0; a < n_materials; ++a)
+        m[a] = fields[a].mass.begin();
+      multimaterial_nodes.clear();
+      multimaterial_begin.assign(1, 0);
+      multimaterial_materials.clear();
+      for (unsigned int i = 0; i < n_owned; ++i)
+        {
+          unsigned int count = 0;
+          for (unsigned int a = 0; a < n_materials; ++a)
+            count += m[a][i] > floor;
+          if (count < 2)
+            continue;
+          multimaterial_nodes.push_back(i);
+          for (unsigned int a = 0; a < n_materials; ++a)
+            if (m[a][i] > floor)
+              multimaterial_materials.push_back(a);
+          multimaterial_begin.push_back(multimaterial_materials.size());
+        }
+      multimaterial_nodes_valid = true;
+    }
+
+
+
+    template <int dim>
     template <class Visit, class NodeDone>
     void
     Manager<dim>::for_each_pair(Visit &&visit, NodeDone &&node_done)
     {
-      const ::fmpm::Parameters &parameters  = this->get_parameters();
-      const GridScalar         &lumped_mass = this->get_lumped_mass();
-      const double              mass_floor  = this->get_mass_floor();
-      using ThreeOrMore                     = Contact::Parameters::ThreeOrMore;
-      const unsigned int n_materials        = fields.size();
-      const unsigned int n_owned            = lumped_mass.locally_owned_size();
-      const double       floor              = mass_floor;
-      const ThreeOrMore  three_or_more      = parameters.contact.three_or_more;
-      std::vector<const double *> m(n_materials);
-      for (unsigned int a = 0; a < n_materials; ++a)
+      const ::fmpm::Parameters &parameters = this->get_parameters();
+      using ThreeOrMore                    = Contact::Parameters::ThreeOrMore;
+      const ThreeOrMore three_or_more      = parameters.contact.three_or_more;
+      if (!multimaterial_nodes_valid)
+        find_multimaterial_nodes();
+      std::vector<const double *> m(fields.size());
+      for (unsigned int a = 0; a < fields.size(); ++a)
         m[a] = fields[a].mass.begin();
       std::vector<unsigned int> present, alpha(1), beta;
       unsigned int              slot = 0;
-      for (unsigned int i = 0; i < n_owned; ++i)
+      for (unsigned int n = 0; n < multimaterial_nodes.size(); ++n)
         {
-          present.clear();
-          for (unsigned int a = 0; a < n_materials; ++a)
-            if (m[a][i] > floor)
-              present.push_back(a);
-          if (present.size() < 2)
-            continue;
+          const unsigned int i = multimaterial_nodes[n];
+          present.assign(multimaterial_materials.begin() +
+                           multimaterial_begin[n],
+                         multimaterial_materials.begin() +
+                           multimaterial_begin[n + 1]);
           const bool three_plus = present.size() > 2;
           const bool explicit_node =
             three_plus && three_or_more == ThreeOrMore::explicit_pairs;
@@ -313,6 +344,8 @@ namespace fmpm
       const double              time_step  = this->get_timestep();
       if (!geometry_valid)
         compute_geometry();
+      if (!multimaterial_nodes_valid)
+        find_multimaterial_nodes();
       TimerOutput::Scope         timer(this->get_computing_timer(), "contact");
       const Contact::Parameters &contact     = parameters.contact;
       const unsigned int         n_materials = fields.size();
@@ -334,10 +367,16 @@ namespace fmpm
               p[a * dim + d]  = momenta.block(d).begin();
               dv[a * dim + d] = field.delta_velocity.block(d).begin();
             }
-          // Δv^α of the correction of the extrapolated momenta (the first,
-          // or the third before USL+/USAVG+ stresses).
-          if (stage == Stage::extrapolated || stage == Stage::re_extrapolated)
-            field.delta_velocity = 0;
+        }
+      // Δv^α of the correction of the extrapolated momenta (the first, or
+      // the third before USL+/USAVG+ stresses): zero but where a correction
+      // may have set it.
+      if (stage == Stage::extrapolated || stage == Stage::re_extrapolated)
+        {
+          for (const unsigned int i : delta_velocity_nodes)
+            for (unsigned int a = 0; a < n_materials * dim; ++a)
+              dv[a][i] = 0;
+          delta_velocity_nodes = multimaterial_nodes;
         }
 
       const bool measures_gap = needs.measures_gap;
@@ -440,11 +479,17 @@ namespace fmpm
       // in contact at a node after the momentum update, else zero.
       if (stage == Stage::updated)
         {
-          contact_normal     = 0;
-          contact_separation = 0;
+          for (const unsigned int i : recorded_nodes)
+            {
+              for (unsigned int d = 0; d < dim; ++d)
+                contact_normal.block(d).local_element(i) = 0;
+              contact_separation.local_element(i) = 0;
+            }
+          recorded_nodes.clear();
         }
       auto record = [&](const unsigned int            i,
                         const Contact::NodePair<dim> &node) {
+        recorded_nodes.push_back(i);
         for (unsigned int d = 0; d < dim; ++d)
           contact_normal.block(d).local_element(i) = node.normal[d];
         contact_separation.local_element(i) = node.separation;

@@ -91,6 +91,9 @@ namespace fmpm
       const MassMatrix::Interface<dim> &mass_matrix = this->get_mass_matrix();
       const DoFHandler<dim>            &dof_handler = this->get_dof_handler();
       geometry_valid                                = false;
+      multimaterial_nodes_valid                     = false;
+      delta_velocity_nodes.clear();
+      recorded_nodes.clear();
 
       const auto partitioner = this->get_lumped_mass().get_partitioner();
       auto       reinit      = [&](GridVectorField &field) {
@@ -209,8 +212,10 @@ namespace fmpm
       for (unsigned int a = 0; a < fields.size(); ++a)
         {
           MaterialField<dim> &field = fields[a];
-          field.updated_momentum    = field.momentum;
-          field.updated_momentum.add(dt, field.force);
+          set_scaled_sum(field.updated_momentum,
+                         field.momentum,
+                         dt,
+                         field.force);
           impose_material_conditions(a, field.updated_momentum, t_end);
         }
     }

@@ -89,9 +89,11 @@ namespace fmpm
                   // (f^α is not read after the momentum update: its storage
                   // holds the difference.)
                   GridVectorField &difference = material.force;
-                  difference                  = material.updated_momentum;
-                  difference.add(-1., material.momentum);
-                  difference *= 1. / time_step;
+                  set_scaled_sum(difference,
+                                 material.updated_momentum,
+                                 -1.,
+                                 material.momentum,
+                                 1. / time_step);
                   MassMatrix::apply_lumped_inverse(material.mass,
                                                    difference,
                                                    target,

@@ -137,12 +137,9 @@ namespace fmpm
     const double t_end = control.time() + dt;
     {
       TimerOutput::Scope timer(computing_timer, "grid solve");
-      updated_momentum = momentum;
-      updated_momentum.add(dt, force);
+      set_scaled_sum(updated_momentum, momentum, dt, force);
       impose_velocity_conditions(updated_momentum, t_end, &step_impulse);
-      force = updated_momentum;
-      force.add(-1., momentum);
-      force *= 1. / dt;
+      set_scaled_sum(force, updated_momentum, -1., momentum, 1. / dt);
       if (contact)
         contact->update_momenta(dt, t_end);
     }

@@ -628,7 +628,7 @@ namespace fmpm
     // Per-material fields (contact): m^α, p^α0, f^α0, g^α, Σ S M X.
     const bool contact = contact_active();
     if (contact)
-      this->contact->invalidate_geometry();
+      this->contact->invalidate_geometry(masses);
     std::vector<Contact::MaterialField<dim>>  no_material_fields;
     std::vector<Contact::MaterialField<dim>> &material_fields =
       contact ? this->contact->material_fields() : no_material_fields;

@@ -129,11 +129,14 @@ namespace fmpm
       }
 
       /** The points moved or were extrapolated again: the geometry is found
-       * anew at the next correction. */
+       * anew at the next correction; with @p masses_changed also the nodes
+       * with 2+ materials. */
       void
-      invalidate_geometry()
+      invalidate_geometry(const bool masses_changed)
       {
         geometry_valid = false;
+        if (masses_changed)
+          multimaterial_nodes_valid = false;
       }
 
       /** Velocity conditions on every material's extrapolated momenta p^α
@@ -219,6 +222,10 @@ namespace fmpm
         const std::vector<unsigned int> &beta;
         unsigned int                     partner;
       };
+      /** The owned nodes with 2+ materials and their materials, from the
+       * masses m^α of the last extrapolation. */
+      void
+      find_multimaterial_nodes();
       /** Calls visit(Slot) for every pair the corrections may handle at
        * owned node i, in the order of the geometry slots (pairs in turn;
        * with 3+ materials lumped, material x of the node against the
@@ -254,10 +261,19 @@ namespace fmpm
       solve_material_full_mass(const ParticleUpdate::GridField field);
 
       std::vector<MaterialField<dim>> fields;
-      bool                            material_full_mass_needed = false;
-      std::vector<CellwiseMatrix>     full_mass;
-      NormalNeeds                     needs;
-      bool                            needs_interface = false;
+      /** The owned nodes with 2+ materials (the only ones the corrections
+       * and normals visit); node multimaterial_nodes[n] has the materials
+       * multimaterial_materials[multimaterial_begin[n], [n + 1]). */
+      std::vector<unsigned int> multimaterial_nodes, multimaterial_begin,
+        multimaterial_materials;
+      bool multimaterial_nodes_valid = false;
+      /** The nodes where Δv^α, and the output's normal and separation, may
+       * be nonzero (zeroed there, not over the grid, before new values). */
+      std::vector<unsigned int>   delta_velocity_nodes, recorded_nodes;
+      bool                        material_full_mass_needed = false;
+      std::vector<CellwiseMatrix> full_mass;
+      NormalNeeds                 needs;
+      bool                        needs_interface = false;
       std::unique_ptr<NormalMethodInterface<dim>> normal_method;
       /** The law of materials a < b at [a * n_materials + b]. */
       std::vector<std::unique_ptr<LawInterface<dim>>> laws;
