@@ -169,11 +169,18 @@ namespace fmpm
       multimaterial_nodes.clear();
       multimaterial_begin.assign(1, 0);
       multimaterial_materials.clear();
+      material_nodes.resize(n_materials);
+      for (auto &nodes : material_nodes)
+        nodes.clear();
       for (unsigned int i = 0; i < n_owned; ++i)
         {
           unsigned int count = 0;
           for (unsigned int a = 0; a < n_materials; ++a)
-            count += m[a][i] > floor;
+            if (m[a][i] > floor)
+              {
+                material_nodes[a].push_back(i);
+                ++count;
+              }
           if (count < 2)
             continue;
           multimaterial_nodes.push_back(i);

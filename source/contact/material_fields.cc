@@ -41,11 +41,61 @@ namespace fmpm
       using namespace ParticleUpdate;
       TimerOutput::Scope timer(this->get_computing_timer(), "grid solve");
       const double       t_begin = momentum_time, t_end = time + time_step;
-      for (auto &material : fields)
+      // Lumped fields without hanging nodes or a series after them: solved
+      // on the material's nodes only, zero elsewhere (they were zeroed where
+      // the last solve of the field wrote).
+      const bool on_material_nodes =
+        !has_hanging_nodes && mass_matrix.order() < 2 && !material_exact_solve;
+      if (on_material_nodes && !multimaterial_nodes_valid)
+        find_multimaterial_nodes();
+      for (unsigned int alpha = 0; alpha < fields.size(); ++alpha)
         {
+          MaterialField<dim> &material = fields[alpha];
           if (material.computed[field])
             continue;
           GridVectorField &target = material.fields[field];
+          if (on_material_nodes)
+            {
+              std::vector<unsigned int> &written =
+                material.written_nodes[field];
+              const std::vector<unsigned int> &nodes = material_nodes[alpha];
+              const double *const              m     = material.mass.begin();
+              const bool                       updated =
+                field == updated_velocity || field == lumped_updated_velocity;
+              const double inverse_time_step = 1. / time_step;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  double *const v = target.block(d).begin();
+                  for (const unsigned int i : written)
+                    v[i] = 0;
+                  const double *const p0 = material.momentum.block(d).begin();
+                  const double *const p1 =
+                    material.updated_momentum.block(d).begin();
+                  if (field == acceleration || field == lumped_acceleration)
+                    // a^α = (p^α+ − p^α) / (m^α Δt), Eqs. 32-34
+                    for (const unsigned int i : nodes)
+                      v[i] = ((p1[i] - p0[i]) * inverse_time_step) / m[i];
+                  else // v^α = p^α / m^α, v^α+ = p^α+ / m^α (Eqs. 26, 31)
+                    {
+                      const double *const q = updated ? p1 : p0;
+                      for (const unsigned int i : nodes)
+                        v[i] = q[i] / m[i];
+                    }
+                }
+              written = nodes;
+              if (field == acceleration || field == lumped_acceleration)
+                velocity_conditions.correct_accelerations(target,
+                                                          t_begin,
+                                                          t_end);
+              else
+                velocity_conditions.correct_velocities(
+                  target, updated ? t_end : t_begin, nullptr);
+              for (const auto &c : velocity_conditions.node_conditions())
+                written.push_back(c.local_index);
+              target.update_ghost_values();
+              material.computed[field] = true;
+              continue;
+            }
           switch (field)
             {
               case velocity:

@@ -57,6 +57,10 @@ namespace fmpm
       MassMatrix::FullMassWorkspace solve_workspace;
       std::array<GridVectorField, ParticleUpdate::n_grid_fields> fields;
       std::array<bool, ParticleUpdate::n_grid_fields>            computed{};
+      /** The owned nodes where each field may be nonzero (lumped solves on
+       * the material's nodes only). */
+      std::array<std::vector<unsigned int>, ParticleUpdate::n_grid_fields>
+        written_nodes;
     };
 
     /**
@@ -222,8 +226,9 @@ namespace fmpm
         const std::vector<unsigned int> &beta;
         unsigned int                     partner;
       };
-      /** The owned nodes with 2+ materials and their materials, from the
-       * masses m^α of the last extrapolation. */
+      /** The owned nodes with 2+ materials and their materials, and the
+       * nodes of each material, from the masses m^α of the last
+       * extrapolation. */
       void
       find_multimaterial_nodes();
       /** Calls visit(Slot) for every pair the corrections may handle at
@@ -266,7 +271,9 @@ namespace fmpm
        * multimaterial_materials[multimaterial_begin[n], [n + 1]). */
       std::vector<unsigned int> multimaterial_nodes, multimaterial_begin,
         multimaterial_materials;
-      bool multimaterial_nodes_valid = false;
+      /** The owned nodes with m^α > floor, of each material. */
+      std::vector<std::vector<unsigned int>> material_nodes;
+      bool                                   multimaterial_nodes_valid = false;
       /** The nodes where Δv^α, and the output's normal and separation, may
        * be nonzero (zeroed there, not over the grid, before new values). */
       std::vector<unsigned int>   delta_velocity_nodes, recorded_nodes;
