@@ -401,7 +401,8 @@ namespace fmpm
       const double *mass, *volume, *stress[6];
     };
     /** f += −V σ G + S M b for point @p k of the store with its support
-     * entries j < n_entries (Eq. 2.11; b with gravity @p gravity). */
+     * entries j < n_entries (Eq. 2.11; b with gravity @p gravity); with
+     * contact @p f is f^α0 of the point's material (seed 004 Eq. 29). */
     template <typename Count>
     void
     scatter_point_force(const unsigned int          k,
@@ -412,8 +413,7 @@ namespace fmpm
                         const ForceColumns         &columns,
                         const Tensor<1, dim>       &gravity,
                         const bool                  uniform_body_force,
-                        double *const              *f,
-                        double *const              *f_a);
+                        double *const              *f);
     /** Gravity, the scene's b(·, t) at @p expression_point (x, or X for
      * manufactured solutions) and the rotating frame's terms at a point at
      * x moving with V. */

@@ -20,6 +20,24 @@ namespace fmpm
   namespace
   {
     /**
+     * With contact the points scatter into their material's fields only;
+     * the centre-of-mass field is their sum (seed 004 Eq. 6): @p total +=
+     * Σ_α @p material_field[α] on the vectors' local (owned and ghost)
+     * entries, before the ghosts are added to their owners.
+     */
+    void
+    add_material_sums(GridScalar                  &total,
+                      const std::vector<double *> &material_field)
+    {
+      const unsigned int n_local =
+        total.locally_owned_size() + total.get_partitioner()->n_ghost_indices();
+      double *const t = total.begin();
+      for (const double *const field : material_field)
+        for (unsigned int i = 0; i < n_local; ++i)
+          t[i] += field[i];
+    }
+
+    /**
      * The force component @p a one point gives its node (Eq. 2.11):
      * M S b_a − V Σ_b σ_ab G_b, with @p MS = M S and the point's body
      * acceleration (tractions included) @p b.
@@ -872,9 +890,11 @@ namespace fmpm
                       p_target[d][i] += MV[d] * S[j];
                   }
               };
-              if (masses)
+              // (With contact m and p are the sums of m^α and p^α0, formed
+              // after the sweep.)
+              if (!contact && masses)
                 scatter_mass_momentum(m, p);
-              else
+              else if (!contact)
                 for (unsigned int j = 0; j < n_entries; ++j)
                   for (unsigned int d = 0; d < dim; ++d)
                     p[d][node[j]] += MV[d] * S[j];
@@ -887,18 +907,14 @@ namespace fmpm
                                              external_acceleration(k, gravity);
                   double               sigma[dim][dim];
                   stress_block<dim>(stress_column, k, sigma);
-                  const double   V = volume_column[k];
-                  double *const *f_a =
-                    contact ? &f_alpha[supports.material[k] * dim] : nullptr;
+                  const double V = volume_column[k];
+                  // (with contact f^α0 of the point's material, Eq. 29)
+                  double *const *f_target =
+                    contact ? &f_alpha[supports.material[k] * dim] : f;
                   for (unsigned int j = 0; j < n_entries; ++j)
                     for (unsigned int a = 0; a < dim; ++a)
-                      {
-                        const double f_ja =
-                          nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
-                        f[a][node[j]] += f_ja;
-                        if (contact) // f^α0 (Eq. 29)
-                          f_a[a][node[j]] += f_ja;
-                      }
+                      f_target[a][node[j]] +=
+                        nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
                 }
               if (contact)
                 {
@@ -976,6 +992,24 @@ namespace fmpm
         add_cell_full_mass(n_cell_nodes, cell_node_list);
       }
 
+    if (contact)
+      {
+        // m = Σ_α m^α, p = Σ_α p^α, f = Σ_α f^α0.
+        if (masses)
+          add_material_sums(lumped_mass, m_alpha);
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            std::vector<double *> p_d, f_d;
+            for (unsigned int a = 0; a < n_materials; ++a)
+              {
+                p_d.push_back(p_alpha[a * dim + d]);
+                f_d.push_back(f_alpha[a * dim + d]);
+              }
+            add_material_sums(momentum.block(d), p_d);
+            if (with_forces)
+              add_material_sums(force.block(d), f_d);
+          }
+      }
     if (masses)
       lumped_mass.compress(VectorOperation::add);
     momentum.compress(VectorOperation::add);
@@ -1033,8 +1067,7 @@ namespace fmpm
                                       const ForceColumns         &columns,
                                       const Tensor<1, dim>       &gravity,
                                       const bool     uniform_body_force,
-                                      double *const *f,
-                                      double *const *f_a)
+                                      double *const *f)
   {
     using Index    = PropertyIndex<dim>;
     const double M = columns.mass[k];
@@ -1046,10 +1079,7 @@ namespace fmpm
     for (unsigned int j = 0; j < n_entries; ++j)
       for (unsigned int a = 0; a < dim; ++a)
         {
-          const double f_ja = nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
-          f[a][node[j]] += f_ja;
-          if (f_a != nullptr) // f^α0 (Eq. 29)
-            f_a[a][node[j]] += f_ja;
+          f[a][node[j]] += nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
         }
   }
 
@@ -1504,8 +1534,9 @@ namespace fmpm
         if (with_forces)
           for (unsigned int k = batch_begin; k < batch_end; ++k)
             {
-              double *const *f_a =
-                contact ? &f_alpha[supports.material[k] * dim] : nullptr;
+              // (with contact f^α0 of the point's material, Eq. 29)
+              double *const *f_target =
+                contact ? &f_alpha[supports.material[k] * dim] : f;
               if (supports.implicit_classic)
                 {
                   const unsigned int b = k - batch_begin;
@@ -1518,8 +1549,7 @@ namespace fmpm
                     force_columns,
                     gravity,
                     uniform_body_force,
-                    f,
-                    f_a);
+                    f_target);
                 }
               else
                 support_of.visit(k,
@@ -1536,14 +1566,21 @@ namespace fmpm
                                                        force_columns,
                                                        gravity,
                                                        uniform_body_force,
-                                                       f,
-                                                       f_a);
+                                                       f_target);
                                  });
             }
       }
     local_max_wave_speed = wave_speed;
     if (with_forces)
       {
+        if (contact) // f = Σ_α f^α0
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              std::vector<double *> f_d;
+              for (unsigned int a = 0; a < f_alpha.size() / dim; ++a)
+                f_d.push_back(f_alpha[a * dim + d]);
+              add_material_sums(force.block(d), f_d);
+            }
         force.compress(VectorOperation::add);
         if (contact)
           for (auto &material_field : this->contact->material_fields())
