@@ -46,6 +46,9 @@ namespace fmpm
                                         Index::body_id};
     for (unsigned int d = 0; d < dim; ++d)
       result.push_back(Index::initial_half_length + d);
+    // Plane strain: F_33 = 1.
+    if (dim == 2)
+      result.push_back(Index::deformation_gradient + 8);
     return result;
   }
 

@@ -56,9 +56,9 @@ namespace fmpm
                const std::vector<unsigned int> &invariant_slots = {});
 
     /** @brief The core slots no pass writes after a point is created or
-     * arrives: M, V₀, material, body, l₀. A column of such a slot whose
-     * values are all equal (one material, uniform points) stays so, and
-     * rebin() does not permute it. */
+     * arrives: M, V₀, material, body, l₀ and in 2D F_33. A column of such a
+     * slot whose values are all equal (one material, uniform points) stays so,
+     * and rebin() does not permute it. */
     static std::vector<unsigned int>
     invariant_core_slots();
 

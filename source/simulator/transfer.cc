@@ -1466,12 +1466,17 @@ namespace fmpm
                                         dF[3 * a + 2][q] * F_column[6 + b][k];
               }
             for (unsigned int q = 0; q < n_group; ++q)
-              {
-                const double C0 = F[4][q] * F[8][q] - F[5][q] * F[7][q];
-                const double C1 = F[5][q] * F[6][q] - F[3][q] * F[8][q];
-                const double C2 = F[3][q] * F[7][q] - F[4][q] * F[6][q];
-                J[q]            = F[0][q] * C0 + F[1][q] * C1 + F[2][q] * C2;
-              }
+              if constexpr (dim == 2)
+                // The same value without the plane-strain zeros' products.
+                J[q] =
+                  F[0][q] * (F[4][q] * F[8][q]) - F[1][q] * (F[3][q] * F[8][q]);
+              else
+                {
+                  const double C0 = F[4][q] * F[8][q] - F[5][q] * F[7][q];
+                  const double C1 = F[5][q] * F[6][q] - F[3][q] * F[8][q];
+                  const double C2 = F[3][q] * F[7][q] - F[4][q] * F[6][q];
+                  J[q]            = F[0][q] * C0 + F[1][q] * C1 + F[2][q] * C2;
+                }
             for (unsigned int q = 0; q < n_group; ++q)
               if (!(J[q] > 0) && local_failure.empty())
                 {
