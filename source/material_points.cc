@@ -20,6 +20,7 @@ namespace fmpm
     reference_position.clear();
     id.clear();
     cell.clear();
+    moved_points.clear();
     columns.assign(n_properties, std::vector<double>());
     zero_slot.assign(n_properties, 0);
     for (const unsigned int s : zero_slots)
@@ -179,6 +180,7 @@ namespace fmpm
     reference_position.clear();
     id.clear();
     cell.clear();
+    moved_points.clear();
     position.reserve(n);
     reference_position.reserve(n);
     id.reserve(n);
@@ -297,7 +299,8 @@ namespace fmpm
           columns[s].push_back(record_values[s]);
         }
     cell_received[key(this->cell.size() - 1)] = 1;
-    any_change_since_rebin                    = true;
+    moved_points.push_back(this->cell.size() - 1);
+    any_change_since_rebin = true;
   }
 
 
@@ -349,51 +352,92 @@ namespace fmpm
         first = last;
       }
 
-    // Apply the permutation from the first place it changes.
-    unsigned int first_change = 0;
-    while (first_change < n_kept && permutation[first_change] == first_change)
-      ++first_change;
-    if (first_change == n_kept && n_kept == n)
+    // The points that kept their cell keep their order (the store is in
+    // cell order, by id in a cell): they shift as runs of consecutive
+    // places, by the number of points that left or arrived before them.
+    // Only the runs that shift and the points that moved are copied.
+    point_moved.assign(n, 0);
+    for (const unsigned int k : moved_points)
+      point_moved[k] = 1;
+    moved_points.clear();
+    moved_places.clear();
+    shifted_runs.clear();
+    for (unsigned int to = 0; to < n_kept;)
       {
-        // The points changed cells without changing places (or arrived
-        // at the end).
-        refresh_column_pointers();
-        rebuild_cell_ranges();
-        return;
-      }
-    // Points keep their order between the few that moved: the permutation
-    // is long runs of consecutive places, copied as blocks into a kept work
-    // array, which then becomes the array.
-    permutation_runs.clear();
-    for (unsigned int k = first_change; k < n_kept;)
-      {
-        const unsigned int from   = permutation[k];
-        unsigned int       length = 1;
-        while (k + length < n_kept && permutation[k + length] == from + length)
+        const unsigned int from = permutation[to];
+        if (point_moved[from])
+          {
+            moved_places.push_back({{to, from}});
+            ++to;
+            continue;
+          }
+        Assert(shifted_runs.empty() || from > shifted_runs.back()[1],
+               ExcMessage("The points that kept their cell changed order."));
+        unsigned int length = 1;
+        while (to + length < n_kept &&
+               permutation[to + length] == from + length &&
+               !point_moved[from + length])
           ++length;
-        permutation_runs.push_back({{k, from, length}});
-        k += length;
+        if (to != from)
+          shifted_runs.push_back({{to, from, length}});
+        to += length;
       }
-    auto apply = [&](auto &values, auto &work) {
-      work.resize(n_kept);
-      std::copy(values.begin(), values.begin() + first_change, work.begin());
-      for (const auto &[to, from, length] : permutation_runs)
-        if (length < 8)
-          for (unsigned int j = 0; j < length; ++j)
-            work[to + j] = values[from + j];
-        else
-          std::copy(values.begin() + from,
-                    values.begin() + from + length,
-                    work.begin() + to);
-      values.swap(work);
+    // Per array: the moved points' values aside; the runs that shift to
+    // lower places in ascending order, those that shift to higher places
+    // in descending order (no run then writes a place another run has yet
+    // to read); the moved points' values to their places.
+    auto apply = [&](auto &values, auto &aside) {
+      aside.resize(moved_places.size());
+      for (unsigned int i = 0; i < moved_places.size(); ++i)
+        aside[i] = values[moved_places[i][1]];
+      for (const auto &[to, from, length] : shifted_runs)
+        if (to < from)
+          {
+            if (length < 8)
+              for (unsigned int j = 0; j < length; ++j)
+                values[to + j] = values[from + j];
+            else
+              std::copy(values.begin() + from,
+                        values.begin() + from + length,
+                        values.begin() + to);
+          }
+      for (auto run = shifted_runs.rbegin(); run != shifted_runs.rend(); ++run)
+        {
+          const auto &[to, from, length] = *run;
+          if (to > from)
+            {
+              if (length < 8)
+                for (unsigned int j = length; j-- > 0;)
+                  values[to + j] = values[from + j];
+              else
+                std::copy_backward(values.begin() + from,
+                                   values.begin() + from + length,
+                                   values.begin() + to + length);
+            }
+        }
+      for (unsigned int i = 0; i < moved_places.size(); ++i)
+        values[moved_places[i][0]] = aside[i];
+      values.resize(n_kept);
     };
-    apply(position, point_scratch);
-    apply(reference_position, point_scratch);
-    apply(id, id_scratch);
-    apply(cell, cell_scratch);
+    apply(position, moved_point_values);
+    apply(reference_position, moved_point_values);
+    apply(id, moved_ids);
+    apply(cell, moved_cells);
     for (unsigned int s = 0; s < columns.size(); ++s)
       if (!zero_slot[s] && !uniform_slot[s])
-        apply(columns[s], scratch);
+        apply(columns[s], moved_values);
+    // After the points were created or arrived all at once, their work
+    // arrays are as long as the store: give the memory back (a step moves
+    // a few per cent).
+    if (moved_places.size() > n_kept / 4)
+      {
+        std::vector<std::array<unsigned int, 2>>().swap(moved_places);
+        std::vector<double>().swap(moved_values);
+        std::vector<Point<dim>>().swap(moved_point_values);
+        std::vector<types::particle_index>().swap(moved_ids);
+        std::vector<unsigned int>().swap(moved_cells);
+        std::vector<unsigned int>().swap(moved_points);
+      }
     refresh_column_pointers();
     rebuild_cell_ranges();
   }
@@ -428,12 +472,15 @@ namespace fmpm
       reference_position.capacity() * sizeof(Point<dim>) +
       id.capacity() * sizeof(types::particle_index) +
       cell.capacity() * sizeof(unsigned int) +
-      scratch.capacity() * sizeof(double) +
-      point_scratch.capacity() * sizeof(Point<dim>) +
-      id_scratch.capacity() * sizeof(types::particle_index) +
-      cell_scratch.capacity() * sizeof(unsigned int) +
+      moved_values.capacity() * sizeof(double) +
+      moved_point_values.capacity() * sizeof(Point<dim>) +
+      moved_ids.capacity() * sizeof(types::particle_index) +
+      moved_cells.capacity() * sizeof(unsigned int) +
       permutation.capacity() * sizeof(unsigned int) +
-      permutation_runs.capacity() * sizeof(std::array<unsigned int, 3>) +
+      moved_points.capacity() * sizeof(unsigned int) +
+      point_moved.capacity() * sizeof(char) +
+      moved_places.capacity() * sizeof(std::array<unsigned int, 2>) +
+      shifted_runs.capacity() * sizeof(std::array<unsigned int, 3>) +
       zeros.capacity() * sizeof(double);
     for (const auto &values : columns)
       bytes += values.capacity() * sizeof(double);

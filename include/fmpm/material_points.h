@@ -149,9 +149,10 @@ namespace fmpm
     void
     move(const unsigned int k, const CellIterator &cell, const Point<dim> &xi)
     {
-      this->cell[k]          = cell->active_cell_index();
-      reference_position[k]  = xi;
-      cell_received[key(k)]  = 1;
+      this->cell[k]         = cell->active_cell_index();
+      reference_position[k] = xi;
+      cell_received[key(k)] = 1;
+      moved_points.push_back(k);
       any_change_since_rebin = true;
     }
 
@@ -241,15 +242,21 @@ namespace fmpm
     /** By key: whether the cell received a point since the last rebin. */
     std::vector<char> cell_received;
     bool              any_change_since_rebin = false;
-    /** Work arrays of rebin(), kept between steps. */
-    std::vector<unsigned int> permutation, count;
-    /** The permutation from its first change as runs of consecutive
-     * places: (first new place, first old place, length). */
-    std::vector<std::array<unsigned int, 3>> permutation_runs;
-    std::vector<double>                      scratch;
-    std::vector<Point<dim>>                  point_scratch;
-    std::vector<types::particle_index>       id_scratch;
-    std::vector<unsigned int>                cell_scratch;
+    /** The points move() or add() gave a cell since the last rebin(). */
+    std::vector<unsigned int> moved_points;
+    /** Work arrays of rebin(), kept between steps: the new place's old
+     * place; per old place whether the point moved; the moved points'
+     * (new place, old place); the runs of points that kept their cell and
+     * shift, (first new place, first old place, length); the moved
+     * points' values of one array. */
+    std::vector<unsigned int>                permutation, count;
+    std::vector<char>                        point_moved;
+    std::vector<std::array<unsigned int, 2>> moved_places;
+    std::vector<std::array<unsigned int, 3>> shifted_runs;
+    std::vector<double>                      moved_values;
+    std::vector<Point<dim>>                  moved_point_values;
+    std::vector<types::particle_index>       moved_ids;
+    std::vector<unsigned int>                moved_cells;
   };
 } // namespace fmpm
 

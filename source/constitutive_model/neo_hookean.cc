@@ -125,12 +125,36 @@ namespace fmpm
         }
       else
         {
-          SymmetricTensor<2, 3> tau;
+          // stress_and_energy() entry by entry: J = det F^{n+1} as the batch
+          // has it (deal.II's determinant()), σ = τ (1/J) as deal.II divides
+          // a tensor; the same operations, the same values.
+          const double K = bulk_modulus, G = shear_modulus;
+          const auto  &F     = inputs.deformation_gradient;
+          auto        &sigma = outputs.cauchy_stress;
           for (unsigned int q = 0; q < n; ++q)
             {
-              const Tensor<2, 3> F = inputs.deformation_gradient_tensor(q);
-              stress_and_energy(F, tau, outputs.strain_energy_density[q]);
-              outputs.set_stress(q, tau / determinant(F));
+              const double J     = inputs.volume_ratio[q];
+              const double log_J = std::log(J);
+              const double J_m23 = std::exp(-2.0 / 3.0 * log_J);
+              // J^{-2/3} (F Fᵀ)_ab
+              auto b_bar = [&](const unsigned int a, const unsigned int b) {
+                return J_m23 * (F[3 * a][q] * F[3 * b][q] +
+                                F[3 * a + 1][q] * F[3 * b + 1][q] +
+                                F[3 * a + 2][q] * F[3 * b + 2][q]);
+              };
+              const double b_xx = b_bar(0, 0), b_yy = b_bar(1, 1),
+                           b_zz      = b_bar(2, 2);
+              const double I1_bar    = b_xx + b_yy + b_zz;
+              const double diagonal  = 0.5 * K * (J * J - 1) - G * I1_bar / 3.0;
+              const double inverse_J = 1. / J;
+              sigma[0][q]            = (G * b_xx + diagonal) * inverse_J;
+              sigma[1][q]            = (G * b_yy + diagonal) * inverse_J;
+              sigma[2][q]            = (G * b_zz + diagonal) * inverse_J;
+              sigma[3][q]            = G * b_bar(0, 1) * inverse_J;
+              sigma[4][q]            = G * b_bar(0, 2) * inverse_J;
+              sigma[5][q]            = G * b_bar(1, 2) * inverse_J;
+              outputs.strain_energy_density[q] =
+                0.5 * G * (I1_bar - 3) + 0.5 * K * (0.5 * (J * J - 1) - log_J);
             }
         }
     }
@@ -165,8 +189,8 @@ namespace fmpm
 
 
 
-    // Every member for both dimensions (stress_and_energy() is called by
-    // the 3D update only, and by tests in 2D).
+    // Every member for both dimensions (stress_and_energy() is the
+    // reference the tests compare the batch updates with).
     template class NeoHookean<2>;
     template class NeoHookean<3>;
 

@@ -1388,7 +1388,7 @@ namespace fmpm
                 inputs.cell_size[q] =
                   cell_size_by_index[points.cell[group_points[q]]];
             // L = ∇v = Σ_i v_i ⊗ G_pi (Eqs. 2.7, 2.18), plane strain in 2D;
-            // σ^n and W^n; the history slots.
+            // σ^n, W^n and the history slots if the model reads them.
             for (unsigned int q = 0; q < n_group; ++q)
               {
                 const unsigned int k = group_points[q];
@@ -1424,11 +1424,16 @@ namespace fmpm
                                        inputs.velocity_gradient,
                                        q);
                                    });
-                for (unsigned int c = 0; c < n_stress_entries; ++c)
-                  inputs.old_stress[c][q] = stress_column[c][k];
-                inputs.old_strain_energy_density[q] = energy_column[k];
-                inputs.properties[q]                = points.record(k);
               }
+            if (constitutive_models[m]->reads_old_state())
+              for (unsigned int q = 0; q < n_group; ++q)
+                {
+                  const unsigned int k = group_points[q];
+                  for (unsigned int c = 0; c < n_stress_entries; ++c)
+                    inputs.old_stress[c][q] = stress_column[c][k];
+                  inputs.old_strain_energy_density[q] = energy_column[k];
+                  inputs.properties[q]                = points.record(k);
+                }
             if (constitutive_models[m]->needs_old_volume_ratio())
               for (unsigned int q = 0; q < n_group; ++q)
                 inputs.old_volume_ratio[q] =

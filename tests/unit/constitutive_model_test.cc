@@ -207,6 +207,15 @@ namespace
           << "\nFD tau/J: " << tau_fd / J;
         EXPECT_NEAR(out.strain_energy_density[q], W, 1e-14 * std::abs(W));
         EXPECT_GT(W, 0);
+        if (dim == 3)
+          {
+            // The batch update is stress_and_energy() entry by entry: the
+            // same values to the bit (σ = τ/J as deal.II divides).
+            const Tensor<2, 3> sigma      = out.stress_tensor(q);
+            const Tensor<2, 3> tau_over_J = tau / J;
+            EXPECT_EQ(sigma, tau_over_J) << "point " << q;
+            EXPECT_EQ(out.strain_energy_density[q], W) << "point " << q;
+          }
         if (dim == 2)
           {
             // Plane strain: no in-plane/out-of-plane shear.

@@ -46,7 +46,8 @@ namespace fmpm
       alignas(64) double volume_ratio[capacity] = {};
       /** Spatial velocity gradient L used for the update. Units: 1/s. */
       alignas(64) double velocity_gradient[9][capacity] = {};
-      /** Cauchy stress σ^n before the update. Units: Pa. */
+      /** Cauchy stress σ^n before the update (filled for models whose
+       * reads_old_state() is true, as the next two). Units: Pa. */
       alignas(64) double old_stress[6][capacity] = {};
       /** J^n = V/V0 before the update, filled only for models whose
        * needs_old_volume_ratio() is true. */
@@ -212,6 +213,15 @@ namespace fmpm
       needs_old_volume_ratio() const
       {
         return false;
+      }
+
+      /** @brief Whether update_stress() reads the state before the update:
+       * StressUpdateInputs::old_stress, old_strain_energy_density or
+       * properties (the Simulator fills them only then). */
+      virtual bool
+      reads_old_state() const
+      {
+        return true;
       }
 
       /** @brief Whether update_stress() fills StressUpdateOutputs::wave_speed

@@ -33,6 +33,13 @@ namespace fmpm
       update_stress(const StressUpdateInputs &inputs,
                     StressUpdateOutputs      &outputs) const override;
 
+      /** σ and W follow from F^{n+1} alone. */
+      bool
+      reads_old_state() const override
+      {
+        return false;
+      }
+
       double
       wave_speed(const double density, const double J) const override;
 
