@@ -82,6 +82,102 @@ namespace fmpm
 
 
 
+    namespace
+    {
+      /**
+       * Plane strain (F₃₃ = 1, no out-of-plane shear) for @p n points: J is
+       * the 2x2 block's determinant and b̄ = J^{-2/3} F Fᵀ has four
+       * entries; otherwise the same Eq. 18 as stress_and_energy(). Three
+       * loops, so that the two without log and exp vectorize (restrict-
+       * qualified parameters; a constant count for full batches).
+       */
+      template <typename Count>
+      inline void
+      plane_strain_neo_hookean(const Count  n,
+                               const double K,
+                               const double G,
+                               const double *__restrict F_xx,
+                               const double *__restrict F_xy,
+                               const double *__restrict F_yx,
+                               const double *__restrict F_yy,
+                               double *__restrict J,
+                               double *__restrict log_J,
+                               double *__restrict J_m23,
+                               double *__restrict sigma_xx,
+                               double *__restrict sigma_yy,
+                               double *__restrict sigma_zz,
+                               double *__restrict sigma_xy,
+                               double *__restrict sigma_xz,
+                               double *__restrict sigma_yz,
+                               double *__restrict W)
+      {
+        for (unsigned int q = 0; q < n; ++q)
+          J[q] = F_xx[q] * F_yy[q] - F_xy[q] * F_yx[q];
+        for (unsigned int q = 0; q < n; ++q)
+          {
+            log_J[q] = std::log(J[q]);
+            J_m23[q] = std::exp(-2.0 / 3.0 * log_J[q]);
+          }
+        for (unsigned int q = 0; q < n; ++q)
+          {
+            const double b_xx =
+              J_m23[q] * (F_xx[q] * F_xx[q] + F_xy[q] * F_xy[q]);
+            const double b_yy =
+              J_m23[q] * (F_yx[q] * F_yx[q] + F_yy[q] * F_yy[q]);
+            const double b_xy =
+              J_m23[q] * (F_xx[q] * F_yx[q] + F_xy[q] * F_yy[q]);
+            const double b_zz   = J_m23[q];
+            const double I1_bar = b_xx + b_yy + b_zz;
+            // τ = G b̄ + (K (J² − 1)/2 − G Ī₁/3) I, σ = τ/J.
+            const double pressure_part =
+              0.5 * K * (J[q] * J[q] - 1) - G * I1_bar / 3.0;
+            sigma_xx[q] = (G * b_xx + pressure_part) / J[q];
+            sigma_yy[q] = (G * b_yy + pressure_part) / J[q];
+            sigma_zz[q] = (G * b_zz + pressure_part) / J[q];
+            sigma_xy[q] = G * b_xy / J[q];
+            sigma_xz[q] = 0;
+            sigma_yz[q] = 0;
+            W[q]        = 0.5 * G * (I1_bar - 3) +
+                   0.5 * K * (0.5 * (J[q] * J[q] - 1) - log_J[q]);
+          }
+      }
+
+      /** The batch's points with plane_strain_neo_hookean(). */
+      template <typename Count>
+      void
+      plane_strain_update(const Count               n,
+                          const double              K,
+                          const double              G,
+                          const StressUpdateInputs &inputs,
+                          StressUpdateOutputs      &outputs)
+      {
+        alignas(64) double J[StressUpdateInputs::capacity],
+          log_J[StressUpdateInputs::capacity],
+          J_m23[StressUpdateInputs::capacity];
+        const auto &F     = inputs.deformation_gradient;
+        auto       &sigma = outputs.cauchy_stress;
+        plane_strain_neo_hookean(n,
+                                 K,
+                                 G,
+                                 F[0],
+                                 F[1],
+                                 F[3],
+                                 F[4],
+                                 J,
+                                 log_J,
+                                 J_m23,
+                                 sigma[0],
+                                 sigma[1],
+                                 sigma[2],
+                                 sigma[3],
+                                 sigma[4],
+                                 sigma[5],
+                                 outputs.strain_energy_density);
+      }
+    } // namespace
+
+
+
     template <int dim>
     void
     NeoHookean<dim>::update_stress(const StressUpdateInputs &inputs,
@@ -90,38 +186,17 @@ namespace fmpm
       const unsigned int n = inputs.n_points;
       if constexpr (dim == 2)
         {
-          // Plane strain (F₃₃ = 1, no out-of-plane shear): J is the 2x2
-          // block's determinant and b̄ = J^{-2/3} F Fᵀ has four entries;
-          // otherwise the same Eq. 18 as stress_and_energy().
-          const double K = bulk_modulus, G = shear_modulus;
-          const auto  &F     = inputs.deformation_gradient;
-          auto        &sigma = outputs.cauchy_stress;
-          for (unsigned int q = 0; q < n; ++q)
-            {
-              const double F_xx   = F[0][q];
-              const double F_xy   = F[1][q];
-              const double F_yx   = F[3][q];
-              const double F_yy   = F[4][q];
-              const double J      = F_xx * F_yy - F_xy * F_yx;
-              const double log_J  = std::log(J);
-              const double J_m23  = std::exp(-2.0 / 3.0 * log_J);
-              const double b_xx   = J_m23 * (F_xx * F_xx + F_xy * F_xy);
-              const double b_yy   = J_m23 * (F_yx * F_yx + F_yy * F_yy);
-              const double b_xy   = J_m23 * (F_xx * F_yx + F_xy * F_yy);
-              const double b_zz   = J_m23;
-              const double I1_bar = b_xx + b_yy + b_zz;
-              // τ = G b̄ + (K (J² − 1)/2 − G Ī₁/3) I, σ = τ/J.
-              const double pressure_part =
-                0.5 * K * (J * J - 1) - G * I1_bar / 3.0;
-              sigma[0][q] = (G * b_xx + pressure_part) / J;
-              sigma[1][q] = (G * b_yy + pressure_part) / J;
-              sigma[2][q] = (G * b_zz + pressure_part) / J;
-              sigma[3][q] = G * b_xy / J;
-              sigma[4][q] = 0;
-              sigma[5][q] = 0;
-              outputs.strain_energy_density[q] =
-                0.5 * G * (I1_bar - 3) + 0.5 * K * (0.5 * (J * J - 1) - log_J);
-            }
+          if (n == StressUpdateInputs::capacity)
+            plane_strain_update(
+              std::integral_constant<unsigned int,
+                                     StressUpdateInputs::capacity>(),
+              bulk_modulus,
+              shear_modulus,
+              inputs,
+              outputs);
+          else
+            plane_strain_update(
+              n, bulk_modulus, shear_modulus, inputs, outputs);
         }
       else
         {

@@ -191,6 +191,64 @@ namespace fmpm
     }
 
     /**
+     * The 2D Cayley update of @p n points stored one after another: ΔF of
+     * increments() (its operations), F^{n+1} = ΔF F^n on the 2x2 block and
+     * J = F_xx^{n+1} (F_yy^{n+1} F_33) − F_xy^{n+1} (F_yx^{n+1} F_33). The
+     * restrict-qualified parameters and, for full batches, the constant
+     * count let GCC vectorize the loop at -O2.
+     */
+    template <typename Count>
+    inline void
+    plane_strain_cayley_update(const Count  n,
+                               const double dt,
+                               const double *__restrict L_xx,
+                               const double *__restrict L_xy,
+                               const double *__restrict L_yx,
+                               const double *__restrict L_yy,
+                               const double *__restrict F_xx_old,
+                               const double *__restrict F_xy_old,
+                               const double *__restrict F_yx_old,
+                               const double *__restrict F_yy_old,
+                               const double *__restrict F_zz,
+                               double *__restrict F_xx,
+                               double *__restrict F_xy,
+                               double *__restrict F_yx,
+                               double *__restrict F_yy,
+                               double *__restrict F_zz_new,
+                               double *__restrict J)
+    {
+      for (unsigned int q = 0; q < n; ++q)
+        {
+          // ΔF = (I − L Δt/2)⁻¹ (I + L Δt/2) = R B.
+          const double h_xx = 0.5 * (L_xx[q] * dt), h_xy = 0.5 * (L_xy[q] * dt),
+                       h_yx = 0.5 * (L_yx[q] * dt), h_yy = 0.5 * (L_yy[q] * dt);
+          const double A_xx = 1.0 - h_xx, A_xy = 0.0 - h_xy, A_yx = 0.0 - h_yx,
+                       A_yy = 1.0 - h_yy;
+          const double B_xx = 1.0 + h_xx, B_xy = 0.0 + h_xy, B_yx = 0.0 + h_yx,
+                       B_yy                = 1.0 + h_yy;
+          const double inverse_determinant = 1.0 / (A_xx * A_yy - A_yx * A_xy);
+          const double R_xx                = A_yy * inverse_determinant,
+                       R_xy                = -A_xy * inverse_determinant,
+                       R_yx                = -A_yx * inverse_determinant,
+                       R_yy                = A_xx * inverse_determinant;
+          const double dF_xx               = R_xx * B_xx + R_xy * B_yx,
+                       dF_xy               = R_xx * B_xy + R_xy * B_yy,
+                       dF_yx               = R_yx * B_xx + R_yy * B_yx,
+                       dF_yy               = R_yx * B_xy + R_yy * B_yy;
+          const double a = F_xx_old[q], b = F_xy_old[q], c = F_yx_old[q],
+                       e  = F_yy_old[q];
+          const double xx = dF_xx * a + dF_xy * c, xy = dF_xx * b + dF_xy * e,
+                       yx = dF_yx * a + dF_yy * c, yy = dF_yx * b + dF_yy * e;
+          F_xx[q]     = xx;
+          F_xy[q]     = xy;
+          F_yx[q]     = yx;
+          F_yy[q]     = yy;
+          F_zz_new[q] = F_zz[q];
+          J[q]        = xx * (yy * F_zz[q]) - xy * (yx * F_zz[q]);
+        }
+    }
+
+    /**
      * v_p = Σ_j S_pj v_j over one point's support entries [begin, end), and
      * L_p = Σ_j v_j ⊗ G_pj (Eq. 2.7) below: each sum in its own scalar, so
      * that the compiler keeps it in a register (an array or Tensor summand
@@ -1439,49 +1497,85 @@ namespace fmpm
                 inputs.old_volume_ratio[q] =
                   volume_column[group_points[q]] /
                   initial_volume_column[group_points[q]];
-            increments<dim>(F_update,
-                            parameters.method,
-                            inputs.velocity_gradient,
-                            dt,
-                            n_group,
-                            dF);
-            // F^{n+1} = ΔF F^n and J = det F^{n+1} (the operations of
-            // deal.II's Tensor product and determinant()); in 2D on the
-            // 2x2 block, F_33 kept (plane strain).
             auto &F = inputs.deformation_gradient;
             auto &J = inputs.volume_ratio;
-            for (unsigned int q = 0; q < n_group; ++q)
+            // 2D Cayley on points stored one after another (one material):
+            // one loop that vectorizes.
+            const unsigned int k0 = group_points[0];
+            if (dim == 2 && F_update == DeformationGradientUpdate::cayley &&
+                group_points[n_group - 1] == k0 + n_group - 1)
               {
-                const unsigned int k = group_points[q];
-                if constexpr (dim == 2)
-                  {
-                    const double a = F_column[0][k], b = F_column[1][k],
-                                 c = F_column[3][k], e = F_column[4][k];
-                    F[0][q] = dF[0][q] * a + dF[1][q] * c;
-                    F[1][q] = dF[0][q] * b + dF[1][q] * e;
-                    F[3][q] = dF[3][q] * a + dF[4][q] * c;
-                    F[4][q] = dF[3][q] * b + dF[4][q] * e;
-                    F[8][q] = F_column[8][k];
-                  }
+                const auto &L      = inputs.velocity_gradient;
+                auto        update = [&](const auto count) {
+                  plane_strain_cayley_update(count,
+                                             dt,
+                                             L[0],
+                                             L[1],
+                                             L[3],
+                                             L[4],
+                                             F_column[0] + k0,
+                                             F_column[1] + k0,
+                                             F_column[3] + k0,
+                                             F_column[4] + k0,
+                                             F_column[8] + k0,
+                                             F[0],
+                                             F[1],
+                                             F[3],
+                                             F[4],
+                                             F[8],
+                                             J);
+                };
+                if (n_group == stress_batch_size)
+                  update(
+                    std::integral_constant<unsigned int, stress_batch_size>());
                 else
-                  for (unsigned int a = 0; a < 3; ++a)
-                    for (unsigned int b = 0; b < 3; ++b)
-                      F[3 * a + b][q] = dF[3 * a][q] * F_column[b][k] +
-                                        dF[3 * a + 1][q] * F_column[3 + b][k] +
-                                        dF[3 * a + 2][q] * F_column[6 + b][k];
+                  update(n_group);
               }
-            for (unsigned int q = 0; q < n_group; ++q)
-              if constexpr (dim == 2)
-                // The same value without the plane-strain zeros' products.
-                J[q] =
-                  F[0][q] * (F[4][q] * F[8][q]) - F[1][q] * (F[3][q] * F[8][q]);
-              else
-                {
-                  const double C0 = F[4][q] * F[8][q] - F[5][q] * F[7][q];
-                  const double C1 = F[5][q] * F[6][q] - F[3][q] * F[8][q];
-                  const double C2 = F[3][q] * F[7][q] - F[4][q] * F[6][q];
-                  J[q]            = F[0][q] * C0 + F[1][q] * C1 + F[2][q] * C2;
-                }
+            else
+              {
+                increments<dim>(F_update,
+                                parameters.method,
+                                inputs.velocity_gradient,
+                                dt,
+                                n_group,
+                                dF);
+                // F^{n+1} = ΔF F^n and J = det F^{n+1} (the operations of
+                // deal.II's Tensor product and determinant()); in 2D on the
+                // 2x2 block, F_33 kept (plane strain).
+                for (unsigned int q = 0; q < n_group; ++q)
+                  {
+                    const unsigned int k = group_points[q];
+                    if constexpr (dim == 2)
+                      {
+                        const double a = F_column[0][k], b = F_column[1][k],
+                                     c = F_column[3][k], e = F_column[4][k];
+                        F[0][q] = dF[0][q] * a + dF[1][q] * c;
+                        F[1][q] = dF[0][q] * b + dF[1][q] * e;
+                        F[3][q] = dF[3][q] * a + dF[4][q] * c;
+                        F[4][q] = dF[3][q] * b + dF[4][q] * e;
+                        F[8][q] = F_column[8][k];
+                      }
+                    else
+                      for (unsigned int a = 0; a < 3; ++a)
+                        for (unsigned int b = 0; b < 3; ++b)
+                          F[3 * a + b][q] =
+                            dF[3 * a][q] * F_column[b][k] +
+                            dF[3 * a + 1][q] * F_column[3 + b][k] +
+                            dF[3 * a + 2][q] * F_column[6 + b][k];
+                  }
+                for (unsigned int q = 0; q < n_group; ++q)
+                  if constexpr (dim == 2)
+                    // The same value without the plane-strain zeros' products.
+                    J[q] = F[0][q] * (F[4][q] * F[8][q]) -
+                           F[1][q] * (F[3][q] * F[8][q]);
+                  else
+                    {
+                      const double C0 = F[4][q] * F[8][q] - F[5][q] * F[7][q];
+                      const double C1 = F[5][q] * F[6][q] - F[3][q] * F[8][q];
+                      const double C2 = F[3][q] * F[7][q] - F[4][q] * F[6][q];
+                      J[q] = F[0][q] * C0 + F[1][q] * C1 + F[2][q] * C2;
+                    }
+              }
             for (unsigned int q = 0; q < n_group; ++q)
               if (!(J[q] > 0) && local_failure.empty())
                 {
