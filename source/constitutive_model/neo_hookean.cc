@@ -174,6 +174,89 @@ namespace fmpm
                                  sigma[5],
                                  outputs.strain_energy_density);
       }
+
+      /**
+       * stress_and_energy() entry by entry for @p n points: J = det F^{n+1}
+       * as the batch has it (deal.II's determinant()), σ = τ (1/J) as
+       * deal.II divides a tensor; the same operations, the same values.
+       * @p F and @p sigma are entry blocks (entry c of point q at
+       * [c capacity + q]). Log and exp in their own loop, so that the other
+       * vectorizes.
+       */
+      template <typename Count>
+      inline void
+      neo_hookean_3d(const Count  n,
+                     const double K,
+                     const double G,
+                     const double *__restrict F,
+                     const double *__restrict J,
+                     double *__restrict log_J,
+                     double *__restrict J_m23,
+                     double *__restrict sigma,
+                     double *__restrict W)
+      {
+        constexpr unsigned int stride = StressUpdateInputs::capacity;
+        for (unsigned int q = 0; q < n; ++q)
+          {
+            log_J[q] = std::log(J[q]);
+            J_m23[q] = std::exp(-2.0 / 3.0 * log_J[q]);
+          }
+        for (unsigned int q = 0; q < n; ++q)
+          {
+            const double F_xx = F[0 * stride + q], F_xy = F[1 * stride + q],
+                         F_xz = F[2 * stride + q], F_yx = F[3 * stride + q],
+                         F_yy = F[4 * stride + q], F_yz = F[5 * stride + q],
+                         F_zx = F[6 * stride + q], F_zy = F[7 * stride + q],
+                         F_zz = F[8 * stride + q];
+            // b̄ = J^{-2/3} F Fᵀ
+            const double b_xx =
+              J_m23[q] * (F_xx * F_xx + F_xy * F_xy + F_xz * F_xz);
+            const double b_yy =
+              J_m23[q] * (F_yx * F_yx + F_yy * F_yy + F_yz * F_yz);
+            const double b_zz =
+              J_m23[q] * (F_zx * F_zx + F_zy * F_zy + F_zz * F_zz);
+            const double b_xy =
+              J_m23[q] * (F_xx * F_yx + F_xy * F_yy + F_xz * F_yz);
+            const double b_xz =
+              J_m23[q] * (F_xx * F_zx + F_xy * F_zy + F_xz * F_zz);
+            const double b_yz =
+              J_m23[q] * (F_yx * F_zx + F_yy * F_zy + F_yz * F_zz);
+            const double I1_bar = b_xx + b_yy + b_zz;
+            const double diagonal =
+              0.5 * K * (J[q] * J[q] - 1) - G * I1_bar / 3.0;
+            const double inverse_J = 1. / J[q];
+            sigma[0 * stride + q]  = (G * b_xx + diagonal) * inverse_J;
+            sigma[1 * stride + q]  = (G * b_yy + diagonal) * inverse_J;
+            sigma[2 * stride + q]  = (G * b_zz + diagonal) * inverse_J;
+            sigma[3 * stride + q]  = G * b_xy * inverse_J;
+            sigma[4 * stride + q]  = G * b_xz * inverse_J;
+            sigma[5 * stride + q]  = G * b_yz * inverse_J;
+            W[q]                   = 0.5 * G * (I1_bar - 3) +
+                   0.5 * K * (0.5 * (J[q] * J[q] - 1) - log_J[q]);
+          }
+      }
+
+      /** The batch's points with neo_hookean_3d(). */
+      template <typename Count>
+      void
+      update_3d(const Count               n,
+                const double              K,
+                const double              G,
+                const StressUpdateInputs &inputs,
+                StressUpdateOutputs      &outputs)
+      {
+        alignas(64) double log_J[StressUpdateInputs::capacity],
+          J_m23[StressUpdateInputs::capacity];
+        neo_hookean_3d(n,
+                       K,
+                       G,
+                       &inputs.deformation_gradient[0][0],
+                       inputs.volume_ratio,
+                       log_J,
+                       J_m23,
+                       &outputs.cauchy_stress[0][0],
+                       outputs.strain_energy_density);
+      }
     } // namespace
 
 
@@ -198,40 +281,15 @@ namespace fmpm
             plane_strain_update(
               n, bulk_modulus, shear_modulus, inputs, outputs);
         }
+      else if (n == StressUpdateInputs::capacity)
+        update_3d(
+          std::integral_constant<unsigned int, StressUpdateInputs::capacity>(),
+          bulk_modulus,
+          shear_modulus,
+          inputs,
+          outputs);
       else
-        {
-          // stress_and_energy() entry by entry: J = det F^{n+1} as the batch
-          // has it (deal.II's determinant()), σ = τ (1/J) as deal.II divides
-          // a tensor; the same operations, the same values.
-          const double K = bulk_modulus, G = shear_modulus;
-          const auto  &F     = inputs.deformation_gradient;
-          auto        &sigma = outputs.cauchy_stress;
-          for (unsigned int q = 0; q < n; ++q)
-            {
-              const double J     = inputs.volume_ratio[q];
-              const double log_J = std::log(J);
-              const double J_m23 = std::exp(-2.0 / 3.0 * log_J);
-              // J^{-2/3} (F Fᵀ)_ab
-              auto b_bar = [&](const unsigned int a, const unsigned int b) {
-                return J_m23 * (F[3 * a][q] * F[3 * b][q] +
-                                F[3 * a + 1][q] * F[3 * b + 1][q] +
-                                F[3 * a + 2][q] * F[3 * b + 2][q]);
-              };
-              const double b_xx = b_bar(0, 0), b_yy = b_bar(1, 1),
-                           b_zz      = b_bar(2, 2);
-              const double I1_bar    = b_xx + b_yy + b_zz;
-              const double diagonal  = 0.5 * K * (J * J - 1) - G * I1_bar / 3.0;
-              const double inverse_J = 1. / J;
-              sigma[0][q]            = (G * b_xx + diagonal) * inverse_J;
-              sigma[1][q]            = (G * b_yy + diagonal) * inverse_J;
-              sigma[2][q]            = (G * b_zz + diagonal) * inverse_J;
-              sigma[3][q]            = G * b_bar(0, 1) * inverse_J;
-              sigma[4][q]            = G * b_bar(0, 2) * inverse_J;
-              sigma[5][q]            = G * b_bar(1, 2) * inverse_J;
-              outputs.strain_energy_density[q] =
-                0.5 * G * (I1_bar - 3) + 0.5 * K * (0.5 * (J * J - 1) - log_J);
-            }
-        }
+        update_3d(n, bulk_modulus, shear_modulus, inputs, outputs);
     }
 
 

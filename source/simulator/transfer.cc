@@ -249,6 +249,92 @@ namespace fmpm
     }
 
     /**
+     * The 3D Cayley update of @p n points stored one after another: ΔF of
+     * increments() (its operations), F^{n+1} = ΔF F^n and J = det F^{n+1}
+     * (deal.II's determinant()). @p L and @p F are batch entry blocks
+     * (entry c of point q at [c capacity + q]); @p F_old the store's
+     * columns at the first point. Restrict-qualified, with a constant
+     * count for full batches, so that GCC vectorizes it at -O2.
+     */
+    template <typename Count>
+    inline void
+    cayley_update_3d(const Count  n,
+                     const double dt,
+                     const double *__restrict L,
+                     const std::array<const double *, 9> &F_old,
+                     double *__restrict F,
+                     double *__restrict J)
+    {
+      constexpr unsigned int stride =
+        ConstitutiveModel::StressUpdateInputs::capacity;
+      const double *__restrict F0 = F_old[0];
+      const double *__restrict F1 = F_old[1];
+      const double *__restrict F2 = F_old[2];
+      const double *__restrict F3 = F_old[3];
+      const double *__restrict F4 = F_old[4];
+      const double *__restrict F5 = F_old[5];
+      const double *__restrict F6 = F_old[6];
+      const double *__restrict F7 = F_old[7];
+      const double *__restrict F8 = F_old[8];
+      for (unsigned int q = 0; q < n; ++q)
+        {
+          double A[3][3], B[3][3], R[3][3], dF[3][3];
+#pragma GCC unroll 9
+          for (unsigned int a = 0; a < 3; ++a)
+#pragma GCC unroll 3
+            for (unsigned int b = 0; b < 3; ++b)
+              {
+                const double half = 0.5 * (L[(3 * a + b) * stride + q] * dt);
+                const double I_ab = a == b ? 1.0 : 0.0;
+                A[a][b]           = I_ab - half;
+                B[a][b]           = I_ab + half;
+              }
+          R[0][0] = A[1][1] * A[2][2] - A[1][2] * A[2][1];
+          R[0][1] = A[0][2] * A[2][1] - A[0][1] * A[2][2];
+          R[0][2] = A[0][1] * A[1][2] - A[0][2] * A[1][1];
+          R[1][0] = A[1][2] * A[2][0] - A[1][0] * A[2][2];
+          R[1][1] = A[0][0] * A[2][2] - A[0][2] * A[2][0];
+          R[1][2] = A[0][2] * A[1][0] - A[0][0] * A[1][2];
+          R[2][0] = A[1][0] * A[2][1] - A[1][1] * A[2][0];
+          R[2][1] = A[0][1] * A[2][0] - A[0][0] * A[2][1];
+          R[2][2] = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+          const double inverse_determinant =
+            1.0 / (A[0][0] * R[0][0] + A[0][1] * R[1][0] + A[0][2] * R[2][0]);
+#pragma GCC unroll 9
+          for (unsigned int a = 0; a < 3; ++a)
+#pragma GCC unroll 3
+            for (unsigned int b = 0; b < 3; ++b)
+              R[a][b] *= inverse_determinant;
+#pragma GCC unroll 9
+          for (unsigned int a = 0; a < 3; ++a)
+#pragma GCC unroll 3
+            for (unsigned int b = 0; b < 3; ++b)
+              {
+                double sum = R[a][0] * B[0][b];
+                sum += R[a][1] * B[1][b];
+                sum += R[a][2] * B[2][b];
+                dF[a][b] = sum;
+              }
+          const double old[9] = {
+            F0[q], F1[q], F2[q], F3[q], F4[q], F5[q], F6[q], F7[q], F8[q]};
+          double G[9];
+#pragma GCC unroll 9
+          for (unsigned int a = 0; a < 3; ++a)
+#pragma GCC unroll 3
+            for (unsigned int b = 0; b < 3; ++b)
+              G[3 * a + b] = dF[a][0] * old[b] + dF[a][1] * old[3 + b] +
+                             dF[a][2] * old[6 + b];
+#pragma GCC unroll 9
+          for (unsigned int c = 0; c < 9; ++c)
+            F[c * stride + q] = G[c];
+          const double C0 = G[4] * G[8] - G[5] * G[7];
+          const double C1 = G[5] * G[6] - G[3] * G[8];
+          const double C2 = G[3] * G[7] - G[4] * G[6];
+          J[q]            = G[0] * C0 + G[1] * C1 + G[2] * C2;
+        }
+    }
+
+    /**
      * v_p = Σ_j S_pj v_j over one point's support entries [begin, end), and
      * L_p = Σ_j v_j ⊗ G_pj (Eq. 2.7) below: each sum in its own scalar, so
      * that the compiler keeps it in a register (an array or Tensor summand
@@ -1502,8 +1588,10 @@ namespace fmpm
             // 2D Cayley on points stored one after another (one material):
             // one loop that vectorizes.
             const unsigned int k0 = group_points[0];
+            const bool         contiguous =
+              group_points[n_group - 1] == k0 + n_group - 1;
             if (dim == 2 && F_update == DeformationGradientUpdate::cayley &&
-                group_points[n_group - 1] == k0 + n_group - 1)
+                contiguous)
               {
                 const auto &L      = inputs.velocity_gradient;
                 auto        update = [&](const auto count) {
@@ -1530,6 +1618,29 @@ namespace fmpm
                     std::integral_constant<unsigned int, stress_batch_size>());
                 else
                   update(n_group);
+              }
+            else if (dim == 3 &&
+                     F_update == DeformationGradientUpdate::cayley &&
+                     contiguous)
+              {
+                std::array<const double *, 9> F_old;
+                for (unsigned int c = 0; c < 9; ++c)
+                  F_old[c] = F_column[c] + k0;
+                if (n_group == stress_batch_size)
+                  cayley_update_3d(
+                    std::integral_constant<unsigned int, stress_batch_size>(),
+                    dt,
+                    &inputs.velocity_gradient[0][0],
+                    F_old,
+                    &F[0][0],
+                    J);
+                else
+                  cayley_update_3d(n_group,
+                                   dt,
+                                   &inputs.velocity_gradient[0][0],
+                                   F_old,
+                                   &F[0][0],
+                                   J);
               }
             else
               {
@@ -1601,19 +1712,39 @@ namespace fmpm
 
             // F, σ, W and V = J V0 into the store (in 2D the plane-strain
             // zero entries are not stored; F_33 is unchanged).
-            for (unsigned int q = 0; q < n_group; ++q)
+            if (contiguous)
               {
-                const unsigned int k = group_points[q];
                 for (unsigned int c = 0; c < 9; ++c)
                   if (dim == 3 || c == 0 || c == 1 || c == 3 || c == 4)
-                    F_column[c][k] = F[c][q];
+                    std::copy(F[c], F[c] + n_group, F_column[c] + k0);
                 for (unsigned int c = 0; c < n_stress_entries; ++c)
-                  stress_column[c][k] = outputs.cauchy_stress[c][q];
-                energy_column[k] = outputs.strain_energy_density[q];
-                volume_column[k] = J[q] * initial_volume_column[k];
-                // Inverted points are reported above; they give no speed.
-                J_of_group[q] = J[q] > 0 ? J[q] : 1;
+                  std::copy(outputs.cauchy_stress[c],
+                            outputs.cauchy_stress[c] + n_group,
+                            stress_column[c] + k0);
+                std::copy(outputs.strain_energy_density,
+                          outputs.strain_energy_density + n_group,
+                          energy_column + k0);
+                for (unsigned int q = 0; q < n_group; ++q)
+                  {
+                    volume_column[k0 + q] =
+                      J[q] * initial_volume_column[k0 + q];
+                    J_of_group[q] = J[q] > 0 ? J[q] : 1;
+                  }
               }
+            else
+              for (unsigned int q = 0; q < n_group; ++q)
+                {
+                  const unsigned int k = group_points[q];
+                  for (unsigned int c = 0; c < 9; ++c)
+                    if (dim == 3 || c == 0 || c == 1 || c == 3 || c == 4)
+                      F_column[c][k] = F[c][q];
+                  for (unsigned int c = 0; c < n_stress_entries; ++c)
+                    stress_column[c][k] = outputs.cauchy_stress[c][q];
+                  energy_column[k] = outputs.strain_energy_density[q];
+                  volume_column[k] = J[q] * initial_volume_column[k];
+                  // Inverted points are reported above; they give no speed.
+                  J_of_group[q] = J[q] > 0 ? J[q] : 1;
+                }
             for (unsigned int q = 0; q < n_group; ++q)
               if (!std::isfinite(outputs.strain_energy_density[q]) &&
                   local_failure.empty())
