@@ -1522,6 +1522,10 @@ namespace fmpm
             std::copy(by_material[m].begin(),
                       by_material[m].end(),
                       group_points);
+            // (one material: the batch, stored one after another)
+            const unsigned int k0 = group_points[0];
+            const bool         contiguous =
+              group_points[n_group - 1] == k0 + n_group - 1;
             if (contact)
               view_velocities(
                 this->contact->material_fields()[m].fields[field]);
@@ -1570,14 +1574,28 @@ namespace fmpm
                                    });
               }
             if (constitutive_models[m]->reads_old_state())
-              for (unsigned int q = 0; q < n_group; ++q)
-                {
-                  const unsigned int k = group_points[q];
-                  for (unsigned int c = 0; c < n_stress_entries; ++c)
-                    inputs.old_stress[c][q] = stress_column[c][k];
-                  inputs.old_strain_energy_density[q] = energy_column[k];
-                  inputs.properties[q]                = points.record(k);
-                }
+              {
+                if (contiguous)
+                  {
+                    for (unsigned int c = 0; c < n_stress_entries; ++c)
+                      std::copy(stress_column[c] + k0,
+                                stress_column[c] + k0 + n_group,
+                                inputs.old_stress[c]);
+                    std::copy(energy_column + k0,
+                              energy_column + k0 + n_group,
+                              inputs.old_strain_energy_density);
+                  }
+                else
+                  for (unsigned int q = 0; q < n_group; ++q)
+                    {
+                      const unsigned int k = group_points[q];
+                      for (unsigned int c = 0; c < n_stress_entries; ++c)
+                        inputs.old_stress[c][q] = stress_column[c][k];
+                      inputs.old_strain_energy_density[q] = energy_column[k];
+                    }
+                for (unsigned int q = 0; q < n_group; ++q)
+                  inputs.properties[q] = points.record(group_points[q]);
+              }
             if (constitutive_models[m]->needs_old_volume_ratio())
               for (unsigned int q = 0; q < n_group; ++q)
                 inputs.old_volume_ratio[q] =
@@ -1587,9 +1605,6 @@ namespace fmpm
             auto &J = inputs.volume_ratio;
             // 2D Cayley on points stored one after another (one material):
             // one loop that vectorizes.
-            const unsigned int k0 = group_points[0];
-            const bool         contiguous =
-              group_points[n_group - 1] == k0 + n_group - 1;
             if (dim == 2 && F_update == DeformationGradientUpdate::cayley &&
                 contiguous)
               {
