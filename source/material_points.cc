@@ -333,23 +333,21 @@ namespace fmpm
           permutation[next[key(k)]++] = k;
     }
     // In the cells that received points: by id (the order of a cell's
-    // points is then that of a run that never moved them).
-    for (unsigned int first = 0; first < n_kept;)
+    // points is then that of a run that never moved them). count[c] is now
+    // the end of cell c's places.
+    for (const unsigned int k : moved_points)
       {
-        const unsigned int c    = key(permutation[first]);
-        unsigned int       last = first + 1;
-        while (last < n_kept && key(permutation[last]) == c)
-          ++last;
-        if (cell_received[c])
-          {
-            std::sort(permutation.begin() + first,
-                      permutation.begin() + last,
-                      [this](const unsigned int a, const unsigned int b) {
-                        return id[a] < id[b];
-                      });
-            cell_received[c] = 0;
-          }
-        first = last;
+        if (cell[k] == numbers::invalid_unsigned_int)
+          continue;
+        const unsigned int c = key(k);
+        if (!cell_received[c])
+          continue;
+        std::sort(permutation.begin() + (c == 0 ? 0 : count[c - 1]),
+                  permutation.begin() + count[c],
+                  [this](const unsigned int a, const unsigned int b) {
+                    return id[a] < id[b];
+                  });
+        cell_received[c] = 0;
       }
 
     // The points that kept their cell keep their order (the store is in
