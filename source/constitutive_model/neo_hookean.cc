@@ -266,30 +266,18 @@ namespace fmpm
     NeoHookean<dim>::update_stress(const StressUpdateInputs &inputs,
                                    StressUpdateOutputs      &outputs) const
     {
-      const unsigned int n = inputs.n_points;
-      if constexpr (dim == 2)
-        {
-          if (n == StressUpdateInputs::capacity)
-            plane_strain_update(
-              std::integral_constant<unsigned int,
-                                     StressUpdateInputs::capacity>(),
-              bulk_modulus,
-              shear_modulus,
-              inputs,
-              outputs);
-          else
-            plane_strain_update(
-              n, bulk_modulus, shear_modulus, inputs, outputs);
-        }
-      else if (n == StressUpdateInputs::capacity)
-        update_3d(
-          std::integral_constant<unsigned int, StressUpdateInputs::capacity>(),
-          bulk_modulus,
-          shear_modulus,
-          inputs,
-          outputs);
+      // A full batch with a constant count (the loops then vectorize).
+      auto update = [&](const auto n) {
+        if constexpr (dim == 2)
+          plane_strain_update(n, bulk_modulus, shear_modulus, inputs, outputs);
+        else
+          update_3d(n, bulk_modulus, shear_modulus, inputs, outputs);
+      };
+      if (inputs.n_points == StressUpdateInputs::capacity)
+        update(
+          std::integral_constant<unsigned int, StressUpdateInputs::capacity>());
       else
-        update_3d(n, bulk_modulus, shear_modulus, inputs, outputs);
+        update(inputs.n_points);
     }
 
 

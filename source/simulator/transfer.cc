@@ -80,9 +80,8 @@ namespace fmpm
      * over the step (seed 001, computeDeformationGradientFromVelocity). The
      * method is chosen once for the batch. In 2D (plane strain) L and ΔF
      * live in the 2x2 block (ΔF_33 = 1): only that block is computed.
-     * First order and Cayley are written entry by entry (one loop over the
-     * points that vectorizes; the operations and their order are those of
-     * deal.II's Tensor invert() and product).
+     * First order is written entry by entry (one loop over the points that
+     * vectorizes); Cayley is cayley_update(), with F^{n+1} and J.
      */
     template <int n>
     void
@@ -101,58 +100,8 @@ namespace fmpm
                 dF[3 * a + b][q] = (a == b ? 1.0 : 0.0) + L[3 * a + b][q] * dt;
           return;
         }
-      if (update == DeformationGradientUpdate::cayley)
-        {
-          // ΔF = (I − L Δt/2)⁻¹ (I + L Δt/2).
-          for (unsigned int q = 0; q < n_points; ++q)
-            {
-              double A[3][3], B[3][3], R[3][3];
-              for (unsigned int a = 0; a < n; ++a)
-                for (unsigned int b = 0; b < n; ++b)
-                  {
-                    const double half = 0.5 * (L[3 * a + b][q] * dt);
-                    const double I_ab = a == b ? 1.0 : 0.0;
-                    A[a][b]           = I_ab - half;
-                    B[a][b]           = I_ab + half;
-                  }
-              if constexpr (n == 2)
-                {
-                  const double inverse_determinant =
-                    1.0 / (A[0][0] * A[1][1] - A[1][0] * A[0][1]);
-                  R[0][0] = A[1][1] * inverse_determinant;
-                  R[0][1] = -A[0][1] * inverse_determinant;
-                  R[1][0] = -A[1][0] * inverse_determinant;
-                  R[1][1] = A[0][0] * inverse_determinant;
-                }
-              else
-                {
-                  R[0][0] = A[1][1] * A[2][2] - A[1][2] * A[2][1];
-                  R[0][1] = A[0][2] * A[2][1] - A[0][1] * A[2][2];
-                  R[0][2] = A[0][1] * A[1][2] - A[0][2] * A[1][1];
-                  R[1][0] = A[1][2] * A[2][0] - A[1][0] * A[2][2];
-                  R[1][1] = A[0][0] * A[2][2] - A[0][2] * A[2][0];
-                  R[1][2] = A[0][2] * A[1][0] - A[0][0] * A[1][2];
-                  R[2][0] = A[1][0] * A[2][1] - A[1][1] * A[2][0];
-                  R[2][1] = A[0][1] * A[2][0] - A[0][0] * A[2][1];
-                  R[2][2] = A[0][0] * A[1][1] - A[0][1] * A[1][0];
-                  const double inverse_determinant =
-                    1.0 /
-                    (A[0][0] * R[0][0] + A[0][1] * R[1][0] + A[0][2] * R[2][0]);
-                  for (unsigned int a = 0; a < 3; ++a)
-                    for (unsigned int b = 0; b < 3; ++b)
-                      R[a][b] *= inverse_determinant;
-                }
-              for (unsigned int a = 0; a < n; ++a)
-                for (unsigned int b = 0; b < n; ++b)
-                  {
-                    double sum = R[a][0] * B[0][b];
-                    for (unsigned int c = 1; c < n; ++c)
-                      sum += R[a][c] * B[c][b];
-                    dF[3 * a + b][q] = sum;
-                  }
-            }
-          return;
-        }
+      Assert(update != DeformationGradientUpdate::cayley,
+             ExcMessage("Cayley: cayley_update()."));
       const Tensor<2, n> I = unit_symmetric_tensor<n>();
       for (unsigned int q = 0; q < n_points; ++q)
         {
@@ -191,8 +140,9 @@ namespace fmpm
     }
 
     /**
-     * The 2D Cayley update of @p n points stored one after another: ΔF of
-     * increments() (its operations), F^{n+1} = ΔF F^n on the 2x2 block and
+     * The 2D Cayley update of @p n points: ΔF = (I − LΔt/2)⁻¹(I + LΔt/2)
+     * (seed 001; 2x2 inverse by cofactors), F^{n+1} = ΔF F^n on the 2x2
+     * block and
      * J = F_xx^{n+1} (F_yy^{n+1} F_33) − F_xy^{n+1} (F_yx^{n+1} F_33). The
      * restrict-qualified parameters and, for full batches, the constant
      * count let GCC vectorize the loop at -O2.
@@ -249,11 +199,11 @@ namespace fmpm
     }
 
     /**
-     * The 3D Cayley update of @p n points stored one after another: ΔF of
-     * increments() (its operations), F^{n+1} = ΔF F^n and J = det F^{n+1}
+     * The 3D Cayley update of @p n points: ΔF = (I − LΔt/2)⁻¹(I + LΔt/2)
+     * (3x3 inverse by cofactors), F^{n+1} = ΔF F^n and J = det F^{n+1}
      * (deal.II's determinant()). @p L and @p F are batch entry blocks
-     * (entry c of point q at [c capacity + q]); @p F_old the store's
-     * columns at the first point. Restrict-qualified, with a constant
+     * (entry c of point q at [c capacity + q]); @p F_old one array per
+     * entry. Restrict-qualified, with a constant
      * count for full batches, so that GCC vectorizes it at -O2.
      */
     template <typename Count>
@@ -332,6 +282,51 @@ namespace fmpm
           const double C2 = G[3] * G[7] - G[4] * G[6];
           J[q]            = G[0] * C0 + G[1] * C1 + G[2] * C2;
         }
+    }
+
+    /**
+     * The Cayley update of a batch of @p n_points: ΔF, F^{n+1} = ΔF F^n and
+     * J into @p F and @p J from the velocity gradients @p L and F^n at
+     * @p F_old (one array per entry, the batch's points one after another),
+     * with a constant count for a full batch.
+     */
+    template <int dim>
+    inline void
+    cayley_update(const unsigned int                   n_points,
+                  const double                         dt,
+                  const BatchEntries                  &L,
+                  const std::array<const double *, 9> &F_old,
+                  BatchEntries                        &F,
+                  double                              *J)
+    {
+      auto update = [&](const auto count) {
+        if constexpr (dim == 2)
+          plane_strain_cayley_update(count,
+                                     dt,
+                                     L[0],
+                                     L[1],
+                                     L[3],
+                                     L[4],
+                                     F_old[0],
+                                     F_old[1],
+                                     F_old[3],
+                                     F_old[4],
+                                     F_old[8],
+                                     F[0],
+                                     F[1],
+                                     F[3],
+                                     F[4],
+                                     F[8],
+                                     J);
+        else
+          cayley_update_3d(count, dt, &L[0][0], F_old, &F[0][0], J);
+      };
+      constexpr unsigned int capacity =
+        ConstitutiveModel::StressUpdateInputs::capacity;
+      if (n_points == capacity)
+        update(std::integral_constant<unsigned int, capacity>());
+      else
+        update(n_points);
     }
 
     /**
@@ -1429,7 +1424,7 @@ namespace fmpm
     ConstitutiveModel::StressUpdateInputs  inputs;
     ConstitutiveModel::StressUpdateOutputs outputs;
     inputs.time_step = dt;
-    BatchEntries  dF;
+    BatchEntries  dF, F_gathered;
     double        wave_speed = 0;
     const double *v_a[dim];
     auto          view_velocities = [&](const GridVectorField &v) {
@@ -1603,59 +1598,22 @@ namespace fmpm
                   initial_volume_column[group_points[q]];
             auto &F = inputs.deformation_gradient;
             auto &J = inputs.volume_ratio;
-            // 2D Cayley on points stored one after another (one material):
-            // one loop that vectorizes.
-            if (dim == 2 && F_update == DeformationGradientUpdate::cayley &&
-                contiguous)
+            if (F_update == DeformationGradientUpdate::cayley)
               {
-                const auto &L      = inputs.velocity_gradient;
-                auto        update = [&](const auto count) {
-                  plane_strain_cayley_update(count,
-                                             dt,
-                                             L[0],
-                                             L[1],
-                                             L[3],
-                                             L[4],
-                                             F_column[0] + k0,
-                                             F_column[1] + k0,
-                                             F_column[3] + k0,
-                                             F_column[4] + k0,
-                                             F_column[8] + k0,
-                                             F[0],
-                                             F[1],
-                                             F[3],
-                                             F[4],
-                                             F[8],
-                                             J);
-                };
-                if (n_group == stress_batch_size)
-                  update(
-                    std::integral_constant<unsigned int, stress_batch_size>());
-                else
-                  update(n_group);
-              }
-            else if (dim == 3 &&
-                     F_update == DeformationGradientUpdate::cayley &&
-                     contiguous)
-              {
+                // F^n: the store's columns, or gathered for a group spread
+                // over the batch (several materials).
                 std::array<const double *, 9> F_old;
                 for (unsigned int c = 0; c < 9; ++c)
-                  F_old[c] = F_column[c] + k0;
-                if (n_group == stress_batch_size)
-                  cayley_update_3d(
-                    std::integral_constant<unsigned int, stress_batch_size>(),
-                    dt,
-                    &inputs.velocity_gradient[0][0],
-                    F_old,
-                    &F[0][0],
-                    J);
-                else
-                  cayley_update_3d(n_group,
-                                   dt,
-                                   &inputs.velocity_gradient[0][0],
-                                   F_old,
-                                   &F[0][0],
-                                   J);
+                  if (contiguous)
+                    F_old[c] = F_column[c] + k0;
+                  else
+                    {
+                      for (unsigned int q = 0; q < n_group; ++q)
+                        F_gathered[c][q] = F_column[c][group_points[q]];
+                      F_old[c] = F_gathered[c];
+                    }
+                cayley_update<dim>(
+                  n_group, dt, inputs.velocity_gradient, F_old, F, J);
               }
             else
               {
