@@ -354,10 +354,11 @@ namespace fmpm
     // cell order, by id in a cell): they shift as runs of consecutive
     // places, by the number of points that left or arrived before them.
     // Only the runs that shift and the points that moved are copied.
-    point_moved.assign(n, 0);
+    // (point_moved is all zeros between rebins: only the moved points'
+    // flags are set and reset.)
+    point_moved.resize(n, 0);
     for (const unsigned int k : moved_points)
       point_moved[k] = 1;
-    moved_points.clear();
     moved_places.clear();
     shifted_runs.clear();
     for (unsigned int to = 0; to < n_kept;)
@@ -380,6 +381,9 @@ namespace fmpm
           shifted_runs.push_back({{to, from, length}});
         to += length;
       }
+    for (const unsigned int k : moved_points)
+      point_moved[k] = 0;
+    moved_points.clear();
     // Per array: the moved points' values aside; the runs that shift to
     // lower places in ascending order, those that shift to higher places
     // in descending order (no run then writes a place another run has yet
