@@ -10,6 +10,7 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/grid/tria.h>
 
+#include <algorithm>
 #include <array>
 #include <type_traits>
 #include <vector>
@@ -69,8 +70,13 @@ namespace fmpm
     std::vector<unsigned int> support_begin;
     /** @} */
 
-    /** @name Per support entry */
+    /** @name Per support entry
+     * The first n_stored entries of each array; the arrays keep their size
+     * from step to step (entries are written in place, make_room()).
+     */
     /** @{ */
+    /** Number of stored entries. */
+    std::size_t n_stored = 0;
     /** Local index of the node in the ghosted grid vectors. */
     std::vector<unsigned int> node;
     /** S_ip. */
@@ -94,7 +100,7 @@ namespace fmpm
     {
       return implicit_classic ?
                std::size_t(entries_per_implicit_point) * n_points() :
-               node.size();
+               n_stored;
     }
 
     /** @brief Forget everything (keeps the memory). */
@@ -107,9 +113,32 @@ namespace fmpm
       reference_position_copy.clear();
       material.clear();
       support_begin.assign(1, 0);
-      node.clear();
-      S.clear();
-      G.clear();
+      n_stored = 0;
+    }
+
+    /** @brief Make room for @p n_more entries after the stored ones. */
+    void
+    make_room(const std::size_t n_more)
+    {
+      if (n_stored + n_more > node.size())
+        {
+          const std::size_t size = std::max(n_stored + n_more, 2 * node.size());
+          node.resize(size);
+          S.resize(size);
+          G.resize(size);
+        }
+    }
+
+    /** @brief Store an entry (after make_room()). */
+    void
+    append(const unsigned int    local_index,
+           const double          S_ip,
+           const Tensor<1, dim> &G_ip)
+    {
+      node[n_stored] = local_index;
+      S[n_stored]    = S_ip;
+      G[n_stored]    = G_ip;
+      ++n_stored;
     }
 
     /**
@@ -123,16 +152,15 @@ namespace fmpm
               const double          S_ip,
               const Tensor<1, dim> &G_ip)
     {
-      for (unsigned int k = first; k < node.size(); ++k)
+      for (std::size_t k = first; k < n_stored; ++k)
         if (node[k] == local_index)
           {
             S[k] += S_ip;
             G[k] += G_ip;
             return;
           }
-      node.push_back(local_index);
-      S.push_back(S_ip);
-      G.push_back(G_ip);
+      make_room(1);
+      append(local_index, S_ip, G_ip);
     }
 
     /** @brief Bytes held (capacity), for the benchmark's memory figure. */

@@ -671,7 +671,7 @@ namespace fmpm
                             supports.n_entries(GridTransfer<dim>::n_nodes)),
                           mpi_communicator);
     const double stored_entries =
-      Utilities::MPI::sum(static_cast<double>(supports.node.size()),
+      Utilities::MPI::sum(static_cast<double>(supports.n_stored),
                           mpi_communicator);
     const double cached_points =
       Utilities::MPI::sum(static_cast<double>(supports.n_points()),

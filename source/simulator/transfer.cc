@@ -21,17 +21,30 @@ namespace fmpm
   {
     /**
      * With contact the points scatter into their material's fields only;
-     * the centre-of-mass field is their sum (seed 004 Eq. 6): @p total +=
+     * the centre-of-mass field is their sum (seed 004 Eq. 6): @p total =
      * Σ_α @p material_field[α] on the vectors' local (owned and ghost)
-     * entries, before the ghosts are added to their owners.
+     * entries, before the ghosts are added to their owners. Summed from
+     * zero in material order (the bits of zeroing @p total and adding each
+     * field), in one pass.
      */
     void
-    add_material_sums(GridScalar                  &total,
+    set_material_sums(GridScalar                  &total,
                       const std::vector<double *> &material_field)
     {
+      total.zero_out_ghost_values();
       const unsigned int n_local =
         total.locally_owned_size() + total.get_partitioner()->n_ghost_indices();
       double *const t = total.begin();
+      if (material_field.size() == 2)
+        {
+          const double *const a = material_field[0];
+          const double *const b = material_field[1];
+          for (unsigned int i = 0; i < n_local; ++i)
+            t[i] = (0. + a[i]) + b[i];
+          return;
+        }
+      for (unsigned int i = 0; i < n_local; ++i)
+        t[i] = 0.;
       for (const double *const field : material_field)
         for (unsigned int i = 0; i < n_local; ++i)
           t[i] += field[i];
@@ -557,12 +570,14 @@ namespace fmpm
           }
       }
 
-    supports.support_begin.reserve(n_points + 1);
-    supports.node.reserve(n * n_points);
-    supports.S.reserve(n * n_points);
-    supports.G.reserve(n * n_points);
-    const auto   &partitioner = *lumped_mass.get_partitioner();
-    const double *F_column[dim][dim], *l0_column[dim];
+    // (GIMP on a uniform patch: at most 3^dim nodes per point.)
+    const bool gimp = (shape_function == ShapeFunction::Type::ugimp ||
+                       shape_function == ShapeFunction::Type::cpgimp);
+    supports.support_begin.resize(n_points + 1);
+    supports.make_room((gimp ? Utilities::pow(3, dim) : n) * n_points);
+    unsigned int *const support_end = supports.support_begin.data() + 1;
+    const auto         &partitioner = *lumped_mass.get_partitioner();
+    const double       *F_column[dim][dim], *l0_column[dim];
     for (unsigned int a = 0; a < dim; ++a)
       {
         l0_column[a] = points.column(Index::initial_half_length + a);
@@ -592,8 +607,6 @@ namespace fmpm
     std::array<double, n>                 S;
     std::array<Tensor<1, dim>, n>         G;
     std::vector<ShapeFunction::Node<dim>> support;
-    const bool gimp = (shape_function == ShapeFunction::Type::ugimp ||
-                       shape_function == ShapeFunction::Type::cpgimp);
     if (gimp)
       gimp_patch_of_cell.resize(triangulation.n_active_cells(),
                                 numbers::invalid_unsigned_int);
@@ -622,18 +635,17 @@ namespace fmpm
              ++k)
           {
             const Point<dim>  &location = points.position[k];
-            const unsigned int first    = supports.node.size();
+            const unsigned int first    = supports.n_stored;
             if (classic)
               {
                 GridTransfer<dim>::values_and_gradients(
                   data, points.reference_position[k], S, G);
                 if (!data.has_constraints)
-                  for (unsigned int i = 0; i < n; ++i)
-                    {
-                      supports.node.push_back(data.local_index[i]);
-                      supports.S.push_back(S[i]);
-                      supports.G.push_back(G[i]);
-                    }
+                  {
+                    supports.make_room(n);
+                    for (unsigned int i = 0; i < n; ++i)
+                      supports.append(data.local_index[i], S[i], G[i]);
+                  }
                 else
                   for (unsigned int i = 0; i < n; ++i)
                     add_node(first,
@@ -646,38 +658,53 @@ namespace fmpm
             else
               {
                 Tensor<2, dim> F;
-                Tensor<1, dim> l0;
+                Tensor<1, dim> l0, l;
                 for (unsigned int a = 0; a < dim; ++a)
                   {
                     l0[a] = l0_column[a][k];
+                    l[a]  = l0_column[a][k];
+                  }
+                // (uGIMP reads no F.)
+                if (shape_function != ShapeFunction::Type::ugimp)
+                  for (unsigned int a = 0; a < dim; ++a)
                     for (unsigned int b = 0; b < dim; ++b)
                       F[a][b] = F_column[a][b][k];
-                  }
                 // GIMP's closed forms on a uniform patch from the cell's
                 // planes (built once per cell), else the general support.
                 ShapeFunction::Status status = ShapeFunction::Status::ok;
-                const Tensor<1, dim>  l =
-                  gimp ?
-                     ShapeFunction::gimp_half_lengths(shape_function, F, l0) :
-                     l0;
+                if (shape_function == ShapeFunction::Type::cpgimp)
+                  l = ShapeFunction::gimp_half_lengths(shape_function, F, l0);
                 // No hanging nodes on a uniform patch: straight into the
                 // cache.
-                if (gimp && data.uniform_patch &&
-                    gimp_patch->for_each_node_if_applies(
-                      location,
-                      l,
-                      [&](const unsigned int local_index,
-                          const types::global_dof_index,
-                          const double          S_ip,
-                          const Tensor<1, dim> &G_ip) {
-                        supports.node.push_back(local_index);
-                        supports.S.push_back(S_ip);
-                        supports.G.push_back(G_ip);
-                      }))
+                if (gimp && data.uniform_patch)
                   {
-                    supports.support_begin.push_back(supports.node.size());
-                    continue;
+                    supports.make_room(Utilities::pow(4, dim));
+                    unsigned int *const node_out = supports.node.data() + first;
+                    double *const       S_out    = supports.S.data() + first;
+                    Tensor<1, dim> *const G_out  = supports.G.data() + first;
+                    unsigned int          count  = 0;
+                    if (gimp_patch->for_each_node_if_applies(
+                          location,
+                          l,
+                          [&](const unsigned int local_index,
+                              const types::global_dof_index,
+                              const double          S_ip,
+                              const Tensor<1, dim> &G_ip) {
+                            node_out[count] = local_index;
+                            S_out[count]    = S_ip;
+                            G_out[count]    = G_ip;
+                            ++count;
+                          }))
+                      {
+                        supports.n_stored += count;
+                        support_end[k] = supports.n_stored;
+                        continue;
+                      }
                   }
+                if (shape_function == ShapeFunction::Type::ugimp)
+                  for (unsigned int a = 0; a < dim; ++a)
+                    for (unsigned int b = 0; b < dim; ++b)
+                      F[a][b] = F_column[a][b][k];
                 status = ShapeFunction::compute_support(
                   shape_function,
                   transfer,
@@ -725,12 +752,11 @@ namespace fmpm
                 for (const auto &node : support)
                   any_constrained = any_constrained || node.constrained;
                 if (!any_constrained)
-                  for (const auto &node : support)
-                    {
-                      supports.node.push_back(node.local_index);
-                      supports.S.push_back(node.S);
-                      supports.G.push_back(node.G);
-                    }
+                  {
+                    supports.make_room(support.size());
+                    for (const auto &node : support)
+                      supports.append(node.local_index, node.S, node.G);
+                  }
                 else
                   for (const auto &node : support)
                     add_node(first,
@@ -740,7 +766,7 @@ namespace fmpm
                              node.S,
                              node.G);
               }
-            supports.support_begin.push_back(supports.node.size());
+            support_end[k] = supports.n_stored;
           }
       }
   }
@@ -772,18 +798,23 @@ namespace fmpm
                                 velocity_conditions.needs_full_mass_matrix());
     const bool with_full_mass =
       masses && (use_cellwise_full_mass || assemble_full);
-    if (masses)
-      lumped_mass = 0;
-    momentum = 0;
-    if (with_forces)
-      force = 0;
+    // (With contact m, p and f are set from the material fields after the
+    // sweep.)
+    const bool contact = contact_active();
+    if (!contact)
+      {
+        if (masses)
+          lumped_mass = 0;
+        momentum = 0;
+        if (with_forces)
+          force = 0;
+      }
     if (assemble_full)
       full_mass_matrix = 0;
     if (with_full_mass && use_cellwise_full_mass)
       cellwise_full_mass.clear();
 
     // Per-material fields (contact): m^α, p^α0, f^α0, g^α, Σ S M X.
-    const bool contact = contact_active();
     if (contact)
       this->contact->invalidate_geometry(masses);
     std::vector<Contact::MaterialField<dim>>  no_material_fields;
@@ -1135,7 +1166,7 @@ namespace fmpm
       {
         // m = Σ_α m^α, p = Σ_α p^α, f = Σ_α f^α0.
         if (masses)
-          add_material_sums(lumped_mass, m_alpha);
+          set_material_sums(lumped_mass, m_alpha);
         for (unsigned int d = 0; d < dim; ++d)
           {
             std::vector<double *> p_d, f_d;
@@ -1144,9 +1175,9 @@ namespace fmpm
                 p_d.push_back(p_alpha[a * dim + d]);
                 f_d.push_back(f_alpha[a * dim + d]);
               }
-            add_material_sums(momentum.block(d), p_d);
+            set_material_sums(momentum.block(d), p_d);
             if (with_forces)
-              add_material_sums(force.block(d), f_d);
+              set_material_sums(force.block(d), f_d);
           }
       }
     if (masses)
@@ -1450,7 +1481,9 @@ namespace fmpm
     const bool            uniform_body_force = !has_point_body_force();
     if (with_forces)
       {
-        force = 0;
+        // (With contact f is set from the f^α0 after the sweep.)
+        if (!contact)
+          force = 0;
         for (unsigned int d = 0; d < dim; ++d)
           {
             f[d]       = force.block(d).begin();
@@ -1787,7 +1820,7 @@ namespace fmpm
               std::vector<double *> f_d;
               for (unsigned int a = 0; a < f_alpha.size() / dim; ++a)
                 f_d.push_back(f_alpha[a * dim + d]);
-              add_material_sums(force.block(d), f_d);
+              set_material_sums(force.block(d), f_d);
             }
         force.compress(VectorOperation::add);
         if (contact)
