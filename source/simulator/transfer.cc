@@ -70,6 +70,23 @@ namespace fmpm
       return f;
     }
 
+    /**
+     * nodal_force() without body acceleration: −V Σ_b σ_ab G_b (the same
+     * bits as with b = 0, M S ≥ 0).
+     */
+    template <int dim>
+    inline double
+    internal_nodal_force(const unsigned int a,
+                         const double       V,
+                         const double (&sigma)[dim][dim],
+                         const Tensor<1, dim> &G)
+    {
+      double f = 0.;
+      for (unsigned int c = 0; c < dim; ++c)
+        f -= V * sigma[a][c] * G[c];
+      return f;
+    }
+
     /** The dim x dim block of point k's stored Cauchy stress, from the six
      * stress columns (Voigt-like order). */
     template <int dim>
@@ -1081,10 +1098,16 @@ namespace fmpm
                   // (with contact f^α0 of the point's material, Eq. 29)
                   double *const *f_target =
                     contact ? &f_alpha[supports.material[k] * dim] : f;
-                  for (unsigned int j = 0; j < n_entries; ++j)
-                    for (unsigned int a = 0; a < dim; ++a)
-                      f_target[a][node[j]] +=
-                        nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
+                  if (b.norm_square() == 0)
+                    for (unsigned int j = 0; j < n_entries; ++j)
+                      for (unsigned int a = 0; a < dim; ++a)
+                        f_target[a][node[j]] +=
+                          internal_nodal_force<dim>(a, V, sigma, G[j]);
+                  else
+                    for (unsigned int j = 0; j < n_entries; ++j)
+                      for (unsigned int a = 0; a < dim; ++a)
+                        f_target[a][node[j]] +=
+                          nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
                 }
               if (contact)
                 {
@@ -1246,11 +1269,14 @@ namespace fmpm
     stress_block<dim>(columns.stress, k, sigma);
     const Tensor<1, dim> b =
       uniform_body_force ? gravity : external_acceleration(k, gravity);
-    for (unsigned int j = 0; j < n_entries; ++j)
-      for (unsigned int a = 0; a < dim; ++a)
-        {
+    if (b.norm_square() == 0)
+      for (unsigned int j = 0; j < n_entries; ++j)
+        for (unsigned int a = 0; a < dim; ++a)
+          f[a][node[j]] += internal_nodal_force<dim>(a, V, sigma, G[j]);
+    else
+      for (unsigned int j = 0; j < n_entries; ++j)
+        for (unsigned int a = 0; a < dim; ++a)
           f[a][node[j]] += nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
-        }
   }
 
 
