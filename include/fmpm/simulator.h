@@ -467,6 +467,18 @@ namespace fmpm
     }
     void
     update_particles();
+    /**
+     * USL+/USAVG+ without contact: the particle update extrapolates p =
+     * SᵀMV^{n+1} point by point once V^{n+1} is known (the order and bits
+     * of particles_to_grid()), and re_extrapolate() only adds the ghosts.
+     */
+    bool
+    re_extrapolates_in_particle_update() const
+    {
+      return !contact_active() &&
+             parameters.method.strain_update_scheme.update_last &&
+             parameters.method.strain_update_scheme.re_extrapolate;
+    }
     void
     sort_particles_into_cells();
     void

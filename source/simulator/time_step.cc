@@ -233,7 +233,13 @@ namespace fmpm
     // the conditions, and with contact a third correction.
     using namespace ParticleUpdate;
     const double t_end = control.time() + control.time_step();
-    particles_to_grid(false, /*momenta_only=*/true);
+    if (re_extrapolates_in_particle_update())
+      {
+        TimerOutput::Scope timer(computing_timer, "particles to grid");
+        momentum.compress(VectorOperation::add);
+      }
+    else
+      particles_to_grid(false, /*momenta_only=*/true);
     momentum_time = t_end;
     impose_velocity_conditions(momentum, t_end, nullptr);
     field_computed[velocity] = field_computed[lumped_velocity] = false;

@@ -1328,6 +1328,15 @@ namespace fmpm
     for (unsigned int d = 0; d < dim; ++d)
       velocity_column[d] = points.column(Index::velocity + d);
     const double *const mass_column = points.column(Index::mass);
+    // USL+/USAVG+: p = SᵀMV^{n+1} in this sweep.
+    const bool re_extrapolate = re_extrapolates_in_particle_update();
+    double    *p[dim];
+    if (re_extrapolate)
+      {
+        momentum = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          p[d] = momentum.block(d).begin();
+      }
 
     // One batch per cell with points (the plugin's virtual call per batch).
     for (unsigned int c = 0; c < points.n_cells(); ++c)
@@ -1439,6 +1448,22 @@ namespace fmpm
             max_V2 = std::max(max_V2, V2);
             for (unsigned int d = 0; d < dim; ++d)
               velocity_column[d][k] = V[d];
+            if (re_extrapolate)
+              support_of.visit(k,
+                               data,
+                               false,
+                               [&](const unsigned int *const node,
+                                   const double *const       S,
+                                   const Tensor<1, dim> *,
+                                   const auto n_entries) {
+                                 const double M = mass_column[k];
+                                 double       MV[dim];
+                                 for (unsigned int d = 0; d < dim; ++d)
+                                   MV[d] = M * V[d];
+                                 for (unsigned int j = 0; j < n_entries; ++j)
+                                   for (unsigned int d = 0; d < dim; ++d)
+                                     p[d][node[j]] += MV[d] * S[j];
+                               });
             // Points do not enter a moving wall's box.
             if (has_moving_walls)
               velocity_conditions.push_out_of_walls(batch.position[q]);
