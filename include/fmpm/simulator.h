@@ -381,9 +381,25 @@ namespace fmpm
                VelocityConditions<dim>::Method::velocity &&
              !velocity_conditions.labels().empty();
     }
-    /** The support cache: S and G (S̄, Ḡ) of every point for this step. */
+    /**
+     * The support cache: S and G (S̄, Ḡ) of every point for this step.
+     * With @p extrapolate (the step's start) and
+     * extrapolates_with_supports(), also m = SᵀM and p = SᵀMV point by
+     * point as each stored support is complete (the order and bits of
+     * particles_to_grid(), whose next call then only adds the ghosts).
+     */
     void
-    compute_supports();
+    compute_supports(const bool extrapolate = false);
+    /** One velocity field, no forces in the first extrapolation (the
+     * stresses are updated first), no m̃ to assemble. */
+    bool
+    extrapolates_with_supports() const
+    {
+      return !contact_active() &&
+             parameters.method.strain_update_scheme.update_first &&
+             !mass_matrix->needs_full_mass_matrix() &&
+             !velocity_conditions.needs_full_mass_matrix();
+    }
     /** Whether a point's body force depends on the point (b(x, t), a
      * rotating frame, tractions), not only on gravity. */
     bool
@@ -607,6 +623,9 @@ namespace fmpm
     /** m̃ as one local matrix per cell (FMPM(k) without hanging nodes). */
     CellwiseMatrix cellwise_full_mass;
     bool           use_cellwise_full_mass = false;
+    /** compute_supports() has extrapolated m and p (owned and ghost
+     * entries, not yet added to their owners). */
+    bool supports_extrapolated = false;
 
     /** Grid velocity conditions and the method imposing them. */
     VelocityConditions<dim> velocity_conditions;

@@ -83,7 +83,7 @@ namespace fmpm
       }
     for (auto &impulse : step_impulse)
       impulse = Tensor<1, dim>();
-    compute_supports();
+    compute_supports(/*extrapolate=*/true);
   }
 
 

@@ -540,12 +540,13 @@ namespace fmpm
 
   template <int dim>
   void
-  Simulator<dim>::compute_supports()
+  Simulator<dim>::compute_supports(const bool extrapolate)
   {
     TimerOutput::Scope timer(computing_timer, "shape functions");
     using Index              = PropertyIndex<dim>;
     constexpr unsigned int n = GridTransfer<dim>::n_nodes;
     supports.clear();
+    supports_extrapolated       = false;
     const unsigned int n_points = points.n_points();
     if (n_points == 0)
       return;
@@ -593,8 +594,41 @@ namespace fmpm
     supports.support_begin.resize(n_points + 1);
     supports.make_room((gimp ? Utilities::pow(3, dim) : n) * n_points);
     unsigned int *const support_end = supports.support_begin.data() + 1;
-    const auto         &partitioner = *lumped_mass.get_partitioner();
-    const double       *F_column[dim][dim], *l0_column[dim];
+
+    // m = SᵀM, p = SᵀMV of each point once its entries are stored.
+    const bool extrapolate_here = extrapolate && extrapolates_with_supports();
+    double    *m                = nullptr, *p[dim];
+    const double *const mass_column = points.column(Index::mass);
+    const double       *velocity_column[dim];
+    for (unsigned int d = 0; d < dim; ++d)
+      velocity_column[d] = points.column(Index::velocity + d);
+    if (extrapolate_here)
+      {
+        lumped_mass = 0;
+        momentum    = 0;
+        m           = lumped_mass.begin();
+        for (unsigned int d = 0; d < dim; ++d)
+          p[d] = momentum.block(d).begin();
+        supports_extrapolated = true;
+      }
+    auto extrapolate_point = [&](const unsigned int k,
+                                 const std::size_t  first) {
+      const double M = mass_column[k];
+      double       MV[dim];
+      for (unsigned int d = 0; d < dim; ++d)
+        MV[d] = M * velocity_column[d][k];
+      const unsigned int *const node = supports.node.data();
+      const double *const       S    = supports.S.data();
+      for (std::size_t j = first; j < supports.n_stored; ++j)
+        {
+          const unsigned int i = node[j];
+          m[i] += M * S[j];
+          for (unsigned int d = 0; d < dim; ++d)
+            p[d][i] += MV[d] * S[j];
+        }
+    };
+    const auto   &partitioner = *lumped_mass.get_partitioner();
+    const double *F_column[dim][dim], *l0_column[dim];
     for (unsigned int a = 0; a < dim; ++a)
       {
         l0_column[a] = points.column(Index::initial_half_length + a);
@@ -715,6 +749,8 @@ namespace fmpm
                       {
                         supports.n_stored += count;
                         support_end[k] = supports.n_stored;
+                        if (extrapolate_here)
+                          extrapolate_point(k, first);
                         continue;
                       }
                   }
@@ -784,6 +820,8 @@ namespace fmpm
                              node.G);
               }
             support_end[k] = supports.n_stored;
+            if (extrapolate_here)
+              extrapolate_point(k, first);
           }
       }
   }
@@ -802,6 +840,10 @@ namespace fmpm
     // SᵀMV, p^α and what the normal method reads from the moved points
     // change.
     const bool masses = !momenta_only;
+    // m and p extrapolated by compute_supports() (one field, no forces, no
+    // m̃): only the ghosts to add.
+    const bool extrapolated = masses && supports_extrapolated;
+    supports_extrapolated   = false;
 
     // m̃ as cell-wise matrices where the mass matrix accepts them, else the
     // assembled sparse matrix (the collection BC methods need its entries).
@@ -818,7 +860,7 @@ namespace fmpm
     // (With contact m, p and f are set from the material fields after the
     // sweep.)
     const bool contact = contact_active();
-    if (!contact)
+    if (!contact && !extrapolated)
       {
         if (masses)
           lumped_mass = 0;
@@ -951,7 +993,7 @@ namespace fmpm
     // Per point: the entries j of its support (computed: the cell's nodes;
     // stored: the cache's), at place place_of(j) of the cell's nodes.
     const bool with_gradients = with_forces || contact_needs_gradients;
-    for (unsigned int c = 0; c < points.n_cells(); ++c)
+    for (unsigned int c = 0; c < (extrapolated ? 0 : points.n_cells()); ++c)
       {
         if (supports.implicit_classic && !contact)
           {
