@@ -8,6 +8,7 @@
 #include <deal.II/lac/la_parallel_block_vector.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
+#include <type_traits>
 #include <vector>
 
 namespace fmpm
@@ -245,10 +246,32 @@ namespace fmpm
     std::vector<std::size_t>  cell_value_begin{0};
   };
 
+  namespace internal
+  {
+    /**
+     * o = a + s b, or (a + s b) c with @p scaled, over @p n entries of
+     * distinct arrays: restrict-qualified and called with a constant count
+     * for full blocks, so that GCC vectorizes it at -O2.
+     */
+    template <bool scaled, typename Count>
+    inline void
+    scaled_sum(const Count n,
+               double *__restrict o,
+               const double *__restrict a,
+               const double s,
+               const double *__restrict b,
+               const double c)
+    {
+      for (unsigned int i = 0; i < n; ++i)
+        o[i] = scaled ? (a[i] + s * b[i]) * c : a[i] + s * b[i];
+    }
+  } // namespace internal
+
   /**
    * @brief out = (a + s b) c on the owned entries in one pass (what deal.II's
    * copy, add and scale give in three, to the bit); the ghost entries are
-   * updated if @p a's are, else left stale, as deal.II leaves them.
+   * updated if @p a's are, else left stale, as deal.II leaves them. @p out
+   * is neither @p a nor @p b.
    */
   inline void
   set_scaled_sum(GridVectorField       &out,
@@ -259,16 +282,27 @@ namespace fmpm
   {
     for (unsigned int d = 0; d < out.n_blocks(); ++d)
       {
-        const unsigned int  n   = out.block(d).locally_owned_size();
-        double *const       o   = out.block(d).begin();
-        const double *const a_d = a.block(d).begin();
-        const double *const b_d = b.block(d).begin();
+        const unsigned int     n      = out.block(d).locally_owned_size();
+        double *const          o      = out.block(d).begin();
+        const double *const    a_d    = a.block(d).begin();
+        const double *const    b_d    = b.block(d).begin();
+        constexpr unsigned int block  = 64;
+        const unsigned int     n_full = n - n % block;
+        const std::integral_constant<unsigned int, block> full;
         if (c == 1.)
-          for (unsigned int i = 0; i < n; ++i)
-            o[i] = a_d[i] + s * b_d[i];
+          {
+            for (unsigned int i = 0; i < n_full; i += block)
+              internal::scaled_sum<false>(full, o + i, a_d + i, s, b_d + i, c);
+            internal::scaled_sum<false>(
+              n - n_full, o + n_full, a_d + n_full, s, b_d + n_full, c);
+          }
         else
-          for (unsigned int i = 0; i < n; ++i)
-            o[i] = (a_d[i] + s * b_d[i]) * c;
+          {
+            for (unsigned int i = 0; i < n_full; i += block)
+              internal::scaled_sum<true>(full, o + i, a_d + i, s, b_d + i, c);
+            internal::scaled_sum<true>(
+              n - n_full, o + n_full, a_d + n_full, s, b_d + n_full, c);
+          }
       }
     if (a.has_ghost_elements())
       out.update_ghost_values();

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <numeric>
 #include <sstream>
 
 namespace fmpm
@@ -1293,7 +1294,7 @@ namespace fmpm
 
   template <int dim>
   template <typename Count>
-  inline void
+  DEAL_II_ALWAYS_INLINE inline void
   Simulator<dim>::scatter_point_force(const unsigned int          k,
                                       const unsigned int *const   node,
                                       const double *const         S,
@@ -1630,19 +1631,27 @@ namespace fmpm
       {
         const unsigned int batch_end =
           std::min(batch_begin + stress_batch_size, supports.n_points());
-        for (unsigned int m = 0; m < n_materials; ++m)
-          by_material[m].clear();
-        for (unsigned int k = batch_begin; k < batch_end; ++k)
-          by_material[n_materials == 1 ? 0 : supports.material[k]].push_back(k);
+        if (n_materials > 1)
+          {
+            for (unsigned int m = 0; m < n_materials; ++m)
+              by_material[m].clear();
+            for (unsigned int k = batch_begin; k < batch_end; ++k)
+              by_material[supports.material[k]].push_back(k);
+          }
 
         for (unsigned int m = 0; m < n_materials; ++m)
           {
-            const unsigned int n_group = by_material[m].size();
+            const unsigned int n_group = n_materials == 1 ?
+                                           batch_end - batch_begin :
+                                           by_material[m].size();
             if (n_group == 0)
               continue;
-            std::copy(by_material[m].begin(),
-                      by_material[m].end(),
-                      group_points);
+            if (n_materials == 1)
+              std::iota(group_points, group_points + n_group, batch_begin);
+            else
+              std::copy(by_material[m].begin(),
+                        by_material[m].end(),
+                        group_points);
             // (one material: the batch, stored one after another)
             const unsigned int k0 = group_points[0];
             const bool         contiguous =
