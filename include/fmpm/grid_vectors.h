@@ -135,8 +135,69 @@ namespace fmpm
         add_products_paired<4, false>(destination, source);
       else if (uniform_size == 8 && n_blocks == 3)
         add_products_paired<8, true>(destination, source);
+      else if (n_blocks == 2)
+        add_products_paired_any_size<false>(destination, source);
+      else if (n_blocks == 3)
+        add_products_paired_any_size<true>(destination, source);
       else
         add_products_generic(destination, source, n_blocks);
+    }
+
+    /** add_products_paired() for cells of any size (GIMP/CPDI supports,
+     * hanging nodes): the same operations per component. */
+    template <bool third>
+    void
+    add_products_paired_any_size(double *const       *destination,
+                                 const double *const *source) const
+    {
+      typedef double      pair __attribute__((vector_size(16)));
+      const double *const src0 = source[0], *const src1 = source[1];
+      const double *const src2 = third ? source[2] : nullptr;
+      double *const dst0 = destination[0], *const dst1 = destination[1];
+      double *const dst2 = third ? destination[2] : nullptr;
+      pair          x[64], y[64];
+      double        x2[64], y2[64];
+      for (unsigned int c = 0; c < n_cells(); ++c)
+        {
+          const unsigned int  n = cell_node_begin[c + 1] - cell_node_begin[c];
+          const unsigned int *index = &local_indices[cell_node_begin[c]];
+          const double       *a     = &values[cell_value_begin[c]];
+          Assert(n <= 64, dealii::ExcInternalError());
+          for (unsigned int j = 0; j < n; ++j)
+            {
+              x[j] = pair{src0[index[j]], src1[index[j]]};
+              y[j] = pair{0., 0.};
+              if constexpr (third)
+                {
+                  x2[j] = src2[index[j]];
+                  y2[j] = 0;
+                }
+            }
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              y[i] += a[0] * x[i];
+              if constexpr (third)
+                y2[i] += a[0] * x2[i];
+              for (unsigned int j = i + 1; j < n; ++j)
+                {
+                  y[i] += a[j - i] * x[j];
+                  y[j] += a[j - i] * x[i];
+                  if constexpr (third)
+                    {
+                      y2[i] += a[j - i] * x2[j];
+                      y2[j] += a[j - i] * x2[i];
+                    }
+                }
+              a += n - i;
+            }
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              dst0[index[i]] += y[i][0];
+              dst1[index[i]] += y[i][1];
+              if constexpr (third)
+                dst2[index[i]] += y2[i];
+            }
+        }
     }
 
     /** Cells of any size (GIMP/CPDI supports, hanging nodes). */
