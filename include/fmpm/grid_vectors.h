@@ -24,6 +24,21 @@ namespace fmpm
   using GridVectorField =
     dealii::LinearAlgebra::distributed::BlockVector<double>;
 
+  namespace internal
+  {
+    /** The largest cell of a Count: the constant, or 64 nodes. */
+    template <typename Count>
+    struct CellSize
+    {
+      static constexpr unsigned int value = 64;
+    };
+    template <unsigned int n>
+    struct CellSize<std::integral_constant<unsigned int, n>>
+    {
+      static constexpr unsigned int value = n;
+    };
+  } // namespace internal
+
   /**
    * @brief The full mass matrix m̃ = SᵀMS kept as one dense local matrix per
    * cell with material points (seed 000 Eq. 1.9 before assembly): filling
@@ -143,63 +158,6 @@ namespace fmpm
         add_products_generic(destination, source, n_blocks);
     }
 
-    /** add_products_paired() for cells of any size (GIMP/CPDI supports,
-     * hanging nodes): the same operations per component. */
-    template <bool third>
-    void
-    add_products_paired_any_size(double *const       *destination,
-                                 const double *const *source) const
-    {
-      typedef double      pair __attribute__((vector_size(16)));
-      const double *const src0 = source[0], *const src1 = source[1];
-      const double *const src2 = third ? source[2] : nullptr;
-      double *const dst0 = destination[0], *const dst1 = destination[1];
-      double *const dst2 = third ? destination[2] : nullptr;
-      pair          x[64], y[64];
-      double        x2[64], y2[64];
-      for (unsigned int c = 0; c < n_cells(); ++c)
-        {
-          const unsigned int  n = cell_node_begin[c + 1] - cell_node_begin[c];
-          const unsigned int *index = &local_indices[cell_node_begin[c]];
-          const double       *a     = &values[cell_value_begin[c]];
-          Assert(n <= 64, dealii::ExcInternalError());
-          for (unsigned int j = 0; j < n; ++j)
-            {
-              x[j] = pair{src0[index[j]], src1[index[j]]};
-              y[j] = pair{0., 0.};
-              if constexpr (third)
-                {
-                  x2[j] = src2[index[j]];
-                  y2[j] = 0;
-                }
-            }
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              y[i] += a[0] * x[i];
-              if constexpr (third)
-                y2[i] += a[0] * x2[i];
-              for (unsigned int j = i + 1; j < n; ++j)
-                {
-                  y[i] += a[j - i] * x[j];
-                  y[j] += a[j - i] * x[i];
-                  if constexpr (third)
-                    {
-                      y2[i] += a[j - i] * x2[j];
-                      y2[j] += a[j - i] * x2[i];
-                    }
-                }
-              a += n - i;
-            }
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              dst0[index[i]] += y[i][0];
-              dst1[index[i]] += y[i][1];
-              if constexpr (third)
-                dst2[index[i]] += y2[i];
-            }
-        }
-    }
-
     /** Cells of any size (GIMP/CPDI supports, hanging nodes). */
     void
     add_products_generic(double *const       *destination,
@@ -240,60 +198,91 @@ namespace fmpm
      * stored entry a_ij (i <= j) adds a_ij x_j to y_i and, off the diagonal,
      * a_ij x_i to y_j; each node's pair (x, y) travels as one two-lane vector
      * (GCC/Clang vector extension; SSE2 on x86-64), so one multiply serves both
-     * components; z, in 3D, goes alone.
+     * components; z, in 3D, goes alone. Cells of @p n nodes (a constant for
+     * uniform cells, so that the loops unroll), the same operations per
+     * component as add_products_generic().
      */
+    template <bool third, typename Count>
+    DEAL_II_ALWAYS_INLINE void
+    add_cell_products_paired(const Count               n,
+                             const unsigned int *const index,
+                             const double             *a,
+                             double *const            *destination,
+                             const double *const      *source) const
+    {
+      typedef double         pair __attribute__((vector_size(16)));
+      constexpr unsigned int size = internal::CellSize<Count>::value;
+      pair                   x[size], y[size];
+      double                 x2[third ? size : 1], y2[third ? size : 1];
+      for (unsigned int j = 0; j < n; ++j)
+        {
+          x[j] = pair{source[0][index[j]], source[1][index[j]]};
+          y[j] = pair{0., 0.};
+          if constexpr (third)
+            {
+              x2[j] = source[2][index[j]];
+              y2[j] = 0;
+            }
+        }
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          y[i] += a[0] * x[i];
+          if constexpr (third)
+            y2[i] += a[0] * x2[i];
+          for (unsigned int j = i + 1; j < n; ++j)
+            {
+              y[i] += a[j - i] * x[j];
+              y[j] += a[j - i] * x[i];
+              if constexpr (third)
+                {
+                  y2[i] += a[j - i] * x2[j];
+                  y2[j] += a[j - i] * x2[i];
+                }
+            }
+          a += n - i;
+        }
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          destination[0][index[i]] += y[i][0];
+          destination[1][index[i]] += y[i][1];
+          if constexpr (third)
+            destination[2][index[i]] += y2[i];
+        }
+    }
+
+    /** add_cell_products_paired() over cells of @p n nodes each. */
     template <unsigned int n, bool third>
     void
     add_products_paired(double *const       *destination,
                         const double *const *source) const
     {
-      typedef double         pair __attribute__((vector_size(16)));
       const unsigned int     n_cells = local_indices.size() / n;
       constexpr unsigned int n_upper = n * (n + 1) / 2;
-      const double *const src0 = source[0], *const src1 = source[1];
-      const double *const src2 = third ? source[2] : nullptr;
-      double *const dst0 = destination[0], *const dst1 = destination[1];
-      double *const dst2 = third ? destination[2] : nullptr;
-      pair          x[n], y[n];
-      double        x2[n], y2[n];
       for (unsigned int c = 0; c < n_cells; ++c)
+        add_cell_products_paired<third>(
+          std::integral_constant<unsigned int, n>(),
+          &local_indices[c * n],
+          &values[c * n_upper],
+          destination,
+          source);
+    }
+
+    /** add_cell_products_paired() over cells of any size (GIMP/CPDI
+     * supports, hanging nodes). */
+    template <bool third>
+    void
+    add_products_paired_any_size(double *const       *destination,
+                                 const double *const *source) const
+    {
+      for (unsigned int c = 0; c < n_cells(); ++c)
         {
-          const unsigned int *index = &local_indices[c * n];
-          const double       *a     = &values[c * n_upper];
-          for (unsigned int j = 0; j < n; ++j)
-            {
-              x[j] = pair{src0[index[j]], src1[index[j]]};
-              y[j] = pair{0., 0.};
-              if constexpr (third)
-                {
-                  x2[j] = src2[index[j]];
-                  y2[j] = 0;
-                }
-            }
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              y[i] += a[0] * x[i];
-              if constexpr (third)
-                y2[i] += a[0] * x2[i];
-              for (unsigned int j = i + 1; j < n; ++j)
-                {
-                  y[i] += a[j - i] * x[j];
-                  y[j] += a[j - i] * x[i];
-                  if constexpr (third)
-                    {
-                      y2[i] += a[j - i] * x2[j];
-                      y2[j] += a[j - i] * x2[i];
-                    }
-                }
-              a += n - i;
-            }
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              dst0[index[i]] += y[i][0];
-              dst1[index[i]] += y[i][1];
-              if constexpr (third)
-                dst2[index[i]] += y2[i];
-            }
+          const unsigned int n = cell_node_begin[c + 1] - cell_node_begin[c];
+          Assert(n <= 64, dealii::ExcInternalError());
+          add_cell_products_paired<third>(n,
+                                          &local_indices[cell_node_begin[c]],
+                                          &values[cell_value_begin[c]],
+                                          destination,
+                                          source);
         }
     }
 
