@@ -52,6 +52,31 @@ namespace fmpm
     }
 
     /**
+     * One point's m += M S (with @p with_mass) and p += (M V) S over its
+     * support entries j < n, in entry order (Eq. 1.6, p = SᵀMV; @p MV =
+     * M V).
+     */
+    template <int dim, bool with_mass, typename Count>
+    inline void
+    scatter_mass_momentum(const unsigned int *const node,
+                          const double *const       S,
+                          const Count               n,
+                          const double              M,
+                          const double (&MV)[dim],
+                          double *const        m,
+                          double *const *const p)
+    {
+      for (unsigned int j = 0; j < n; ++j)
+        {
+          const unsigned int i = node[j];
+          if constexpr (with_mass)
+            m[i] += M * S[j];
+          for (unsigned int d = 0; d < dim; ++d)
+            p[d][i] += MV[d] * S[j];
+        }
+    }
+
+    /**
      * The force component @p a one point gives its node (Eq. 2.11):
      * M S b_a − V Σ_b σ_ab G_b, with @p MS = M S and the point's body
      * acceleration (tractions included) @p b.
@@ -598,7 +623,7 @@ namespace fmpm
 
     // m = SᵀM, p = SᵀMV of each point once its entries are stored.
     const bool extrapolate_here = extrapolate && extrapolates_with_supports();
-    double    *m                = nullptr, *p[dim];
+    double    *m = nullptr, *p[dim] = {};
     const double *const mass_column = points.column(Index::mass);
     const double       *velocity_column[dim];
     for (unsigned int d = 0; d < dim; ++d)
@@ -618,15 +643,13 @@ namespace fmpm
       double       MV[dim];
       for (unsigned int d = 0; d < dim; ++d)
         MV[d] = M * velocity_column[d][k];
-      const unsigned int *const node = supports.node.data();
-      const double *const       S    = supports.S.data();
-      for (std::size_t j = first; j < supports.n_stored; ++j)
-        {
-          const unsigned int i = node[j];
-          m[i] += M * S[j];
-          for (unsigned int d = 0; d < dim; ++d)
-            p[d][i] += MV[d] * S[j];
-        }
+      scatter_mass_momentum<dim, true>(supports.node.data() + first,
+                                       supports.S.data() + first,
+                                       supports.n_stored - first,
+                                       M,
+                                       MV,
+                                       m,
+                                       p);
     };
     const auto   &partitioner = *lumped_mass.get_partitioner();
     const double *F_column[dim][dim], *l0_column[dim];
@@ -1110,24 +1133,19 @@ namespace fmpm
                 MV[d] = M * velocity_column[d][k];
               // m = SᵀM (Eq. 1.6), p = SᵀMV; with contact also m^α, p^α0
               // of the point's material (Eq. 5).
-              auto scatter_mass_momentum = [&](double *const        m_target,
-                                               double *const *const p_target) {
-                for (unsigned int j = 0; j < n_entries; ++j)
-                  {
-                    const unsigned int i = node[j];
-                    m_target[i] += M * S[j];
-                    for (unsigned int d = 0; d < dim; ++d)
-                      p_target[d][i] += MV[d] * S[j];
-                  }
+              auto scatter = [&](double *const        m_target,
+                                 double *const *const p_target) {
+                if (masses)
+                  scatter_mass_momentum<dim, true>(
+                    node, S, n_entries, M, MV, m_target, p_target);
+                else
+                  scatter_mass_momentum<dim, false>(
+                    node, S, n_entries, M, MV, nullptr, p_target);
               };
               // (With contact m and p are the sums of m^α and p^α0, formed
               // after the sweep.)
-              if (!contact && masses)
-                scatter_mass_momentum(m, p);
-              else if (!contact)
-                for (unsigned int j = 0; j < n_entries; ++j)
-                  for (unsigned int d = 0; d < dim; ++d)
-                    p[d][node[j]] += MV[d] * S[j];
+              if (!contact)
+                scatter(m, p);
               if (with_forces)
                 {
                   // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
@@ -1157,13 +1175,7 @@ namespace fmpm
                   // Eqs. 5 and 11 for the point's material α.
                   const unsigned int alpha = supports.material[k];
                   const double       V     = volume_column[k];
-                  if (masses)
-                    scatter_mass_momentum(m_alpha[alpha],
-                                          &p_alpha[alpha * dim]);
-                  else
-                    for (unsigned int j = 0; j < n_entries; ++j)
-                      for (unsigned int d = 0; d < dim; ++d)
-                        p_alpha[alpha * dim + d][node[j]] += MV[d] * S[j];
+                  scatter(m_alpha[alpha], &p_alpha[alpha * dim]);
                   if (contact_needs_gradients)
                     for (unsigned int j = 0; j < n_entries; ++j)
                       for (unsigned int d = 0; d < dim; ++d)
@@ -1373,7 +1385,7 @@ namespace fmpm
     const double *const mass_column = points.column(Index::mass);
     // USL+/USAVG+: p = SᵀMV^{n+1} in this sweep.
     const bool re_extrapolate = re_extrapolates_in_particle_update();
-    double    *p[dim];
+    double    *p[dim]         = {};
     if (re_extrapolate)
       {
         momentum = 0;
@@ -1503,9 +1515,8 @@ namespace fmpm
                                  double       MV[dim];
                                  for (unsigned int d = 0; d < dim; ++d)
                                    MV[d] = M * V[d];
-                                 for (unsigned int j = 0; j < n_entries; ++j)
-                                   for (unsigned int d = 0; d < dim; ++d)
-                                     p[d][node[j]] += MV[d] * S[j];
+                                 scatter_mass_momentum<dim, false>(
+                                   node, S, n_entries, M, MV, nullptr, p);
                                });
             // Points do not enter a moving wall's box.
             if (has_moving_walls)
