@@ -8,6 +8,7 @@
 #include <deal.II/lac/la_parallel_block_vector.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
+#include <algorithm>
 #include <type_traits>
 #include <vector>
 
@@ -37,6 +38,54 @@ namespace fmpm
     {
       static constexpr unsigned int value = n;
     };
+
+    /**
+     * A cell's local copy of its nodes' values for a product y = m̃_c x:
+     * two components per two-lane vector (GCC/Clang vector extension; SSE2
+     * on x86-64), so that one multiply serves both; the third, in 3D, alone.
+     */
+    template <bool third, unsigned int size>
+    struct CellNodeValues
+    {
+      typedef double pair __attribute__((vector_size(16)));
+      pair           x[size], y[size];
+      double         x2[third ? size : 1], y2[third ? size : 1];
+
+      /** x from @p source at the cell's @p n nodes @p index; y = 0. */
+      template <typename Count>
+      DEAL_II_ALWAYS_INLINE void
+      gather(const Count               n,
+             const unsigned int *const index,
+             const double *const      *source)
+      {
+        for (unsigned int j = 0; j < n; ++j)
+          {
+            x[j] = pair{source[0][index[j]], source[1][index[j]]};
+            y[j] = pair{0., 0.};
+            if constexpr (third)
+              {
+                x2[j] = source[2][index[j]];
+                y2[j] = 0;
+              }
+          }
+      }
+
+      /** @p destination += y at the cell's nodes. */
+      template <typename Count>
+      DEAL_II_ALWAYS_INLINE void
+      scatter(const Count               n,
+              const unsigned int *const index,
+              double *const            *destination) const
+      {
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            destination[0][index[i]] += y[i][0];
+            destination[1][index[i]] += y[i][1];
+            if constexpr (third)
+              destination[2][index[i]] += y2[i];
+          }
+      }
+    };
   } // namespace internal
 
   /**
@@ -47,7 +96,10 @@ namespace fmpm
    * are symmetric and stored as their upper triangles. A cell's nodes are
    * the union of its points' supports: its own 4 or 8 nodes for classic
    * shape functions, more for GIMP/CPDI and where hanging nodes pass their
-   * weights on. Used by FMPM(k) and the exact solve.
+   * weights on. A cell whose union is large against its points' supports
+   * (GIMP/CPDI) is kept instead as those supports, m̃_c = Σ_p M_p S_p S_pᵀ,
+   * which a product applies point by point (factored_is_cheaper()). Used by
+   * FMPM(k) and the exact solve.
    */
   class CellwiseMatrix
   {
@@ -63,6 +115,13 @@ namespace fmpm
       values.clear();
       cell_node_begin.assign(1, 0);
       cell_value_begin.assign(1, 0);
+      factored_indices.clear();
+      factored_node_begin.assign(1, 0);
+      factored_point_begin.assign(1, 0);
+      point_mass.clear();
+      point_entries.clear();
+      entry_slot.clear();
+      entry_value.clear();
     }
 
     /**
@@ -91,11 +150,68 @@ namespace fmpm
       add_cell(nodes_per_cell, indices, cell_values);
     }
 
-    /** @brief Number of cells. */
+    /**
+     * @brief Whether a cell of @p n_nodes nodes whose points have
+     * @p n_entries support entries in all is cheaper kept as its
+     * points' supports (begin_factored_cell()): a product then costs 2
+     * n_entries multiply-adds per component against n_nodes² for the dense
+     * matrix (GIMP/CPDI unions; never for classic cells with their own nodes).
+     */
+    static bool
+    factored_is_cheaper(const unsigned int n_nodes,
+                        const unsigned int n_entries)
+    {
+      return 2 * n_entries < n_nodes * n_nodes;
+    }
+
+    /**
+     * @brief Append a cell kept as its points' supports, m̃_c = Σ_p M_p S_p
+     * S_pᵀ (Eq. 1.9 before the sum over the cell's points is formed): its
+     * @p n nodes' local indices; add_point() then adds each of its points.
+     */
+    void
+    begin_factored_cell(const unsigned int n, const unsigned int *indices)
+    {
+      Assert(n <= 64, dealii::ExcInternalError());
+      factored_indices.insert(factored_indices.end(), indices, indices + n);
+      factored_node_begin.push_back(factored_indices.size());
+      factored_point_begin.push_back(point_mass.size());
+    }
+
+    /**
+     * @brief Add a point to the cell begun last: its mass @p M and its
+     * @p n_entries shape function values @p S at the places @p slot of the
+     * cell's nodes.
+     */
+    void
+    add_point(const double        M,
+              const unsigned int  n_entries,
+              const unsigned int *slot,
+              const double       *S)
+    {
+      Assert(n_entries < 256, dealii::ExcInternalError());
+      point_mass.push_back(M);
+      point_entries.push_back(n_entries);
+      for (unsigned int j = 0; j < n_entries; ++j)
+        {
+          entry_slot.push_back(slot[j]);
+          entry_value.push_back(S[j]);
+        }
+      ++factored_point_begin.back();
+    }
+
+    /** @brief Number of cells kept as dense matrices. */
     unsigned int
     n_cells() const
     {
       return cell_node_begin.size() - 1;
+    }
+
+    /** @brief Number of cells kept as their points' supports. */
+    unsigned int
+    n_factored_cells() const
+    {
+      return factored_node_begin.size() - 1;
     }
 
     /**
@@ -109,9 +225,9 @@ namespace fmpm
       const unsigned int n_blocks = src.n_blocks();
       Assert(n_blocks <= 3, dealii::ExcInternalError());
       src.update_ghost_values();
-      dst = 0;
-      const double *source[3];
-      double       *destination[3];
+      dst                          = 0;
+      const double *source[3]      = {};
+      double       *destination[3] = {};
       for (unsigned int b = 0; b < n_blocks; ++b)
         {
           source[b]      = src.block(b).begin();
@@ -135,6 +251,17 @@ namespace fmpm
           for (unsigned int i = 0; i < n; a += n - i, ++i)
             dst.local_element(index[i]) += a[0];
         }
+      const double *S     = entry_value.data();
+      const auto   *place = entry_slot.data();
+      for (unsigned int c = 0; c < n_factored_cells(); ++c)
+        {
+          const unsigned int *index = &factored_indices[factored_node_begin[c]];
+          for (unsigned int q = factored_point_begin[c];
+               q < factored_point_begin[c + 1];
+               S += point_entries[q], place += point_entries[q], ++q)
+            for (unsigned int e = 0; e < point_entries[q]; ++e)
+              dst.local_element(index[place[e]]) += point_mass[q] * S[e] * S[e];
+        }
       dst.compress(dealii::VectorOperation::add);
     }
 
@@ -156,6 +283,94 @@ namespace fmpm
         add_products_paired_any_size<true>(destination, source);
       else
         add_products_generic(destination, source, n_blocks);
+      if (n_factored_cells() > 0)
+        {
+          if (n_blocks == 2)
+            add_factored_products<false>(destination, source);
+          else if (n_blocks == 3)
+            add_factored_products<true>(destination, source);
+          else
+            add_factored_products_generic(destination, source, n_blocks);
+        }
+    }
+
+    /**
+     * The cells kept as supports: per point s = S_pᵀx (one two-lane vector
+     * for two components, as in add_cell_products_paired()), then
+     * y += S_p M_p s, in the cell's local copy of its nodes; 1D one
+     * component at a time.
+     */
+    template <bool third>
+    void
+    add_factored_products(double *const       *destination,
+                          const double *const *source) const
+    {
+      internal::CellNodeValues<third, 64> local;
+      auto &x = local.x, &y = local.y, &x2 = local.x2, &y2 = local.y2;
+      using pair          = typename internal::CellNodeValues<third, 64>::pair;
+      const double *S     = entry_value.data();
+      const auto   *place = entry_slot.data();
+      for (unsigned int c = 0; c < n_factored_cells(); ++c)
+        {
+          const unsigned int n =
+            factored_node_begin[c + 1] - factored_node_begin[c];
+          const unsigned int *index = &factored_indices[factored_node_begin[c]];
+          local.gather(n, index, source);
+          for (unsigned int q = factored_point_begin[c];
+               q < factored_point_begin[c + 1];
+               ++q)
+            {
+              const unsigned int n_entries = point_entries[q];
+              pair               s{0., 0.};
+              double             s2 = 0;
+              for (unsigned int e = 0; e < n_entries; ++e)
+                {
+                  s += S[e] * x[place[e]];
+                  if constexpr (third)
+                    s2 += S[e] * x2[place[e]];
+                }
+              s *= point_mass[q];
+              s2 *= point_mass[q];
+              for (unsigned int e = 0; e < n_entries; ++e)
+                {
+                  y[place[e]] += S[e] * s;
+                  if constexpr (third)
+                    y2[place[e]] += S[e] * s2;
+                }
+              S += n_entries;
+              place += n_entries;
+            }
+          local.scatter(n, index, destination);
+        }
+    }
+
+    /** add_factored_products() one component at a time (1D). */
+    void
+    add_factored_products_generic(double *const       *destination,
+                                  const double *const *source,
+                                  const unsigned int   n_blocks) const
+    {
+      for (unsigned int b = 0; b < n_blocks; ++b)
+        {
+          const double *S     = entry_value.data();
+          const auto   *place = entry_slot.data();
+          for (unsigned int c = 0; c < n_factored_cells(); ++c)
+            {
+              const unsigned int *index =
+                &factored_indices[factored_node_begin[c]];
+              for (unsigned int q = factored_point_begin[c];
+                   q < factored_point_begin[c + 1];
+                   S += point_entries[q], place += point_entries[q], ++q)
+                {
+                  double s = 0;
+                  for (unsigned int e = 0; e < point_entries[q]; ++e)
+                    s += S[e] * source[b][index[place[e]]];
+                  s *= point_mass[q];
+                  for (unsigned int e = 0; e < point_entries[q]; ++e)
+                    destination[b][index[place[e]]] += S[e] * s;
+                }
+            }
+        }
     }
 
     /** Cells of any size (GIMP/CPDI supports, hanging nodes). */
@@ -196,11 +411,9 @@ namespace fmpm
     /**
      * The kernel for two components (and a third one if @p third): each
      * stored entry a_ij (i <= j) adds a_ij x_j to y_i and, off the diagonal,
-     * a_ij x_i to y_j; each node's pair (x, y) travels as one two-lane vector
-     * (GCC/Clang vector extension; SSE2 on x86-64), so one multiply serves both
-     * components; z, in 3D, goes alone. Cells of @p n nodes (a constant for
-     * uniform cells, so that the loops unroll), the same operations per
-     * component as add_products_generic().
+     * a_ij x_i to y_j, on internal::CellNodeValues. Cells of @p n nodes (a
+     * constant for uniform cells, so that the loops unroll), the same
+     * operations per component as add_products_generic().
      */
     template <bool third, typename Count>
     DEAL_II_ALWAYS_INLINE void
@@ -210,20 +423,9 @@ namespace fmpm
                              double *const            *destination,
                              const double *const      *source) const
     {
-      typedef double         pair __attribute__((vector_size(16)));
-      constexpr unsigned int size = internal::CellSize<Count>::value;
-      pair                   x[size], y[size];
-      double                 x2[third ? size : 1], y2[third ? size : 1];
-      for (unsigned int j = 0; j < n; ++j)
-        {
-          x[j] = pair{source[0][index[j]], source[1][index[j]]};
-          y[j] = pair{0., 0.};
-          if constexpr (third)
-            {
-              x2[j] = source[2][index[j]];
-              y2[j] = 0;
-            }
-        }
+      internal::CellNodeValues<third, internal::CellSize<Count>::value> local;
+      auto &x = local.x, &y = local.y, &x2 = local.x2, &y2 = local.y2;
+      local.gather(n, index, source);
       for (unsigned int i = 0; i < n; ++i)
         {
           y[i] += a[0] * x[i];
@@ -241,13 +443,7 @@ namespace fmpm
             }
           a += n - i;
         }
-      for (unsigned int i = 0; i < n; ++i)
-        {
-          destination[0][index[i]] += y[i][0];
-          destination[1][index[i]] += y[i][1];
-          if constexpr (third)
-            destination[2][index[i]] += y2[i];
-        }
+      local.scatter(n, index, destination);
     }
 
     /** add_cell_products_paired() over cells of @p n nodes each. */
@@ -294,6 +490,17 @@ namespace fmpm
     /** Cell c's nodes and upper-triangle values start here. */
     std::vector<unsigned int> cell_node_begin{0};
     std::vector<std::size_t>  cell_value_begin{0};
+    /** Cells kept as supports: cell c's nodes and points start at
+     * factored_node_begin[c] and factored_point_begin[c]; point q's mass
+     * point_mass[q] and its point_entries[q] entries (place among the
+     * cell's nodes, S) after those of the points before it. */
+    std::vector<unsigned int>  factored_indices;
+    std::vector<unsigned int>  factored_node_begin{0};
+    std::vector<unsigned int>  factored_point_begin{0};
+    std::vector<double>        point_mass;
+    std::vector<unsigned char> point_entries;
+    std::vector<unsigned char> entry_slot;
+    std::vector<double>        entry_value;
   };
 
   namespace internal

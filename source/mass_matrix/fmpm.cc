@@ -24,6 +24,27 @@ namespace fmpm
       std::vector<GridVectorField *> z;
       for (const SeriesField &field : fields)
         z.push_back(field.velocity);
+      // The runs [begin, end) of owned nodes with m > the floor, the only
+      // ones a sweep changes: on a grid mostly without points each sweep
+      // then reads a fraction of the vectors.
+      std::vector<std::vector<std::pair<unsigned int, unsigned int>>> runs(
+        fields.size());
+      for (unsigned int f = 0; f < fields.size(); ++f)
+        {
+          const GridScalar   &m       = *fields[f].mass;
+          const unsigned int  n_owned = m.locally_owned_size();
+          const double *const m_i     = m.begin();
+          for (unsigned int i = 0; i < n_owned;)
+            {
+              while (i < n_owned && !(m_i[i] > mass_floor))
+                ++i;
+              const unsigned int begin = i;
+              while (i < n_owned && m_i[i] > mass_floor)
+                ++i;
+              if (i > begin)
+                runs[f].emplace_back(begin, i);
+            }
+        }
       // ‖z₁‖² for the adaptive order's test.
       double z1_squared = 0;
       if (tolerance > 0)
@@ -38,9 +59,7 @@ namespace fmpm
           double increment_squared = 0;
           for (unsigned int f = 0; f < fields.size(); ++f)
             {
-              const SeriesField &field   = fields[f];
-              const GridScalar  &m       = *field.mass;
-              const unsigned int n_owned = m.locally_owned_size();
+              const SeriesField &field = fields[f];
               for (unsigned int b = 0; b < z[f]->n_blocks(); ++b)
                 {
                   double *const       zb = z[f]->block(b).begin();
@@ -48,15 +67,16 @@ namespace fmpm
                   const double *const mz = products[f]->block(b).begin();
                   const double *const held =
                     field.held ? (*field.held)[b].begin() : nullptr;
-                  const double *const m_i = m.begin();
-                  for (unsigned int i = 0; i < n_owned; ++i)
-                    if (m_i[i] > mass_floor && !(held && held[i] != 0))
-                      {
-                        const double dz = (qb[i] - mz[i]) / m_i[i];
-                        zb[i] += dz;
-                        if (tolerance > 0)
-                          increment_squared += dz * dz;
-                      }
+                  const double *const m_i = field.mass->begin();
+                  for (const auto &[begin, end] : runs[f])
+                    for (unsigned int i = begin; i < end; ++i)
+                      if (!(held && held[i] != 0))
+                        {
+                          const double dz = (qb[i] - mz[i]) / m_i[i];
+                          zb[i] += dz;
+                          if (tolerance > 0)
+                            increment_squared += dz * dz;
+                        }
                 }
             }
           if (hooks.after_update)

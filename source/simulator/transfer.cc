@@ -1103,7 +1103,18 @@ namespace fmpm
                 n_cell_nodes   = cell_nodes.size();
               }
           }
-        if (with_full_mass)
+        // A large union against the points' supports (GIMP, CPDI): m̃ of
+        // the cell kept as those supports.
+        const bool factored =
+          !supports.implicit_classic &&
+          CellwiseMatrix::factored_is_cheaper(
+            n_cell_nodes, supports.support_begin[end_point] - first_entry);
+        const bool factored_total =
+          factored && with_full_mass && use_cellwise_full_mass;
+        const bool factored_material = factored && material_full_mass;
+        if (factored_total)
+          cellwise_full_mass.begin_factored_cell(n_cell_nodes, cell_node_list);
+        else if (with_full_mass)
           local_full_mass.assign(n_cell_nodes * n_cell_nodes, 0.);
         for (unsigned int k = first_point; k < end_point; ++k)
           support_of.visit(
@@ -1203,7 +1214,25 @@ namespace fmpm
                         volume_alpha[alpha][node[j]] += S[j] * V;
                     }
                 }
-              if (with_full_mass) // m̃ = SᵀMS (1.9)
+              if constexpr (!computed)
+                {
+                  if (factored_total)
+                    cellwise_full_mass.add_point(M, n_entries, entry_slot, S);
+                  if (factored_material)
+                    {
+                      const unsigned int alpha = supports.material[k];
+                      CellwiseMatrix    &m_tilde_alpha =
+                        (*material_full_mass_matrices)[alpha];
+                      if (!material_in_cell[alpha])
+                        {
+                          m_tilde_alpha.begin_factored_cell(n_cell_nodes,
+                                                            cell_node_list);
+                          material_in_cell[alpha] = 1;
+                        }
+                      m_tilde_alpha.add_point(M, n_entries, entry_slot, S);
+                    }
+                }
+              if (with_full_mass && !factored_total) // m̃ = SᵀMS (1.9)
                 for (unsigned int i = 0; i < n_entries; ++i)
                   {
                     const double MS_i = M * S[i];
@@ -1211,7 +1240,7 @@ namespace fmpm
                     for (unsigned int j = 0; j < n_entries; ++j)
                       row[place_of(j)] += MS_i * S[j];
                   }
-              if (material_full_mass) // m̃^α of the point's material
+              if (material_full_mass && !factored_material) // m̃^α of α
                 {
                   const unsigned int   alpha = supports.material[k];
                   std::vector<double> &local = local_material_mass[alpha];
@@ -1233,11 +1262,15 @@ namespace fmpm
           for (unsigned int a = 0; a < n_materials; ++a)
             if (material_in_cell[a])
               {
-                (*material_full_mass_matrices)[a].add_cell(
-                  n_cell_nodes, cell_node_list, local_material_mass[a].data());
+                if (!factored_material)
+                  (*material_full_mass_matrices)[a].add_cell(
+                    n_cell_nodes,
+                    cell_node_list,
+                    local_material_mass[a].data());
                 material_in_cell[a] = 0;
               }
-        add_cell_full_mass(n_cell_nodes, cell_node_list);
+        if (!factored_total)
+          add_cell_full_mass(n_cell_nodes, cell_node_list);
       }
 
     if (contact)

@@ -130,6 +130,51 @@ namespace
       return matrix;
     }
 
+    /**
+     * m̃ with every other mesh cell kept as its points' supports
+     * (CellwiseMatrix::begin_factored_cell()), its nodes listed in reverse,
+     * the other cells as dense matrices summed over their points.
+     */
+    fmpm::CellwiseMatrix
+    mixed_cellwise_matrix() const
+    {
+      fmpm::CellwiseMatrix                  matrix;
+      std::array<double, n_nodes * n_nodes> local;
+      std::array<unsigned int, n_nodes>     reversed, slot;
+      matrix.clear(n_nodes);
+      bool factored = false;
+      for (unsigned int first = 0, end = 0; first < S.size(); first = end)
+        {
+          end = first;
+          while (end < S.size() && nodes[end] == nodes[first])
+            ++end;
+          if (factored)
+            {
+              for (unsigned int i = 0; i < n_nodes; ++i)
+                {
+                  reversed[n_nodes - 1 - i] = nodes[first][i];
+                  slot[i]                   = n_nodes - 1 - i;
+                }
+              matrix.begin_factored_cell(n_nodes, reversed.data());
+              for (unsigned int q = first; q < end; ++q)
+                matrix.add_point(M[q], n_nodes, slot.data(), S[q].data());
+            }
+          else
+            {
+              local.fill(0.);
+              for (unsigned int q = first; q < end; ++q)
+                for (unsigned int i = 0; i < n_nodes; ++i)
+                  for (unsigned int j = 0; j < n_nodes; ++j)
+                    local[i * n_nodes + j] += M[q] * S[q][i] * S[q][j];
+              matrix.add_cell(nodes[first].data(), local.data());
+            }
+          factored = !factored;
+        }
+      EXPECT_GT(matrix.n_factored_cells(), 1u);
+      EXPECT_GT(matrix.n_cells(), 1u);
+      return matrix;
+    }
+
     /** S w: a grid field extrapolated to the points. */
     std::vector<Tensor<1, dim>>
     to_points(const fmpm::GridVectorField &w) const
@@ -390,9 +435,10 @@ namespace
   /** m̃ x for all components: cell-wise kernels against the sparse matrix. */
   template <int dim>
   void
-  check_cellwise_products(const Cloud<dim> &cloud)
+  check_cellwise_products(const Cloud<dim> &cloud, const bool mixed)
   {
-    const fmpm::CellwiseMatrix cellwise = cloud.cellwise_matrix();
+    const fmpm::CellwiseMatrix cellwise =
+      mixed ? cloud.mixed_cellwise_matrix() : cloud.cellwise_matrix();
     fmpm::GridVectorField x = cloud.new_field(), y_sparse = x, y_cellwise = x;
     for (unsigned int d = 0; d < dim; ++d)
       for (unsigned int i = 0; i < x.block(d).locally_owned_size(); ++i)
@@ -415,8 +461,11 @@ namespace
 
 TEST(MassMatrix, CellwiseMatrixEqualsAssembledMatrix)
 {
-  check_cellwise_products(Cloud<2>(3, 3));
-  check_cellwise_products(Cloud<3>(2, 2));
+  for (const bool mixed : {false, true})
+    {
+      check_cellwise_products(Cloud<2>(3, 3), mixed);
+      check_cellwise_products(Cloud<3>(2, 2), mixed);
+    }
 
   Cloud<2>                   cloud(3, 3);
   const fmpm::CellwiseMatrix cellwise = cloud.cellwise_matrix();
