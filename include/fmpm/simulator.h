@@ -484,17 +484,18 @@ namespace fmpm
     void
     update_particles();
     /**
-     * USL+/USAVG+ without contact: the particle update extrapolates p =
-     * SᵀMV^{n+1} point by point once V^{n+1} is known (the order and bits
-     * of particles_to_grid()), and re_extrapolate() only adds the ghosts.
+     * USL+/USAVG+: the particle update extrapolates p = SᵀMV^{n+1} (with
+     * contact p^α of the point's material) point by point once V^{n+1} is
+     * known, in the order and with the bits of particles_to_grid(), and
+     * re_extrapolate() only forms the sums and adds the ghosts
+     * (finish_re_extrapolation()). Not where the contact normals read
+     * anything else of the moved points (volume gradients, positions,
+     * interface state).
      */
     bool
-    re_extrapolates_in_particle_update() const
-    {
-      return !contact_active() &&
-             parameters.method.strain_update_scheme.update_last &&
-             parameters.method.strain_update_scheme.re_extrapolate;
-    }
+    re_extrapolates_in_particle_update() const;
+    void
+    finish_re_extrapolation();
     void
     sort_particles_into_cells();
     void

@@ -234,10 +234,7 @@ namespace fmpm
     using namespace ParticleUpdate;
     const double t_end = control.time() + control.time_step();
     if (re_extrapolates_in_particle_update())
-      {
-        TimerOutput::Scope timer(computing_timer, "particles to grid");
-        momentum.compress(VectorOperation::add);
-      }
+      finish_re_extrapolation();
     else
       particles_to_grid(false, /*momenta_only=*/true);
     momentum_time = t_end;

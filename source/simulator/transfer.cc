@@ -1327,6 +1327,51 @@ namespace fmpm
 
 
   template <int dim>
+  bool
+  Simulator<dim>::re_extrapolates_in_particle_update() const
+  {
+    if (!parameters.method.strain_update_scheme.update_last ||
+        !parameters.method.strain_update_scheme.re_extrapolate)
+      return false;
+    if (!contact_active())
+      return true;
+    const auto &needs = this->contact->normal_needs();
+    return !needs.volume_gradients && !needs.positions &&
+           !this->contact->needs_interface_state();
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::finish_re_extrapolation()
+  {
+    // What particles_to_grid(false, true) does after its sweep: with
+    // contact p = Σ_α p^α (Eq. 6), then the ghosts added.
+    TimerOutput::Scope timer(computing_timer, "particles to grid");
+    if (contact_active())
+      {
+        this->contact->invalidate_geometry(false);
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            std::vector<double *> p_d;
+            for (auto &field : this->contact->material_fields())
+              p_d.push_back(field.momentum.block(d).begin());
+            set_material_sums(momentum.block(d), p_d);
+          }
+      }
+    momentum.compress(VectorOperation::add);
+    if (contact_active())
+      for (auto &field : this->contact->material_fields())
+        {
+          field.momentum.compress(VectorOperation::add);
+          field.computed.fill(false);
+        }
+  }
+
+
+
+  template <int dim>
   Simulator<dim>::ForceColumns::ForceColumns(const MaterialPoints<dim> &points)
     : mass(points.column(PropertyIndex<dim>::mass))
     , volume(points.column(PropertyIndex<dim>::volume))
@@ -1416,14 +1461,22 @@ namespace fmpm
     for (unsigned int d = 0; d < dim; ++d)
       velocity_column[d] = points.column(Index::velocity + d);
     const double *const mass_column = points.column(Index::mass);
-    // USL+/USAVG+: p = SᵀMV^{n+1} in this sweep.
-    const bool re_extrapolate = re_extrapolates_in_particle_update();
-    double    *p[dim]         = {};
-    if (re_extrapolate)
+    // USL+/USAVG+: p = SᵀMV^{n+1} (with contact p^α, α the point's
+    // material: p_alpha[α dim + d]) in this sweep.
+    const bool            re_extrapolate = re_extrapolates_in_particle_update();
+    std::vector<double *> p_alpha;
+    if (re_extrapolate && contact)
+      for (auto &field : this->contact->material_fields())
+        {
+          field.momentum = 0;
+          for (unsigned int d = 0; d < dim; ++d)
+            p_alpha.push_back(field.momentum.block(d).begin());
+        }
+    else if (re_extrapolate)
       {
         momentum = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          p[d] = momentum.block(d).begin();
+          p_alpha.push_back(momentum.block(d).begin());
       }
 
     // One batch per cell with points (the plugin's virtual call per batch).
@@ -1537,20 +1590,27 @@ namespace fmpm
             for (unsigned int d = 0; d < dim; ++d)
               velocity_column[d][k] = V[d];
             if (re_extrapolate)
-              support_of.visit(k,
-                               data,
-                               false,
-                               [&](const unsigned int *const node,
-                                   const double *const       S,
-                                   const Tensor<1, dim> *,
-                                   const auto n_entries) {
-                                 const double M = mass_column[k];
-                                 double       MV[dim];
-                                 for (unsigned int d = 0; d < dim; ++d)
-                                   MV[d] = M * V[d];
-                                 scatter_mass_momentum<dim, false>(
-                                   node, S, n_entries, M, MV, nullptr, p);
-                               });
+              support_of.visit(
+                k,
+                data,
+                false,
+                [&](const unsigned int *const node,
+                    const double *const       S,
+                    const Tensor<1, dim> *,
+                    const auto n_entries) {
+                  const double M = mass_column[k];
+                  double       MV[dim];
+                  for (unsigned int d = 0; d < dim; ++d)
+                    MV[d] = M * V[d];
+                  scatter_mass_momentum<dim, false>(
+                    node,
+                    S,
+                    n_entries,
+                    M,
+                    MV,
+                    nullptr,
+                    &p_alpha[contact ? supports.material[k] * dim : 0]);
+                });
             // Points do not enter a moving wall's box.
             if (has_moving_walls)
               velocity_conditions.push_out_of_walls(batch.position[q]);
