@@ -8,7 +8,6 @@
 #include <deal.II/lac/la_parallel_block_vector.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
-#include <algorithm>
 #include <type_traits>
 #include <vector>
 
