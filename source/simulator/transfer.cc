@@ -1461,22 +1461,22 @@ namespace fmpm
     for (unsigned int d = 0; d < dim; ++d)
       velocity_column[d] = points.column(Index::velocity + d);
     const double *const mass_column = points.column(Index::mass);
-    // USL+/USAVG+: p = SᵀMV^{n+1} (with contact p^α, α the point's
-    // material: p_alpha[α dim + d]) in this sweep.
+    // USL+/USAVG+: p = SᵀMV^{n+1} in this sweep, into momentum_target[d]
+    // (with contact p^α of the point's material α: [α dim + d]).
     const bool            re_extrapolate = re_extrapolates_in_particle_update();
-    std::vector<double *> p_alpha;
+    std::vector<double *> momentum_target;
     if (re_extrapolate && contact)
       for (auto &field : this->contact->material_fields())
         {
           field.momentum = 0;
           for (unsigned int d = 0; d < dim; ++d)
-            p_alpha.push_back(field.momentum.block(d).begin());
+            momentum_target.push_back(field.momentum.block(d).begin());
         }
     else if (re_extrapolate)
       {
         momentum = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          p_alpha.push_back(momentum.block(d).begin());
+          momentum_target.push_back(momentum.block(d).begin());
       }
 
     // One batch per cell with points (the plugin's virtual call per batch).
@@ -1609,7 +1609,7 @@ namespace fmpm
                     M,
                     MV,
                     nullptr,
-                    &p_alpha[contact ? supports.material[k] * dim : 0]);
+                    &momentum_target[contact ? supports.material[k] * dim : 0]);
                 });
             // Points do not enter a moving wall's box.
             if (has_moving_walls)
