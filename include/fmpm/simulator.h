@@ -488,9 +488,8 @@ namespace fmpm
      * contact p^α of the point's material) point by point once V^{n+1} is
      * known, in the order and with the bits of particles_to_grid(), and
      * re_extrapolate() only forms the sums and adds the ghosts
-     * (finish_re_extrapolation()). Not where the contact normals read
-     * anything else of the moved points (volume gradients, positions,
-     * interface state).
+     * (finish_re_extrapolation()), and with contact also the normals' g^α
+     * and Σ S M X. Not where the contact laws read the interface state.
      */
     bool
     re_extrapolates_in_particle_update() const;

@@ -1335,9 +1335,7 @@ namespace fmpm
       return false;
     if (!contact_active())
       return true;
-    const auto &needs = this->contact->normal_needs();
-    return !needs.volume_gradients && !needs.positions &&
-           !this->contact->needs_interface_state();
+    return !this->contact->needs_interface_state();
   }
 
 
@@ -1347,7 +1345,8 @@ namespace fmpm
   Simulator<dim>::finish_re_extrapolation()
   {
     // What particles_to_grid(false, true) does after its sweep: with
-    // contact p = Σ_α p^α (Eq. 6), then the ghosts added.
+    // contact p = Σ_α p^α (Eq. 6), then the ghosts added (also of the
+    // normals' g^α and Σ S M X).
     TimerOutput::Scope timer(computing_timer, "particles to grid");
     if (contact_active())
       {
@@ -1365,6 +1364,10 @@ namespace fmpm
       for (auto &field : this->contact->material_fields())
         {
           field.momentum.compress(VectorOperation::add);
+          if (this->contact->normal_needs().volume_gradients)
+            field.volume_gradient.compress(VectorOperation::add);
+          if (this->contact->normal_needs().positions)
+            field.position_moment.compress(VectorOperation::add);
           field.computed.fill(false);
         }
   }
@@ -1462,15 +1465,32 @@ namespace fmpm
       velocity_column[d] = points.column(Index::velocity + d);
     const double *const mass_column = points.column(Index::mass);
     // USL+/USAVG+: p = SᵀMV^{n+1} in this sweep, into momentum_target[d]
-    // (with contact p^α of the point's material α: [α dim + d]).
+    // (with contact p^α of the point's material α: [α dim + d], and what
+    // the normals read: g^α = Σ V G and Σ S M X^{n+1}, Eq. 11).
     const bool            re_extrapolate = re_extrapolates_in_particle_update();
-    std::vector<double *> momentum_target;
+    std::vector<double *> momentum_target, g_alpha, x_alpha;
+    const bool            contact_needs_gradients =
+      re_extrapolate && contact &&
+      this->contact->normal_needs().volume_gradients;
+    const bool contact_needs_positions =
+      re_extrapolate && contact && this->contact->normal_needs().positions;
+    const double *const volume_column = points.column(Index::volume);
     if (re_extrapolate && contact)
       for (auto &field : this->contact->material_fields())
         {
           field.momentum = 0;
+          if (contact_needs_gradients)
+            field.volume_gradient = 0;
+          if (contact_needs_positions)
+            field.position_moment = 0;
           for (unsigned int d = 0; d < dim; ++d)
-            momentum_target.push_back(field.momentum.block(d).begin());
+            {
+              momentum_target.push_back(field.momentum.block(d).begin());
+              if (contact_needs_gradients)
+                g_alpha.push_back(field.volume_gradient.block(d).begin());
+              if (contact_needs_positions)
+                x_alpha.push_back(field.position_moment.block(d).begin());
+            }
         }
     else if (re_extrapolate)
       {
@@ -1589,32 +1609,43 @@ namespace fmpm
             max_V2 = std::max(max_V2, V2);
             for (unsigned int d = 0; d < dim; ++d)
               velocity_column[d][k] = V[d];
-            if (re_extrapolate)
-              support_of.visit(
-                k,
-                data,
-                false,
-                [&](const unsigned int *const node,
-                    const double *const       S,
-                    const Tensor<1, dim> *,
-                    const auto n_entries) {
-                  const double M = mass_column[k];
-                  double       MV[dim];
-                  for (unsigned int d = 0; d < dim; ++d)
-                    MV[d] = M * V[d];
-                  scatter_mass_momentum<dim, false>(
-                    node,
-                    S,
-                    n_entries,
-                    M,
-                    MV,
-                    nullptr,
-                    &momentum_target[contact ? supports.material[k] * dim : 0]);
-                });
             // Points do not enter a moving wall's box.
             if (has_moving_walls)
               velocity_conditions.push_out_of_walls(batch.position[q]);
             points.position[k] = batch.position[q];
+            if (re_extrapolate)
+              support_of.visit(k,
+                               data,
+                               contact_needs_gradients,
+                               [&](const unsigned int *const   node,
+                                   const double *const         S,
+                                   const Tensor<1, dim> *const G,
+                                   const auto                  n_entries) {
+                                 const double M = mass_column[k];
+                                 double       MV[dim];
+                                 for (unsigned int d = 0; d < dim; ++d)
+                                   MV[d] = M * V[d];
+                                 const unsigned int alpha =
+                                   contact ? supports.material[k] : 0;
+                                 scatter_mass_momentum<dim, false>(
+                                   node,
+                                   S,
+                                   n_entries,
+                                   M,
+                                   MV,
+                                   nullptr,
+                                   &momentum_target[alpha * dim]);
+                                 if (contact_needs_gradients)
+                                   for (unsigned int j = 0; j < n_entries; ++j)
+                                     for (unsigned int d = 0; d < dim; ++d)
+                                       g_alpha[alpha * dim + d][node[j]] +=
+                                         volume_column[k] * G[j][d];
+                                 if (contact_needs_positions)
+                                   for (unsigned int j = 0; j < n_entries; ++j)
+                                     for (unsigned int d = 0; d < dim; ++d)
+                                       x_alpha[alpha * dim + d][node[j]] +=
+                                         M * S[j] * points.position[k][d];
+                               });
             const Point<dim> xi =
               GridTransfer<dim>::reference_point(data,
                                                  batch.position[q],
