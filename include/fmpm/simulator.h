@@ -409,7 +409,7 @@ namespace fmpm
              !traction_functions.empty();
     }
     void
-    particles_to_grid(const bool with_forces, const bool momenta_only = false);
+    particles_to_grid(const bool with_forces);
     /** The store columns the force of a point reads: M, V and σ. */
     struct ForceColumns
     {
@@ -484,12 +484,13 @@ namespace fmpm
     void
     update_particles();
     /**
-     * USL+/USAVG+: the particle update extrapolates p = SᵀMV^{n+1} (with
-     * contact p^α of the point's material) point by point once V^{n+1} is
-     * known, in the order and with the bits of particles_to_grid(), and
-     * re_extrapolate() only forms the sums and adds the ghosts
-     * (finish_re_extrapolation()), and with contact also the normals' g^α
-     * and Σ S M X. Not where the contact laws read the interface state.
+     * USL+/USAVG+: the particle update re-extrapolates point by point once
+     * V^{n+1} and X^{n+1} are known — p = SᵀMV^{n+1}, with contact p^α and
+     * what the normals and laws read of the moved points (g^α, Σ S M X,
+     * u^α, V^α) — with the step's S and M (m, m̃, m^α, m̃^α and the mass
+     * matrix's set-up stay those of the first extrapolation), in the order
+     * and with the bits of particles_to_grid(); re_extrapolate() only forms
+     * the sums and adds the ghosts (finish_re_extrapolation()).
      */
     bool
     re_extrapolates_in_particle_update() const;

@@ -233,10 +233,8 @@ namespace fmpm
     // the conditions, and with contact a third correction.
     using namespace ParticleUpdate;
     const double t_end = control.time() + control.time_step();
-    if (re_extrapolates_in_particle_update())
-      finish_re_extrapolation();
-    else
-      particles_to_grid(false, /*momenta_only=*/true);
+    Assert(re_extrapolates_in_particle_update(), ExcInternalError());
+    finish_re_extrapolation();
     momentum_time = t_end;
     impose_velocity_conditions(momentum, t_end, nullptr);
     field_computed[velocity] = field_computed[lumped_velocity] = false;

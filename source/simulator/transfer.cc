@@ -465,6 +465,110 @@ namespace fmpm
     constexpr unsigned int stress_batch_size =
       ConstitutiveModel::StressUpdateInputs::capacity;
 
+    /**
+     * The per-material fields the contact normals and laws read of the
+     * points: g^α = Σ V G and Σ S M X (seed 004 Eq. 11), and for the
+     * interface laws u^α = Σ S M (x − X₀) and V^α = Σ S V. The first
+     * extrapolation and the re-extrapolation in the particle update add
+     * each point's share with the same operations.
+     */
+    template <int dim>
+    class ContactGeometry
+    {
+    public:
+      /** Zero the fields that @p normal_needs and @p interface_state ask
+       * for (the others are left alone and not added to). */
+      void
+      reset(std::vector<Contact::MaterialField<dim>> &fields,
+            const Contact::NormalNeeds               &normal_needs,
+            const bool                                interface_state,
+            const MaterialPoints<dim>                &material_points)
+      {
+        points      = &material_points;
+        using Index = PropertyIndex<dim>;
+        mass        = points->column(Index::mass);
+        volume      = points->column(Index::volume);
+        for (unsigned int d = 0; d < dim; ++d)
+          initial_position[d] = points->column(Index::initial_position + d);
+        gradient.clear();
+        position.clear();
+        displacement.clear();
+        nodal_volume.clear();
+        for (auto &field : fields)
+          {
+            if (normal_needs.volume_gradients)
+              field.volume_gradient = 0;
+            if (normal_needs.positions)
+              field.position_moment = 0;
+            if (interface_state)
+              {
+                field.displacement_moment = 0;
+                field.volume              = 0;
+                nodal_volume.push_back(field.volume.begin());
+              }
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                if (normal_needs.volume_gradients)
+                  gradient.push_back(field.volume_gradient.block(d).begin());
+                if (normal_needs.positions)
+                  position.push_back(field.position_moment.block(d).begin());
+                if (interface_state)
+                  displacement.push_back(
+                    field.displacement_moment.block(d).begin());
+              }
+          }
+      }
+
+      /** Whether add_point() reads G. */
+      bool
+      needs_gradients() const
+      {
+        return !gradient.empty();
+      }
+
+      /** Point @p k of material @p alpha with its support (G only if
+       * needs_gradients()). */
+      template <typename Count>
+      DEAL_II_ALWAYS_INLINE void
+      add_point(const unsigned int          k,
+                const unsigned int          alpha,
+                const unsigned int *const   node,
+                const double *const         S,
+                const Tensor<1, dim> *const G,
+                const Count                 n_entries) const
+      {
+        const double      M = mass[k];
+        const double      V = volume[k];
+        const Point<dim> &X = points->position[k];
+        if (!gradient.empty())
+          for (unsigned int j = 0; j < n_entries; ++j)
+            for (unsigned int d = 0; d < dim; ++d)
+              gradient[alpha * dim + d][node[j]] += V * G[j][d];
+        if (!position.empty())
+          for (unsigned int j = 0; j < n_entries; ++j)
+            for (unsigned int d = 0; d < dim; ++d)
+              position[alpha * dim + d][node[j]] += M * S[j] * X[d];
+        if (!displacement.empty())
+          {
+            // u_p = x_p − X_p (the initial position).
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                const double u_d = X[d] - initial_position[d][k];
+                for (unsigned int j = 0; j < n_entries; ++j)
+                  displacement[alpha * dim + d][node[j]] += M * S[j] * u_d;
+              }
+            for (unsigned int j = 0; j < n_entries; ++j)
+              nodal_volume[alpha][node[j]] += S[j] * V;
+          }
+      }
+
+    private:
+      const MaterialPoints<dim> *points = nullptr;
+      const double              *mass = nullptr, *volume = nullptr;
+      const double              *initial_position[dim] = {};
+      /** [α dim + d] (nodal_volume: [α]); empty where nothing reads it. */
+      std::vector<double *> gradient, position, displacement, nodal_volume;
+    };
   } // namespace
 
 
@@ -854,41 +958,31 @@ namespace fmpm
 
   template <int dim>
   void
-  Simulator<dim>::particles_to_grid(const bool with_forces,
-                                    const bool momenta_only)
+  Simulator<dim>::particles_to_grid(const bool with_forces)
   {
     TimerOutput::Scope timer(computing_timer, "particles to grid");
     using Index = PropertyIndex<dim>;
-    // The re-extrapolation uses the step's S and M: m, m̃, m^α, m̃^α (and
-    // the mass matrix's set-up) are those of the first extrapolation; p =
-    // SᵀMV, p^α and what the normal method reads from the moved points
-    // change.
-    const bool masses = !momenta_only;
     // m and p extrapolated by compute_supports() (one field, no forces, no
     // m̃): only the ghosts to add.
-    const bool extrapolated = masses && supports_extrapolated;
+    const bool extrapolated = supports_extrapolated;
     supports_extrapolated   = false;
 
     // m̃ as cell-wise matrices where the mass matrix accepts them, else the
     // assembled sparse matrix (the collection BC methods need its entries).
-    if (masses)
-      use_cellwise_full_mass =
-        mass_matrix->needs_full_mass_matrix() &&
-        mass_matrix->accepts_cellwise_full_mass_matrix() &&
-        !velocity_conditions.needs_full_mass_matrix();
-    const bool assemble_full = masses && !use_cellwise_full_mass &&
-                               (mass_matrix->needs_full_mass_matrix() ||
-                                velocity_conditions.needs_full_mass_matrix());
-    const bool with_full_mass =
-      masses && (use_cellwise_full_mass || assemble_full);
+    use_cellwise_full_mass = mass_matrix->needs_full_mass_matrix() &&
+                             mass_matrix->accepts_cellwise_full_mass_matrix() &&
+                             !velocity_conditions.needs_full_mass_matrix();
+    const bool assemble_full =
+      !use_cellwise_full_mass && (mass_matrix->needs_full_mass_matrix() ||
+                                  velocity_conditions.needs_full_mass_matrix());
+    const bool with_full_mass = use_cellwise_full_mass || assemble_full;
     // (With contact m, p and f are set from the material fields after the
     // sweep.)
     const bool contact = contact_active();
     if (!contact && !extrapolated)
       {
-        if (masses)
-          lumped_mass = 0;
-        momentum = 0;
+        lumped_mass = 0;
+        momentum    = 0;
         if (with_forces)
           force = 0;
       }
@@ -899,7 +993,7 @@ namespace fmpm
 
     // Per-material fields (contact): m^α, p^α0, f^α0, g^α, Σ S M X.
     if (contact)
-      this->contact->invalidate_geometry(masses);
+      this->contact->invalidate_geometry(true);
     std::vector<Contact::MaterialField<dim>>  no_material_fields;
     std::vector<Contact::MaterialField<dim>> &material_fields =
       contact ? this->contact->material_fields() : no_material_fields;
@@ -913,52 +1007,32 @@ namespace fmpm
     // m̃^α = Σ_{p∈α} S M Sᵀ (seed 004 Eq. 37) as local matrices of the cells
     // with points of α, for the multimaterial series and exact solve.
     const bool material_full_mass =
-      contact && masses && this->contact->needs_material_full_mass();
+      contact && this->contact->needs_material_full_mass();
     std::vector<CellwiseMatrix> *const material_full_mass_matrices =
       material_full_mass ? &this->contact->material_full_mass() : nullptr;
     if (material_full_mass)
       for (auto &matrix : *material_full_mass_matrices)
         matrix.clear();
     std::vector<double *> m_alpha(n_materials), p_alpha(n_materials * dim),
-      f_alpha(n_materials * dim), g_alpha, x_alpha, u_alpha, volume_alpha;
-    if (contact_needs_gradients)
-      g_alpha.resize(n_materials * dim);
-    if (contact_needs_positions)
-      x_alpha.resize(n_materials * dim);
-    if (contact_needs_interface)
-      {
-        u_alpha.resize(n_materials * dim);
-        volume_alpha.resize(n_materials);
-      }
+      f_alpha(n_materials * dim);
+    ContactGeometry<dim> contact_geometry;
+    if (contact)
+      contact_geometry.reset(material_fields,
+                             this->contact->normal_needs(),
+                             contact_needs_interface,
+                             points);
     for (unsigned int a = 0; a < n_materials; ++a)
       {
         Contact::MaterialField<dim> &field = material_fields[a];
-        if (masses)
-          field.mass = 0;
-        field.momentum = 0;
+        field.mass                         = 0;
+        field.momentum                     = 0;
         if (with_forces)
           field.force = 0;
-        if (contact_needs_gradients)
-          field.volume_gradient = 0;
-        if (contact_needs_positions)
-          field.position_moment = 0;
-        if (contact_needs_interface)
-          {
-            field.displacement_moment = 0;
-            field.volume              = 0;
-            volume_alpha[a]           = field.volume.begin();
-          }
         m_alpha[a] = field.mass.begin();
         for (unsigned int d = 0; d < dim; ++d)
           {
             p_alpha[a * dim + d] = field.momentum.block(d).begin();
             f_alpha[a * dim + d] = field.force.block(d).begin();
-            if (contact_needs_gradients)
-              g_alpha[a * dim + d] = field.volume_gradient.block(d).begin();
-            if (contact_needs_positions)
-              x_alpha[a * dim + d] = field.position_moment.block(d).begin();
-            if (contact_needs_interface)
-              u_alpha[a * dim + d] = field.displacement_moment.block(d).begin();
           }
       }
 
@@ -1044,8 +1118,7 @@ namespace fmpm
                 for (unsigned int j = 0; j < n; ++j)
                   {
                     const unsigned int i = cell_node[j];
-                    if (masses)
-                      m[i] += M * S_k[j];
+                    m[i] += M * S_k[j];
                     for (unsigned int d = 0; d < dim; ++d)
                       p[d][i] += MV[d] * S_k[j];
                   }
@@ -1146,12 +1219,8 @@ namespace fmpm
               // of the point's material (Eq. 5).
               auto scatter = [&](double *const        m_target,
                                  double *const *const p_target) {
-                if (masses)
-                  scatter_mass_momentum<dim, true>(
-                    node, S, n_entries, M, MV, m_target, p_target);
-                else
-                  scatter_mass_momentum<dim, false>(
-                    node, S, n_entries, M, MV, nullptr, p_target);
+                scatter_mass_momentum<dim, true>(
+                  node, S, n_entries, M, MV, m_target, p_target);
               };
               // (With contact m and p are the sums of m^α and p^α0, formed
               // after the sweep.)
@@ -1185,34 +1254,8 @@ namespace fmpm
                 {
                   // Eqs. 5 and 11 for the point's material α.
                   const unsigned int alpha = supports.material[k];
-                  const double       V     = volume_column[k];
                   scatter(m_alpha[alpha], &p_alpha[alpha * dim]);
-                  if (contact_needs_gradients)
-                    for (unsigned int j = 0; j < n_entries; ++j)
-                      for (unsigned int d = 0; d < dim; ++d)
-                        g_alpha[alpha * dim + d][node[j]] += V * G[j][d];
-                  if (contact_needs_positions)
-                    {
-                      const Point<dim> &X = points.position[k];
-                      for (unsigned int j = 0; j < n_entries; ++j)
-                        for (unsigned int d = 0; d < dim; ++d)
-                          x_alpha[alpha * dim + d][node[j]] += M * S[j] * X[d];
-                    }
-                  if (contact_needs_interface)
-                    {
-                      // u_p = x_p − X_p (the initial position).
-                      const Point<dim> &X = points.position[k];
-                      for (unsigned int d = 0; d < dim; ++d)
-                        {
-                          const double u_d =
-                            X[d] -
-                            points.column(Index::initial_position + d)[k];
-                          for (unsigned int j = 0; j < n_entries; ++j)
-                            u_alpha[alpha * dim + d][node[j]] += M * S[j] * u_d;
-                        }
-                      for (unsigned int j = 0; j < n_entries; ++j)
-                        volume_alpha[alpha][node[j]] += S[j] * V;
-                    }
+                  contact_geometry.add_point(k, alpha, node, S, G, n_entries);
                 }
               if constexpr (!computed)
                 {
@@ -1276,8 +1319,7 @@ namespace fmpm
     if (contact)
       {
         // m = Σ_α m^α, p = Σ_α p^α, f = Σ_α f^α0.
-        if (masses)
-          set_material_sums(lumped_mass, m_alpha);
+        set_material_sums(lumped_mass, m_alpha);
         for (unsigned int d = 0; d < dim; ++d)
           {
             std::vector<double *> p_d, f_d;
@@ -1291,19 +1333,16 @@ namespace fmpm
               set_material_sums(force.block(d), f_d);
           }
       }
-    if (masses)
-      lumped_mass.compress(VectorOperation::add);
+    lumped_mass.compress(VectorOperation::add);
     momentum.compress(VectorOperation::add);
     if (with_forces)
       force.compress(VectorOperation::add);
     if (assemble_full)
       full_mass_matrix.compress(VectorOperation::add);
-    if (masses)
-      lumped_mass.update_ghost_values();
+    lumped_mass.update_ghost_values();
     for (auto &field : material_fields)
       {
-        if (masses)
-          field.mass.compress(VectorOperation::add);
+        field.mass.compress(VectorOperation::add);
         field.momentum.compress(VectorOperation::add);
         if (with_forces)
           field.force.compress(VectorOperation::add);
@@ -1316,12 +1355,10 @@ namespace fmpm
             field.displacement_moment.compress(VectorOperation::add);
             field.volume.compress(VectorOperation::add);
           }
-        if (masses)
-          field.mass.update_ghost_values();
+        field.mass.update_ghost_values();
         field.computed.fill(false);
       }
-    if (masses)
-      mass_matrix->setup();
+    mass_matrix->setup();
   }
 
 
@@ -1330,12 +1367,8 @@ namespace fmpm
   bool
   Simulator<dim>::re_extrapolates_in_particle_update() const
   {
-    if (!parameters.method.strain_update_scheme.update_last ||
-        !parameters.method.strain_update_scheme.re_extrapolate)
-      return false;
-    if (!contact_active())
-      return true;
-    return !this->contact->needs_interface_state();
+    return parameters.method.strain_update_scheme.update_last &&
+           parameters.method.strain_update_scheme.re_extrapolate;
   }
 
 
@@ -1344,9 +1377,9 @@ namespace fmpm
   void
   Simulator<dim>::finish_re_extrapolation()
   {
-    // What particles_to_grid(false, true) does after its sweep: with
-    // contact p = Σ_α p^α (Eq. 6), then the ghosts added (also of the
-    // normals' g^α and Σ S M X).
+    // The tail of the re-extrapolation the particle update made: with
+    // contact p = Σ_α p^α (Eq. 6); the ghosts added (with contact also of
+    // g^α, Σ S M X, u^α, V^α where read).
     TimerOutput::Scope timer(computing_timer, "particles to grid");
     if (contact_active())
       {
@@ -1368,6 +1401,11 @@ namespace fmpm
             field.volume_gradient.compress(VectorOperation::add);
           if (this->contact->normal_needs().positions)
             field.position_moment.compress(VectorOperation::add);
+          if (this->contact->needs_interface_state())
+            {
+              field.displacement_moment.compress(VectorOperation::add);
+              field.volume.compress(VectorOperation::add);
+            }
           field.computed.fill(false);
         }
   }
@@ -1466,38 +1504,55 @@ namespace fmpm
     const double *const mass_column = points.column(Index::mass);
     // USL+/USAVG+: p = SᵀMV^{n+1} in this sweep, into momentum_target[d]
     // (with contact p^α of the point's material α: [α dim + d], and what
-    // the normals read: g^α = Σ V G and Σ S M X^{n+1}, Eq. 11).
+    // the normals and laws read of the moved points).
     const bool            re_extrapolate = re_extrapolates_in_particle_update();
-    std::vector<double *> momentum_target, g_alpha, x_alpha;
-    const bool            contact_needs_gradients =
-      re_extrapolate && contact &&
-      this->contact->normal_needs().volume_gradients;
-    const bool contact_needs_positions =
-      re_extrapolate && contact && this->contact->normal_needs().positions;
-    const double *const volume_column = points.column(Index::volume);
+    std::vector<double *> momentum_target;
+    ContactGeometry<dim>  contact_geometry;
     if (re_extrapolate && contact)
-      for (auto &field : this->contact->material_fields())
-        {
-          field.momentum = 0;
-          if (contact_needs_gradients)
-            field.volume_gradient = 0;
-          if (contact_needs_positions)
-            field.position_moment = 0;
-          for (unsigned int d = 0; d < dim; ++d)
-            {
+      {
+        contact_geometry.reset(this->contact->material_fields(),
+                               this->contact->normal_needs(),
+                               this->contact->needs_interface_state(),
+                               points);
+        for (auto &field : this->contact->material_fields())
+          {
+            field.momentum = 0;
+            for (unsigned int d = 0; d < dim; ++d)
               momentum_target.push_back(field.momentum.block(d).begin());
-              if (contact_needs_gradients)
-                g_alpha.push_back(field.volume_gradient.block(d).begin());
-              if (contact_needs_positions)
-                x_alpha.push_back(field.position_moment.block(d).begin());
-            }
-        }
+          }
+      }
     else if (re_extrapolate)
       {
         momentum = 0;
         for (unsigned int d = 0; d < dim; ++d)
           momentum_target.push_back(momentum.block(d).begin());
       }
+
+    // Point k's share of p = SᵀMV^{n+1} (Eq. 5 with contact) and of the
+    // contact geometry once its V and X are final: the operations of
+    // particles_to_grid().
+    const auto re_extrapolate_point = [&](const unsigned int    k,
+                                          const auto           &data,
+                                          const Tensor<1, dim> &V) {
+      support_of.visit(
+        k,
+        data,
+        contact_geometry.needs_gradients(),
+        [&](const unsigned int *const   node,
+            const double *const         S,
+            const Tensor<1, dim> *const G,
+            const auto                  n_entries) {
+          const double       M     = mass_column[k];
+          const unsigned int alpha = contact ? supports.material[k] : 0;
+          double             MV[dim];
+          for (unsigned int d = 0; d < dim; ++d)
+            MV[d] = M * V[d];
+          scatter_mass_momentum<dim, false>(
+            node, S, n_entries, M, MV, nullptr, &momentum_target[alpha * dim]);
+          if (contact)
+            contact_geometry.add_point(k, alpha, node, S, G, n_entries);
+        });
+    };
 
     // One batch per cell with points (the plugin's virtual call per batch).
     for (unsigned int c = 0; c < points.n_cells(); ++c)
@@ -1614,38 +1669,7 @@ namespace fmpm
               velocity_conditions.push_out_of_walls(batch.position[q]);
             points.position[k] = batch.position[q];
             if (re_extrapolate)
-              support_of.visit(k,
-                               data,
-                               contact_needs_gradients,
-                               [&](const unsigned int *const   node,
-                                   const double *const         S,
-                                   const Tensor<1, dim> *const G,
-                                   const auto                  n_entries) {
-                                 const double M = mass_column[k];
-                                 double       MV[dim];
-                                 for (unsigned int d = 0; d < dim; ++d)
-                                   MV[d] = M * V[d];
-                                 const unsigned int alpha =
-                                   contact ? supports.material[k] : 0;
-                                 scatter_mass_momentum<dim, false>(
-                                   node,
-                                   S,
-                                   n_entries,
-                                   M,
-                                   MV,
-                                   nullptr,
-                                   &momentum_target[alpha * dim]);
-                                 if (contact_needs_gradients)
-                                   for (unsigned int j = 0; j < n_entries; ++j)
-                                     for (unsigned int d = 0; d < dim; ++d)
-                                       g_alpha[alpha * dim + d][node[j]] +=
-                                         volume_column[k] * G[j][d];
-                                 if (contact_needs_positions)
-                                   for (unsigned int j = 0; j < n_entries; ++j)
-                                     for (unsigned int d = 0; d < dim; ++d)
-                                       x_alpha[alpha * dim + d][node[j]] +=
-                                         M * S[j] * points.position[k][d];
-                               });
+              re_extrapolate_point(k, data, V);
             const Point<dim> xi =
               GridTransfer<dim>::reference_point(data,
                                                  batch.position[q],
