@@ -519,6 +519,24 @@ namespace fmpm
           }
       }
 
+      /** Add the ghosts of @p field's share of what reset() zeroed (after a
+       * sweep of add_point()). */
+      static void
+      compress(Contact::MaterialField<dim> &field,
+               const Contact::NormalNeeds  &normal_needs,
+               const bool                   interface_state)
+      {
+        if (normal_needs.volume_gradients)
+          field.volume_gradient.compress(VectorOperation::add);
+        if (normal_needs.positions)
+          field.position_moment.compress(VectorOperation::add);
+        if (interface_state)
+          {
+            field.displacement_moment.compress(VectorOperation::add);
+            field.volume.compress(VectorOperation::add);
+          }
+      }
+
       /** Whether add_point() reads G. */
       bool
       needs_gradients() const
@@ -997,12 +1015,6 @@ namespace fmpm
     std::vector<Contact::MaterialField<dim>>  no_material_fields;
     std::vector<Contact::MaterialField<dim>> &material_fields =
       contact ? this->contact->material_fields() : no_material_fields;
-    const bool contact_needs_gradients =
-      contact && this->contact->normal_needs().volume_gradients;
-    const bool contact_needs_positions =
-      contact && this->contact->normal_needs().positions;
-    const bool contact_needs_interface =
-      contact && this->contact->needs_interface_state();
     const unsigned int n_materials = material_fields.size();
     // m̃^α = Σ_{p∈α} S M Sᵀ (seed 004 Eq. 37) as local matrices of the cells
     // with points of α, for the multimaterial series and exact solve.
@@ -1019,7 +1031,7 @@ namespace fmpm
     if (contact)
       contact_geometry.reset(material_fields,
                              this->contact->normal_needs(),
-                             contact_needs_interface,
+                             this->contact->needs_interface_state(),
                              points);
     for (unsigned int a = 0; a < n_materials; ++a)
       {
@@ -1090,7 +1102,8 @@ namespace fmpm
 
     // Per point: the entries j of its support (computed: the cell's nodes;
     // stored: the cache's), at place place_of(j) of the cell's nodes.
-    const bool with_gradients = with_forces || contact_needs_gradients;
+    const bool with_gradients =
+      with_forces || contact_geometry.needs_gradients();
     for (unsigned int c = 0; c < (extrapolated ? 0 : points.n_cells()); ++c)
       {
         if (supports.implicit_classic && !contact)
@@ -1346,15 +1359,9 @@ namespace fmpm
         field.momentum.compress(VectorOperation::add);
         if (with_forces)
           field.force.compress(VectorOperation::add);
-        if (contact_needs_gradients)
-          field.volume_gradient.compress(VectorOperation::add);
-        if (contact_needs_positions)
-          field.position_moment.compress(VectorOperation::add);
-        if (contact_needs_interface)
-          {
-            field.displacement_moment.compress(VectorOperation::add);
-            field.volume.compress(VectorOperation::add);
-          }
+        ContactGeometry<dim>::compress(field,
+                                       this->contact->normal_needs(),
+                                       this->contact->needs_interface_state());
         field.mass.update_ghost_values();
         field.computed.fill(false);
       }
@@ -1397,15 +1404,10 @@ namespace fmpm
       for (auto &field : this->contact->material_fields())
         {
           field.momentum.compress(VectorOperation::add);
-          if (this->contact->normal_needs().volume_gradients)
-            field.volume_gradient.compress(VectorOperation::add);
-          if (this->contact->normal_needs().positions)
-            field.position_moment.compress(VectorOperation::add);
-          if (this->contact->needs_interface_state())
-            {
-              field.displacement_moment.compress(VectorOperation::add);
-              field.volume.compress(VectorOperation::add);
-            }
+          ContactGeometry<dim>::compress(
+            field,
+            this->contact->normal_needs(),
+            this->contact->needs_interface_state());
           field.computed.fill(false);
         }
   }
