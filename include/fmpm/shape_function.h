@@ -239,7 +239,7 @@ namespace fmpm
        * applies().
        */
       template <typename Sink>
-      bool
+      DEAL_II_ALWAYS_INLINE bool
       for_each_node_if_applies(const Point<dim>     &x,
                                const Tensor<1, dim> &l,
                                Sink                &&sink) const

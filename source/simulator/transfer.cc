@@ -1533,28 +1533,33 @@ namespace fmpm
     // Point k's share of p = SᵀMV^{n+1} (Eq. 5 with contact) and of the
     // contact geometry once its V and X are final: the operations of
     // particles_to_grid().
-    const auto re_extrapolate_point = [&](const unsigned int    k,
-                                          const auto           &data,
-                                          const Tensor<1, dim> &V) {
-      support_of.visit(
-        k,
-        data,
-        contact_geometry.needs_gradients(),
-        [&](const unsigned int *const   node,
-            const double *const         S,
-            const Tensor<1, dim> *const G,
-            const auto                  n_entries) {
-          const double       M     = mass_column[k];
-          const unsigned int alpha = contact ? supports.material[k] : 0;
-          double             MV[dim];
-          for (unsigned int d = 0; d < dim; ++d)
-            MV[d] = M * V[d];
-          scatter_mass_momentum<dim, false>(
-            node, S, n_entries, M, MV, nullptr, &momentum_target[alpha * dim]);
-          if (contact)
-            contact_geometry.add_point(k, alpha, node, S, G, n_entries);
-        });
-    };
+    const auto re_extrapolate_point =
+      [&](const unsigned int k, const auto &data, const Tensor<1, dim> &V)
+        DEAL_II_ALWAYS_INLINE {
+          support_of.visit(
+            k,
+            data,
+            contact_geometry.needs_gradients(),
+            [&](const unsigned int *const   node,
+                const double *const         S,
+                const Tensor<1, dim> *const G,
+                const auto                  n_entries) DEAL_II_ALWAYS_INLINE {
+              const double       M     = mass_column[k];
+              const unsigned int alpha = contact ? supports.material[k] : 0;
+              double             MV[dim];
+              for (unsigned int d = 0; d < dim; ++d)
+                MV[d] = M * V[d];
+              scatter_mass_momentum<dim, false>(node,
+                                                S,
+                                                n_entries,
+                                                M,
+                                                MV,
+                                                nullptr,
+                                                &momentum_target[alpha * dim]);
+              if (contact)
+                contact_geometry.add_point(k, alpha, node, S, G, n_entries);
+            });
+        };
 
     // One batch per cell with points (the plugin's virtual call per batch).
     for (unsigned int c = 0; c < points.n_cells(); ++c)
@@ -2061,17 +2066,18 @@ namespace fmpm
                                  [&](const unsigned int *const   node,
                                      const double *const         S,
                                      const Tensor<1, dim> *const G,
-                                     const auto                  n_entries) {
-                                   scatter_point_force(k,
-                                                       node,
-                                                       S,
-                                                       G,
-                                                       n_entries,
-                                                       force_columns,
-                                                       gravity,
-                                                       uniform_body_force,
-                                                       f_target);
-                                 });
+                                     const auto                  n_entries)
+                                   DEAL_II_ALWAYS_INLINE {
+                                     scatter_point_force(k,
+                                                         node,
+                                                         S,
+                                                         G,
+                                                         n_entries,
+                                                         force_columns,
+                                                         gravity,
+                                                         uniform_body_force,
+                                                         f_target);
+                                   });
             }
       }
     local_max_wave_speed = wave_speed;
