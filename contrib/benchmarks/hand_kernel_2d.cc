@@ -63,7 +63,7 @@
 //                       moves in one loop without branches, longer ones by
 //                       memmove), then the buffered values go to their
 //                       places;
-//             copying:  fmpm's method before 2026-11-27 (session 26):
+//             copying:  the method fmpm used before its in-place re-bin:
 //                       every column copied run by run into a work array
 //                       that then becomes the column.
 // The sums over S_j and G_j are regrouped per cell (bilinear coefficients
