@@ -33,7 +33,7 @@
 // see bytes_per_point_step()) times the point-steps per second, against
 // this machine's bandwidth measured by a STREAM triad. The default run
 // (benchmark_2d, benchmark_gimp_2d, benchmark_3d) ends with the one-core
-// targets of issue 35 (doc/benchmarks.md) beside the measured figures.
+// one-core targets beside the measured figures.
 
 #include <fmpm/parameters.h>
 #include <fmpm/simulator.h>
@@ -332,7 +332,7 @@ namespace
   }
 
   /** The --contact mode: one velocity field against contact with every
-   * normal method (issue 13's benchmark). */
+   * normal method. */
   void
   compare_contact(const std::string              &scene,
                   const std::vector<std::string> &overrides,
@@ -390,8 +390,7 @@ namespace
   }
 
   /** The --contact-orders mode: the cost of contact inside FMPM(k) and
-   * XPIC(k) per order, against the single-field run of the same method
-   * (issue 14's benchmark). */
+   * XPIC(k) per order, against the single-field run of the same method. */
   void
   compare_contact_orders(const std::string              &scene,
                          const std::vector<std::string> &overrides,
@@ -467,7 +466,7 @@ namespace
   }
 
   /** The --sizes mode: time per particle-step and memory per point from
-   * about 1e4 to 1e7 points (issue 35: within 20 %). */
+   * about 1e4 to 1e7 points. */
   void
   compare_sizes(const std::string              &scene,
                 const std::vector<std::string> &overrides)
@@ -548,7 +547,7 @@ namespace
     "per phase and point-step, the memory bandwidth used and the resident\n"
     "memory per point. A benchmark, not a test: it asserts nothing.\n"
     "Without a scene: benchmark_2d, benchmark_gimp_2d and benchmark_3d\n"
-    "from parameters/, then the one-core targets (issue 35) beside the\n"
+    "from parameters/, then the one-core targets beside the\n"
     "measured figures.\n"
     "Files after '--' are read after every scene (later 'set' lines win).\n"
     "\n"
@@ -711,12 +710,12 @@ namespace
       }
     if (default_scenes && is_root)
       {
-        // Issue 35's targets (one core) beside the measured figures.
+        // The one-core targets beside the measured figures.
         const char  *labels[3]  = {"2D classic FLIP (benchmark_2d)",
                                    "2D uGIMP FLIP USAVG+ (benchmark_gimp_2d)",
                                    "3D classic (benchmark_3d)"};
         const double targets[3] = {1e7, 6e6, 4e6};
-        std::cout << "\n=== targets (issue 35, one core)\n"
+        std::cout << "\n=== targets (one core)\n"
                   << "| scene | target particle-steps/s | measured | "
                      "measured / target |\n|---|---|---|---|\n";
         for (unsigned int k = 0; k < 3; ++k)

@@ -9,7 +9,7 @@ fmpm's particle VTU output of several runs at one output time.
 
 Each run directory must hold particles.pvd and its serial or parallel
 .vtu pieces (zlib-compressed binary, as deal.II writes them). Shows the
-cell-crossing noise of classic shape functions (issue 7).
+cell-crossing noise of classic shape functions.
 """
 
 import argparse

@@ -7,15 +7,16 @@
 #   contrib/utilities/benchmark_against_parent.sh [COMMIT] [ROUNDS] [-- ARGS]
 #
 # ARGS go to both fmpm-benchmark runs (scenes, overrides). The other commit
-# is built in Release in /tmp/fmpm-benchmark-<sha> (a git worktree, kept for
-# the next comparison); this checkout's build is build/.
+# is built in Release in $TMPDIR/fmpm-benchmark-<sha> (TMPDIR defaults to
+# /tmp; a git worktree, kept for the next comparison); this checkout's build
+# is build/.
 set -eu
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 commit="${1:-HEAD~1}"; [ $# -gt 0 ] && shift
 rounds="${1:-3}"; [ $# -gt 0 ] && shift
 [ "${1:-}" = "--" ] && shift
 sha="$(git -C "$root" rev-parse --short "$commit")"
-other="/tmp/fmpm-benchmark-$sha"
+other="${TMPDIR:-/tmp}/fmpm-benchmark-$sha"
 if [ ! -x "$other/build/applications/benchmark/fmpm-benchmark" ]; then
   echo "building fmpm-benchmark of $sha in $other (once)" >&2
   [ -d "$other" ] || git -C "$root" worktree add --detach "$other" "$sha" >/dev/null

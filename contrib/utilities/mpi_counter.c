@@ -7,7 +7,7 @@
 //
 //   mpicc -shared -fPIC -O2 -o libmpi_counter.so mpi_counter.c -ldl
 //   mpirun -np 4 -x LD_PRELOAD=$PWD/libmpi_counter.so
-//          -x MPI_COUNTER_DIR=/tmp/counts program ...
+//          -x MPI_COUNTER_DIR=$PWD/counts program ...
 //
 // At MPI_Finalize every rank writes one line of JSON to
 // $MPI_COUNTER_DIR/rank-<rank>.json (nothing if the variable is unset):

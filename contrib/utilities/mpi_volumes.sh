@@ -4,7 +4,7 @@
 #
 # Measures the MPI messages and bytes each rank sends per time step, by kind
 # (particle exchange, ghost values of grid vectors, collectives, and the
-# full-mass CG solve), at several rank counts (issue 12, doc/scaling.md).
+# full-mass CG solve), at several rank counts (doc/scaling.md).
 #
 #   contrib/utilities/mpi_volumes.sh [scene.prm]
 #

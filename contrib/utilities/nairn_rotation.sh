@@ -4,7 +4,8 @@
 # disk R = 300 mm at (500,500), omega = 2 rad/s, K = 400 Pa, G = 200 Pa, rho = 1 kg/m^3,
 # 24 x 24 cells on 1000 mm, 2x2 points per cell, plane strain, to 1 s.
 # Used for doc/studies/stability.md, "High orders and the shape function".
-# Needs NairnMPM built by ../shared/peers/build_nairn.sh (binary in ~/.nairn/bin or $NAIRN_DIR/bin).
+# Needs NairnMPM (github.com/nairnj/nairn-mpm-fea; binary in ~/.nairn/bin or $NAIRN_DIR/bin, as
+# for contrib/utilities/nairn_bar.sh).
 # Prints the steps, E_end/E_0 and the largest E/E_0 (NairnMPM does not stop when the energy grows).
 # usage: nairn_rotation.sh VARIANT CFL   VARIANT = FLIP | XPIC<k> | FMPM<k>
 # env: SHAPE (Dirac = classic, uGIMP, lCPDI), MPMMETHOD (2 USAVG, 3 USL), SKIPPOST (1: USAVG-/USL-)

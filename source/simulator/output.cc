@@ -659,7 +659,7 @@ namespace fmpm
       contact ? contact->summary_entries() :
                 std::vector<std::pair<std::string, double>>();
     // Memory: the resident-set high-water mark of every rank (VmHWM), and
-    // the support cache's entries and bytes (issue 12's figures).
+    // the support cache's entries and bytes (doc/benchmarks.md).
     Utilities::System::MemoryStats memory_stats;
     Utilities::System::get_memory_stats(memory_stats);
     const double peak_resident_bytes =

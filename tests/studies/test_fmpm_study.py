@@ -217,11 +217,11 @@ class OverrideFileTest(TempDirTest):
             "Material 0/Density": "1000",
             "Method/Mass matrix": "consistent",
         }
-        text = study.format_override(settings, "/tmp/out/run_0001",
+        text = study.format_override(settings, "study_out/run_0001",
                                      comment="test")
         parsed = fake.parse_prm_text(text)
         self.assertEqual(parsed, dict(settings, **{
-            "Output/Directory": "/tmp/out/run_0001"}))
+            "Output/Directory": "study_out/run_0001"}))
         self.assertIn("subsection Material 0\n  set Density = 1000\n"
                       "  subsection Linear elastic\n"
                       "    set Young's modulus = 1e6\n  end\nend", text)

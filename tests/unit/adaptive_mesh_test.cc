@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
-// Adaptive (hanging-node) and unstructured background meshes, issue 6:
+// Adaptive (hanging-node) and unstructured background meshes:
 // constant and linear velocity fields survive particle-to-grid and
 // grid-to-particle on a hanging-node mesh to round-off; the condensed full
 // mass matrix is symmetric with row sums equal to the lumped masses, and
@@ -165,7 +165,7 @@ TYPED_TEST(AdaptiveMeshTest, FullMassMatrixSymmetricRowSumsLumped)
   const auto before = simulator->compute_statistics();
   simulator->run(); // one step: m, p and m̃ of the initial points
 
-  // m̃ is kept cell by cell also on hanging-node meshes (issue 12): the
+  // m̃ is kept cell by cell also on hanging-node meshes: the
   // constraints are applied when the cells are built.
   const fmpm::CellwiseMatrix *K = simulator->get_cellwise_full_mass_matrix();
   ASSERT_NE(K, nullptr);

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
-// Multimaterial contact in 3D, whole runs (issue 36): a block slides down
+// Multimaterial contact in 3D, whole runs: a block slides down
 // an inclined plane with the Coulomb acceleration g(sin θ − μ cos θ) and
 // stays at rest for μ > tan θ; two frictionless spheres with
 // logistic-regression normals (parameters/spheres_contact_3d.prm, shortened)
