@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # The repository speaks of fmpm to its users: no tracked text file names a
 # path of the machine it was built on (a home, /root or /work folder, a
-# folder beside the checkout) or tells how fmpm was made (work sessions,
+# folder beside the checkout) or tells how fmpm was made (stretches of work,
 # issue numbers). Binary files are skipped. The patterns are written so that
 # this file does not match them itself.
 #
@@ -26,7 +26,7 @@ check() { # description, extended regex, grep flags
 }
 check "path of a build machine" '/(work|root)/|/home/[a-z]' ""
 check "path beside the checkout" '\.\./(shared|work)/' ""
-check "work sessions" '\b[s]essions?\b' -i
+check "stretches of work" '\b[s]essions?\b' -i
 check "issue numbers" '\b[i]ssues? #?[0-9]|\b[i]ssue#' -i
 [ "$fail" -eq 0 ] && echo PASS
 exit "$fail"

@@ -1,14 +1,17 @@
 #!/bin/bash
-# usage: run.sh NAME BIN [extra prm text on stdin]  -> /tmp/td/NAME/history.csv
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# Runs a variant of parameters/two_disks.prm and prints E(t)/E0 at 4-16 ms.
+# usage: run_fmpm_variant.sh NAME FMPM_BINARY [extra prm text on stdin]
+#   -> $OUT/NAME/history.csv (OUT defaults to ./two_disks_runs)
 name=$1; bin=$2
-d=/tmp/td/$name; rm -rf $d; mkdir -p $d
-sed 's#set Directory = output-two-disks#set Directory = '$d'#' /work/main/parameters/two_disks.prm > $d/scene.prm
-cat >> $d/scene.prm
-export LD_LIBRARY_PATH=$(dirname $bin)/../..:$(dirname $bin)
+here=$(cd "$(dirname "$0")" && pwd)
+d=${OUT:-$PWD/two_disks_runs}/$name; rm -rf "$d"; mkdir -p "$d"
+sed 's#set Directory = output-two-disks#set Directory = '"$d"'#' "$here/../../../parameters/two_disks.prm" > "$d/scene.prm"
+cat >> "$d/scene.prm"
 start=$(date +%s.%N)
-$bin $d/scene.prm > $d/log.txt 2>&1; rc=$?
+"$bin" "$d/scene.prm" > "$d/log.txt" 2>&1; rc=$?
 end=$(date +%s.%N)
-python3 - $d $rc $start $end <<'PY'
+python3 - "$d" $rc $start $end <<'PY'
 import csv,sys
 d,rc,s,e=sys.argv[1],sys.argv[2],float(sys.argv[3]),float(sys.argv[4])
 rows=list(csv.DictReader(open(d+'/history.csv')))
