@@ -1074,7 +1074,11 @@ namespace fmpm
                       "Shape of the body: 'box' (a rectangle in 2D), "
                       "'sphere' (disk; radius = first half length), "
                       "'ellipsoid' (ellipse; semi-axes = half lengths, "
-                      "axis aligned). Units: none.");
+                      "axis aligned). Bodies may overlap: a point inside "
+                      "an earlier body (lower N) belongs to that body, and "
+                      "the later body gets no point there (fmpm warns "
+                      "with the number of points each body leaves to an "
+                      "earlier one). Units: none.");
     prm.declare_entry("Center",
                       join(defaults.center, dim),
                       point_pattern(dim),

@@ -49,8 +49,8 @@ def main():
     args = parser.parse_args()
 
     study = fmpm_study.parse_study(Path(args.study), quick=args.quick)
-    output = Path(args.output) if args.output else Path(
-        "study_" + Path(args.study).stem + ("_quick" if args.quick else ""))
+    output = Path(args.output) if args.output else \
+        fmpm_study.default_output_dir(args.study, args.quick)
     series = {}
     for run in fmpm_study.expand_runs(study, output):
         history = run.directory / "history.csv"

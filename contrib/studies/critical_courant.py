@@ -87,8 +87,8 @@ def main(argv=None):
     parser.add_argument("--point-speed", type=float, default=0.1,
                         help="largest point speed |v| in dt = C h/(c+|v|)")
     arguments = parser.parse_args(argv)
-    stem = Path(arguments.study).stem + ("_quick" if arguments.quick else "")
-    output = Path(arguments.output or f"study_{stem}").resolve()
+    output = (Path(arguments.output).resolve() if arguments.output else
+              fmpm_study.default_output_dir(arguments.study, arguments.quick))
     data, limits = measured_limits(arguments.study, output, arguments.quick)
     factor = (arguments.wave_speed + arguments.point_speed) / \
         arguments.wave_speed

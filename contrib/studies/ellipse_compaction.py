@@ -230,9 +230,8 @@ def main():
         title = args.title or "Ellipse compaction"
     elif args.study:
         study = fmpm_study.parse_study(Path(args.study), quick=args.quick)
-        output = Path(args.output) if args.output else Path(
-            "study_" + Path(args.study).stem
-            + ("_quick" if args.quick else ""))
+        output = Path(args.output) if args.output else \
+            fmpm_study.default_output_dir(args.study, args.quick)
         runs = [(run.swept.get("Label", run.label()), run.run_id,
                  run.directory)
                 for run in fmpm_study.expand_runs(study, output)]

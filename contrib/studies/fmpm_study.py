@@ -1666,8 +1666,8 @@ def parse_arguments(argv):
                     "See contrib/studies/README.md for the study file format.")
     parser.add_argument("study", help="the study file")
     parser.add_argument("--output", metavar="DIR", help="output directory "
-                        "(default: study_<study file stem>, with _quick "
-                        "appended in quick mode)")
+                        "(default: study_<study file stem> beside the study "
+                        "file, with _quick appended in quick mode)")
     parser.add_argument("--fmpm", metavar="PATH", help="fmpm executable, or "
                         "a command such as 'python3 fake.py' (default: fmpm "
                         "on PATH, else build/applications/fmpm/fmpm)")
@@ -1691,6 +1691,14 @@ def parse_arguments(argv):
     if arguments.timeout is not None and arguments.timeout <= 0:
         parser.error("--timeout must be positive")
     return arguments
+
+
+def default_output_dir(study_file, quick=False):
+    """``study_<stem>`` (``study_<stem>_quick`` with --quick) beside the
+    study file: the output directory when --output is not given."""
+    study_file = Path(study_file).resolve()
+    return study_file.parent / ("study_" + study_file.stem
+                                + ("_quick" if quick else ""))
 
 
 def resolve_fmpm(option):
@@ -1726,8 +1734,8 @@ def main(argv=None):
         print(f"fmpm_study.py: error in study file: {error}", file=sys.stderr)
         return 2
 
-    stem = Path(arguments.study).stem + ("_quick" if arguments.quick else "")
-    output_dir = Path(arguments.output or f"study_{stem}").resolve()
+    output_dir = (Path(arguments.output).resolve() if arguments.output else
+                  default_output_dir(arguments.study, arguments.quick))
     runs = expand_runs(study, output_dir)
     reference = reference_run(study, output_dir)
     print(f"Study '{study.title}': {len(runs)} runs over "

@@ -259,8 +259,8 @@ def main(argv=None):
     parser.add_argument("--length", type=float, default=1.0,
                         help="bar length L (default 1 m)")
     arguments = parser.parse_args(argv)
-    stem = Path(arguments.study).stem + ("_quick" if arguments.quick else "")
-    output = Path(arguments.output or f"study_{stem}").resolve()
+    output = (Path(arguments.output).resolve() if arguments.output else
+              fmpm_study.default_output_dir(arguments.study, arguments.quick))
     try:
         data, table = analyse(arguments.study, output, arguments.quick,
                               arguments.wave_speed, arguments.length)

@@ -62,6 +62,8 @@ def allowed(entry):
     text = text.replace("Double -MAX_DOUBLE...MAX_DOUBLE (inclusive)", "any number")
     text = re.sub(r"Integer range (\d+)\.\.\.2147483647 \(inclusive\)", r"integer >= \1", text)
     text = re.sub(r"Double (\S+)\.\.\.MAX_DOUBLE \(inclusive\)", r"number >= \1", text)
+    text = text.replace("List of <[any number]> of length 0...1 (inclusive)",
+                        "a number, or empty")
     text = re.sub(r"List of <(.*)> of length (\d+)\.\.\.\2 \(inclusive\)", r"\2 of \1", text)
     selection = re.match(r"^Selection (.*)$", text)
     if selection:

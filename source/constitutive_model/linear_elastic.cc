@@ -194,16 +194,13 @@ namespace fmpm
     LinearElastic<dim>::declare_parameters(ParameterHandler &prm)
     {
       const LinearElastic<dim> defaults;
-      prm.declare_entry("Young's modulus",
-                        format_number(defaults.youngs_modulus),
-                        Patterns::Double(),
-                        "Young's modulus E of the material. Must be positive. "
-                        "Units: Pa.");
-      prm.declare_entry("Poisson's ratio",
-                        format_number(defaults.poissons_ratio),
-                        Patterns::Double(),
-                        "Poisson's ratio nu of the material, in [0, 0.5). "
-                        "Units: none.");
+      ElasticConstants::declare_parameters(
+        prm,
+        ElasticConstants::Pair::youngs_and_poisson,
+        defaults.youngs_modulus,
+        defaults.poissons_ratio,
+        "Young's modulus E of the material. A number > 0.",
+        "Poisson's ratio nu of the material. A number in (-1, 0.5).");
       prm.declare_entry(
         "Strain measure",
         "incremental",
@@ -226,8 +223,8 @@ namespace fmpm
     void
     LinearElastic<dim>::parse_parameters(ParameterHandler &prm)
     {
-      youngs_modulus            = prm.get_double("Young's modulus");
-      poissons_ratio            = prm.get_double("Poisson's ratio");
+      elastic_constants.parse_parameters(prm);
+      elastic_constants.get_youngs_and_poisson(youngs_modulus, poissons_ratio);
       const std::string measure = prm.get("Strain measure");
       strain_measure = measure == "incremental" ? StrainMeasure::incremental :
                        measure == "jaumann"     ? StrainMeasure::jaumann :
@@ -241,6 +238,8 @@ namespace fmpm
     void
     LinearElastic<dim>::check_parameters(const std::string &where) const
     {
+      elastic_constants.check(where,
+                              ElasticConstants::Pair::youngs_and_poisson);
       AssertThrow(youngs_modulus > 0,
                   ExcMessage(where + "/Young's modulus = " +
                              format_number(youngs_modulus) +
@@ -307,7 +306,12 @@ namespace fmpm
     FMPM_REGISTER_CONSTITUTIVE_MODEL(
       LinearElastic,
       "linear elastic",
-      "Small-strain isotropic linear elasticity (total strain sym(F) - I), for "
-      "verification against linear analytical solutions.")
+      "Small-strain isotropic linear elasticity with lambda = E nu/((1 + "
+      "nu)(1 - 2 nu)), mu = E/(2(1 + nu)), for verification against linear "
+      "analytical solutions: 'Strain measure = incremental' (default) sigma "
+      "+= dt (lambda tr(D) I + 2 mu D), D = sym(L); 'jaumann' the same plus "
+      "dt (W sigma - sigma W), W = skew(L); 'kirchhoff' the same for tau = "
+      "J sigma; 'total' sigma = lambda tr(eps) I + 2 mu eps, eps = sym(F) - "
+      "I. Constants E and nu, or K and G.")
   } // namespace ConstitutiveModel
 } // namespace fmpm

@@ -16,19 +16,15 @@ namespace fmpm
     MieGruneisen<dim>::declare_parameters(ParameterHandler &prm)
     {
       const MieGruneisen<dim> defaults;
-      prm.declare_entry(
-        "Bulk modulus",
-        format_number(defaults.bulk_modulus),
-        Patterns::Double(),
-        "K of [NHS2020-contact] Eq. (51) (K = ρ0 C0², C0 the bulk "
-        "sound speed of the Hugoniot U_s = C0 + S1 u_p). "
-        "Must be positive. Units: Pa.");
-      prm.declare_entry(
-        "Shear modulus",
-        format_number(defaults.shear_modulus),
-        Patterns::Double(),
-        "G of the shear term of [NHS2020-contact] Eq. (18). Must not "
-        "be negative. Units: Pa.");
+      ElasticConstants::declare_parameters(
+        prm,
+        ElasticConstants::Pair::bulk_and_shear,
+        defaults.bulk_modulus,
+        defaults.shear_modulus,
+        "K of [NHS2020-contact] Eq. (51) (K = ρ0 C0², C0 the bulk sound "
+        "speed of the Hugoniot U_s = C0 + S1 u_p). A number > 0.",
+        "G of the shear term of [NHS2020-contact] Eq. (18). A number >= 0 "
+        "(0: no shear stress).");
       prm.declare_entry("Gruneisen gamma",
                         format_number(defaults.gruneisen_gamma),
                         Patterns::Double(),
@@ -69,8 +65,8 @@ namespace fmpm
     void
     MieGruneisen<dim>::parse_parameters(ParameterHandler &prm)
     {
-      bulk_modulus            = prm.get_double("Bulk modulus");
-      shear_modulus           = prm.get_double("Shear modulus");
+      elastic_constants.parse_parameters(prm);
+      elastic_constants.get_bulk_and_shear(bulk_modulus, shear_modulus);
       gruneisen_gamma         = prm.get_double("Gruneisen gamma");
       s1                      = prm.get_double("S1");
       artificial_viscosity_a1 = prm.get_double("Artificial viscosity A1");
@@ -85,6 +81,7 @@ namespace fmpm
     void
     MieGruneisen<dim>::check_parameters(const std::string &where) const
     {
+      elastic_constants.check(where, ElasticConstants::Pair::bulk_and_shear);
       auto require = [&](const bool         ok,
                          const std::string &name,
                          const double       value,
@@ -330,10 +327,14 @@ namespace fmpm
     FMPM_REGISTER_CONSTITUTIVE_MODEL(
       MieGruneisen,
       "mie gruneisen",
-      "Shock model of [NHS2020-contact] Sec. 4.3: Mie-Gruneisen pressure (Eq. 51) with "
-      "internal energy per unit mass from the stress power, artificial "
-      "viscosity (Eq. 52), the hyperelastic shear term of Eq. (18) and "
-      "optional J2 plasticity with linear hardening.")
+      "Shock model of [NHS2020-contact] Sec. 4.3: sigma = G dev(b_bar)/J - "
+      "(p + q) I with b_bar = J^(-2/3) F F^T (the shear term of Eq. 18; with "
+      "J2 plasticity and linear hardening the elastic part of b_bar, radial "
+      "return), the Mie-Gruneisen pressure p = K eta (1 - gamma0 eta/2)/(1 - "
+      "S1 eta)^2 + rho0 gamma0 U for eta = 1 - J > 0 and p = K eta in "
+      "tension (Eq. 51), U the internal energy per unit mass from the "
+      "stress power, and the artificial viscosity q (Eq. 52). Constants K "
+      "and G, or E and nu.")
 
     template class MieGruneisen<2>;
     template class MieGruneisen<3>;

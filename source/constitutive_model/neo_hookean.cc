@@ -4,6 +4,7 @@
 #include <fmpm/constitutive_model/neo_hookean.h>
 #include <fmpm/parameters.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace fmpm
@@ -15,17 +16,27 @@ namespace fmpm
     NeoHookean<dim>::declare_parameters(ParameterHandler &prm)
     {
       const NeoHookean<dim> defaults;
-      prm.declare_entry("Bulk modulus",
-                        format_number(defaults.bulk_modulus),
-                        Patterns::Double(),
-                        "Bulk modulus K of [NHS2020-contact] Eq. (18). Must be "
-                        "positive. Units: Pa.");
+      ElasticConstants::declare_parameters(
+        prm,
+        ElasticConstants::Pair::bulk_and_shear,
+        defaults.bulk_modulus,
+        defaults.shear_modulus,
+        "Bulk modulus K of [NHS2020-contact] Eq. (18) (with 'Energy form = "
+        "ln J': lambda = K - 2G/3). A number > 0.",
+        "Shear modulus G of [NHS2020-contact] Eq. (18) (with 'Energy form = "
+        "ln J': mu = G). A number > 0.");
       prm.declare_entry(
-        "Shear modulus",
-        format_number(defaults.shear_modulus),
-        Patterns::Double(),
-        "Shear modulus G of [NHS2020-contact] Eq. (18). Must be "
-        "positive. Units: Pa.");
+        "Energy form",
+        "J^2",
+        Patterns::Selection("J^2|ln J"),
+        "'J^2': W = G/2 (I1 J^(-2/3) - 3) + K/2 ((J^2 - 1)/2 - ln J) "
+        "([NHS2020-contact] Eq. 18), Kirchhoff stress tau = G dev(b_bar) + "
+        "K/2 (J^2 - 1) I with b_bar = J^(-2/3) b; 'ln J': W = mu/2 (I1 - 3) "
+        "- mu ln J + lambda/2 (ln J)^2 ([BonetWood2008] Sec. 6.4.3, the form "
+        "most MPM benchmarks use), tau = mu (b - I) + lambda ln J I with mu "
+        "= G, lambda = K - 2G/3. Both: b = F F^T, I1 = tr b, Cauchy stress "
+        "sigma = tau/J; in 2D (plane strain) b_zz = 1 counts in I1 and "
+        "sigma_zz. Units: none.");
     }
 
 
@@ -34,8 +45,10 @@ namespace fmpm
     void
     NeoHookean<dim>::parse_parameters(ParameterHandler &prm)
     {
-      bulk_modulus  = prm.get_double("Bulk modulus");
-      shear_modulus = prm.get_double("Shear modulus");
+      elastic_constants.parse_parameters(prm);
+      elastic_constants.get_bulk_and_shear(bulk_modulus, shear_modulus);
+      energy_form = prm.get("Energy form") == "ln J" ? EnergyForm::log_j :
+                                                       EnergyForm::j_squared;
     }
 
 
@@ -44,6 +57,7 @@ namespace fmpm
     void
     NeoHookean<dim>::check_parameters(const std::string &where) const
     {
+      elastic_constants.check(where, ElasticConstants::Pair::bulk_and_shear);
       AssertThrow(bulk_modulus > 0,
                   ExcMessage(where +
                              "/Bulk modulus = " + format_number(bulk_modulus) +
@@ -64,6 +78,22 @@ namespace fmpm
     {
       const double J     = determinant(F);
       const double log_J = std::log(J);
+      if (energy_form == EnergyForm::log_j)
+        {
+          // τ = μ (b − I) + λ ln J I, W = μ/2 (tr b − 3) − μ ln J +
+          // λ/2 (ln J)² ([BonetWood2008] §6.4.3).
+          const double mu     = shear_modulus;
+          const double lambda = bulk_modulus - 2.0 / 3.0 * shear_modulus;
+          for (unsigned int a = 0; a < 3; ++a)
+            for (unsigned int b = a; b < 3; ++b)
+              tau[a][b] = mu * (F[a][0] * F[b][0] + F[a][1] * F[b][1] +
+                                F[a][2] * F[b][2]);
+          const double I1 = trace(tau) / mu;
+          for (unsigned int a = 0; a < 3; ++a)
+            tau[a][a] += lambda * log_J - mu;
+          W = 0.5 * mu * (I1 - 3) - mu * log_J + 0.5 * lambda * log_J * log_J;
+          return;
+        }
       // J^{-2/3} from the ln J the energy needs (one exp instead of pow).
       const double          J_m23 = std::exp(-2.0 / 3.0 * log_J);
       SymmetricTensor<2, 3> b_bar; // J^{-2/3} F Fᵀ, its 6 entries
@@ -257,6 +287,88 @@ namespace fmpm
                        &outputs.cauchy_stress[0][0],
                        outputs.strain_energy_density);
       }
+
+      /**
+       * The 'ln J' form for @p n points ([BonetWood2008] §6.4.3):
+       * σ = (μ (b − I) + λ ln J I)/J with b = F Fᵀ, and
+       * W = μ/2 (tr b − 3) − μ ln J + λ/2 (ln J)². @p F and @p sigma are
+       * entry blocks (entry c of point q at [c capacity + q]). In plane
+       * strain (dim = 2) J is the 2x2 block's determinant and b_zz = 1.
+       * Log in its own loop, so that the other loops vectorize.
+       */
+      template <int dim, typename Count>
+      inline void
+      log_neo_hookean(const Count  n,
+                      const double lambda,
+                      const double mu,
+                      const double *__restrict F,
+                      const double *__restrict volume_ratio,
+                      double *__restrict J,
+                      double *__restrict log_J,
+                      double *__restrict sigma,
+                      double *__restrict W)
+      {
+        constexpr unsigned int stride = StressUpdateInputs::capacity;
+        for (unsigned int q = 0; q < n; ++q)
+          J[q] = dim == 2 ? F[0 * stride + q] * F[4 * stride + q] -
+                              F[1 * stride + q] * F[3 * stride + q] :
+                            volume_ratio[q];
+        for (unsigned int q = 0; q < n; ++q)
+          log_J[q] = std::log(J[q]);
+        for (unsigned int q = 0; q < n; ++q)
+          {
+            const double F_xx = F[0 * stride + q], F_xy = F[1 * stride + q],
+                         F_yx = F[3 * stride + q], F_yy = F[4 * stride + q];
+            double b_xx = F_xx * F_xx + F_xy * F_xy;
+            double b_yy = F_yx * F_yx + F_yy * F_yy;
+            double b_xy = F_xx * F_yx + F_xy * F_yy;
+            double b_zz = 1, b_xz = 0, b_yz = 0;
+            if constexpr (dim == 3)
+              {
+                const double F_xz = F[2 * stride + q], F_yz = F[5 * stride + q],
+                             F_zx = F[6 * stride + q], F_zy = F[7 * stride + q],
+                             F_zz = F[8 * stride + q];
+                b_xx += F_xz * F_xz;
+                b_yy += F_yz * F_yz;
+                b_xy += F_xz * F_yz;
+                b_zz = F_zx * F_zx + F_zy * F_zy + F_zz * F_zz;
+                b_xz = F_xx * F_zx + F_xy * F_zy + F_xz * F_zz;
+                b_yz = F_yx * F_zx + F_yy * F_zy + F_yz * F_zz;
+              }
+            const double diagonal  = lambda * log_J[q] - mu;
+            const double inverse_J = 1. / J[q];
+            sigma[0 * stride + q]  = (mu * b_xx + diagonal) * inverse_J;
+            sigma[1 * stride + q]  = (mu * b_yy + diagonal) * inverse_J;
+            sigma[2 * stride + q]  = (mu * b_zz + diagonal) * inverse_J;
+            sigma[3 * stride + q]  = mu * b_xy * inverse_J;
+            sigma[4 * stride + q]  = mu * b_xz * inverse_J;
+            sigma[5 * stride + q]  = mu * b_yz * inverse_J;
+            W[q] = 0.5 * mu * (b_xx + b_yy + b_zz - 3) - mu * log_J[q] +
+                   0.5 * lambda * log_J[q] * log_J[q];
+          }
+      }
+
+      /** The batch's points with log_neo_hookean(). */
+      template <int dim, typename Count>
+      void
+      log_update(const Count               n,
+                 const double              lambda,
+                 const double              mu,
+                 const StressUpdateInputs &inputs,
+                 StressUpdateOutputs      &outputs)
+      {
+        alignas(64) double J[StressUpdateInputs::capacity],
+          log_J[StressUpdateInputs::capacity];
+        log_neo_hookean<dim>(n,
+                             lambda,
+                             mu,
+                             &inputs.deformation_gradient[0][0],
+                             inputs.volume_ratio,
+                             J,
+                             log_J,
+                             &outputs.cauchy_stress[0][0],
+                             outputs.strain_energy_density);
+      }
     } // namespace
 
 
@@ -268,7 +380,13 @@ namespace fmpm
     {
       // A full batch with a constant count (the loops then vectorize).
       auto update = [&](const auto n) {
-        if constexpr (dim == 2)
+        if (energy_form == EnergyForm::log_j)
+          log_update<dim>(n,
+                          bulk_modulus - 2.0 / 3.0 * shear_modulus,
+                          shear_modulus,
+                          inputs,
+                          outputs);
+        else if constexpr (dim == 2)
           plane_strain_update(n, bulk_modulus, shear_modulus, inputs, outputs);
         else
           update_3d(n, bulk_modulus, shear_modulus, inputs, outputs);
@@ -286,6 +404,17 @@ namespace fmpm
     double
     NeoHookean<dim>::wave_speed(const double density, const double J) const
     {
+      if (energy_form == EnergyForm::log_j)
+        {
+          // The 'ln J' form's spatial tangent c = λ/J I⊗I + 2(μ − λ ln J)/J 𝕀
+          // ([BonetWood2008] §6.4.3): c_1111 = (λ + 2μ − 2λ ln J)/J at the
+          // current density density/J.
+          const double lambda = bulk_modulus - 2.0 / 3.0 * shear_modulus;
+          return std::sqrt(
+            std::max(lambda + 2 * shear_modulus - 2 * lambda * std::log(J),
+                     0.) /
+            density);
+        }
       // Tangent bulk modulus J dp/dJ = K (J + 1/J) / 2 at the current volume
       // ratio, current density density/J.
       const double tangent_bulk = 0.5 * bulk_modulus * (J + 1.0 / J);
@@ -300,11 +429,20 @@ namespace fmpm
     {
       // The wave speed grows with J (J² K/2 + K/2 + 4G J/3 over ρ): one
       // evaluation at the largest J.
+      // The 'ln J' form's is monotonic in ln J: the larger of the two ends.
       if (J.size() == 0)
         return 0;
       double J_max = J[0];
       for (const double J_q : J)
         J_max = std::max(J_max, J_q);
+      if (energy_form == EnergyForm::log_j)
+        {
+          double J_min = J[0];
+          for (const double J_q : J)
+            J_min = std::min(J_min, J_q);
+          return std::max(NeoHookean<dim>::wave_speed(density, J_min),
+                          NeoHookean<dim>::wave_speed(density, J_max));
+        }
       return NeoHookean<dim>::wave_speed(density, J_max);
     }
 
@@ -318,7 +456,11 @@ namespace fmpm
     FMPM_REGISTER_CONSTITUTIVE_MODEL(
       NeoHookean,
       "neo hookean",
-      "Compressible neo-Hookean hyperelasticity of [NHS2020-contact] Eq. (18), with bulk "
-      "modulus K and shear modulus G; plane strain in 2D.")
+      "Compressible neo-Hookean hyperelasticity, Cauchy stress sigma = tau/J "
+      "with b = F F^T: 'Energy form = J^2' (default) tau = G dev(b_bar) + "
+      "K/2 (J^2 - 1) I, b_bar = J^(-2/3) b ([NHS2020-contact] Eq. 18); "
+      "'Energy form = ln J' sigma = lambda ln J / J I + mu/J (b - I), mu = "
+      "G, lambda = K - 2G/3 ([BonetWood2008] Sec. 6.4.3). Constants K and G, "
+      "or E and nu; plane strain in 2D.")
   } // namespace ConstitutiveModel
 } // namespace fmpm

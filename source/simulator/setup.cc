@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <map>
 
 namespace fmpm
@@ -322,8 +323,12 @@ namespace fmpm
     // Two passes over the same points: the first counts them (the store is
     // then allocated once, at its size), the second writes each point
     // straight into the store. Cells outer, bodies inner: the global order
-    // (and so the ids) is the same on any number of ranks.
-    const auto for_each_new_point = [&](const auto &on_point) {
+    // (and so the ids) is the same on any number of ranks. A point inside
+    // an earlier body belongs to that body: the first pass counts the
+    // points of body b left to an earlier body e at [b n_bodies + e].
+    std::vector<unsigned long long> n_overlapping(n_bodies * n_bodies, 0);
+    bool                            count_overlaps = true;
+    const auto for_each_new_point                  = [&](const auto &on_point) {
       for (const auto &cell : triangulation.active_cell_iterators())
         if (cell->is_locally_owned())
           {
@@ -343,12 +348,16 @@ namespace fmpm
                     const Point<dim> &x = fe_values.quadrature_point(q);
                     if (!inside_body(body, x))
                       continue;
-                    bool claimed = false;
-                    for (unsigned int earlier = 0; earlier < b; ++earlier)
-                      if (inside_body(parameters.bodies[earlier], x))
-                        claimed = true;
-                    if (claimed)
-                      continue;
+                    unsigned int earlier = 0;
+                    while (earlier < b &&
+                           !inside_body(parameters.bodies[earlier], x))
+                      ++earlier;
+                    if (earlier < b)
+                      {
+                        if (count_overlaps)
+                          ++n_overlapping[b * n_bodies + earlier];
+                        continue;
+                      }
                     on_point(cell, b, fe_values, q);
                   }
               }
@@ -359,6 +368,21 @@ namespace fmpm
       [&](const auto &, const unsigned int, const auto &, const unsigned int) {
         ++n_new_points;
       });
+    count_overlaps = false;
+    Utilities::MPI::sum(n_overlapping, mpi_communicator, n_overlapping);
+    if (!parameters.test_mode &&
+        Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      for (unsigned int b = 0; b < n_bodies; ++b)
+        for (unsigned int earlier = 0; earlier < b; ++earlier)
+          if (n_overlapping[b * n_bodies + earlier] > 0)
+            std::cerr << "fmpm: warning: " << numbered_subsection("Body", b)
+                      << " overlaps " << numbered_subsection("Body", earlier)
+                      << ": " << n_overlapping[b * n_bodies + earlier]
+                      << " of its points lie inside "
+                      << numbered_subsection("Body", earlier)
+                      << " and are not created (overlapping bodies keep the "
+                         "earlier body's points)."
+                      << std::endl;
 
     // The points go straight into the store (not through the handler);
     // their ids are set below, before the store is put in cell order.

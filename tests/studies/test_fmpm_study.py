@@ -422,6 +422,33 @@ class ConvergenceStudyTest(TempDirTest):
         self.assertIn("Skipped 9 of 12 runs", again.stdout)
         self.assertEqual(self.invocations(), 16)
 
+    def test_default_directory_is_beside_the_study_file(self):
+        # Run from another directory: the output goes beside the study
+        # file, not into the current directory; --output is relative to
+        # the current directory.
+        (self.dir / "studies").mkdir()
+        (self.dir / "elsewhere").mkdir()
+        (self.dir / "studies" / "conv.study").write_text(
+            CONVERGENCE_STUDY.replace("base = base.prm",
+                                      "base = ../base.prm"))
+        result = run_cli(self.dir / "elsewhere", self.counter,
+                         "../studies/conv.study", "--quick", "--no-charts")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        out = self.dir / "studies" / "study_conv_quick"
+        _, rows = self.read_csv(out / "results.csv")
+        self.assertEqual(len(rows), 6)
+        self.assertEqual(list((self.dir / "elsewhere").iterdir()), [])
+        self.assertIn(f"output in {out}", result.stdout)
+        result = run_cli(self.dir / "elsewhere", self.counter,
+                         "../studies/conv.study", "--quick", "--no-charts",
+                         "--output", "mine")
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertTrue(
+            (self.dir / "elsewhere" / "mine" / "results.csv").is_file())
+        self.assertEqual(study.default_output_dir(
+            self.dir / "studies" / "conv.study"), self.dir / "studies" /
+            "study_conv")
+
     def test_quick_mode_default_directory(self):
         self.write_study(CONVERGENCE_STUDY, "conv.study")
         result = self.run_cli("conv.study", "--quick", "--no-charts")

@@ -7,9 +7,13 @@
 // (tau = dW/dF F^T) for general F, zero stress/energy at F = I and its wave
 // speed at J = 1; LinearElastic against sigma = lambda tr(eps) I + 2 mu eps,
 // W = 1/2 sigma:eps and sqrt((lambda + 2 mu)/rho); and that check_parameters
-// rejects non-physical parameters with a message naming the parameter.
+// rejects non-physical parameters with a message naming the parameter. The
+// 'ln J' neo-Hookean form against hand computations, energy derivatives and
+// a rotation; E and nu as the alternative to K and G.
 
+#include <fmpm/constitutive_model/elastic_constants.h>
 #include <fmpm/constitutive_model/linear_elastic.h>
+#include <fmpm/constitutive_model/mie_gruneisen.h>
 #include <fmpm/constitutive_model/neo_hookean.h>
 #include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
@@ -19,6 +23,7 @@
 
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -557,4 +562,327 @@ TEST(LinearElasticKirchhoff, UpdatesTheKirchhoffStress)
   EXPECT_NEAR(outputs.strain_energy_density[0],
               0.3 + 0.5 * (J_old * 2 + tau_xx) * d * dt,
               1e-14);
+}
+
+
+
+// The 'ln J' neo-Hookean form, sigma = lambda ln J / J I + mu/J (b - I),
+// W = mu/2 (tr b - 3) - mu ln J + lambda/2 (ln J)^2 with mu = G,
+// lambda = K - 2G/3 (plane strain in 2D: b_zz = 1).
+namespace
+{
+  using fmpm::ConstitutiveModel::NeoHookean;
+
+  template <int dim>
+  NeoHookean<dim>
+  log_neo_hookean(const double K, const double G)
+  {
+    NeoHookean<dim> model;
+    model.bulk_modulus  = K;
+    model.shear_modulus = G;
+    model.energy_form   = NeoHookean<dim>::EnergyForm::log_j;
+    return model;
+  }
+
+  // Uniaxial stretch F = diag(s, 1, 1) and hydrostatic stretch (F = s I in
+  // 3D, diag(s, s, 1) in plane strain): b = F F^T, J = det F, and the
+  // stress and energy written out by hand.
+  template <int dim>
+  void
+  check_log_neo_hookean_stretches()
+  {
+    const double          K = 2.5e6, G = 1.2e6;
+    const double          mu = G, lambda = K - 2. / 3. * G;
+    const NeoHookean<dim> model = log_neo_hookean<dim>(K, G);
+    for (const double s : {1.3, 0.8})
+      for (const bool hydrostatic : {false, true})
+        {
+          Tensor<2, 3> F = unit_symmetric_tensor<3>();
+          F[0][0]        = s;
+          if (hydrostatic)
+            for (unsigned int d = 1; d < dim; ++d)
+              F[d][d] = s;
+          const unsigned int n_stretched = hydrostatic ? dim : 1;
+          const double       J           = std::pow(s, n_stretched);
+          const double       log_J       = n_stretched * std::log(s);
+          // b_ii - 1 is s² - 1 on the stretched axes, 0 on the others.
+          SymmetricTensor<2, 3> expected;
+          for (unsigned int i = 0; i < 3; ++i)
+            expected[i][i] =
+              (mu * (i < n_stretched ? s * s - 1 : 0.) + lambda * log_J) / J;
+          const double W = 0.5 * mu * n_stretched * (s * s - 1) - mu * log_J +
+                           0.5 * lambda * log_J * log_J;
+
+          const StressUpdateOutputs out   = update(model, {F});
+          const double              scale = expected.norm();
+          for (unsigned int i = 0; i < 3; ++i)
+            for (unsigned int j = 0; j < 3; ++j)
+              EXPECT_NEAR(out.stress_tensor(0)[i][j],
+                          expected[i][j],
+                          1e-12 * scale)
+                << "s = " << s << (hydrostatic ? " hydrostatic" : " uniaxial")
+                << ", sigma_" << i << j;
+          EXPECT_NEAR(out.strain_energy_density[0], W, 1e-12 * std::abs(W));
+
+          SymmetricTensor<2, 3> tau;
+          double                energy = 0;
+          model.stress_and_energy(F, tau, energy);
+          EXPECT_LT(relative_error(tau / J, expected), 1e-13);
+          EXPECT_NEAR(energy, W, 1e-12 * std::abs(W));
+        }
+  }
+
+  // sigma = (dW/dF F^T)/J by central differences of W over every entry of
+  // F, and dW/dt = J sigma : D along F(t) = F + t Fdot (D = sym(Fdot F^-1),
+  // the stress power per reference volume), for random F in one batch.
+  template <int dim>
+  void
+  check_log_neo_hookean_energy_derivative()
+  {
+    const NeoHookean<dim>     model = log_neo_hookean<dim>(3.0, 0.7);
+    std::mt19937              generator(29 + dim);
+    std::vector<Tensor<2, 3>> batch;
+    for (unsigned int q = 0; q < 5; ++q)
+      {
+        const Tensor<2, 3> F = random_deformation_gradient<dim>(generator, 0.3);
+        ASSERT_GT(determinant(F), 0.2);
+        batch.push_back(F);
+      }
+    const StressUpdateOutputs out       = update(model, batch);
+    const auto                energy_of = [&](const Tensor<2, 3> &F) {
+      SymmetricTensor<2, 3> tau;
+      double                W = 0;
+      model.stress_and_energy(F, tau, W);
+      return W;
+    };
+
+    const double h = 1e-5;
+    for (unsigned int q = 0; q < batch.size(); ++q)
+      {
+        const Tensor<2, 3> &F = batch[q];
+        const double        J = determinant(F);
+        Tensor<2, 3>        P; // dW/dF
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = 0; j < 3; ++j)
+            {
+              Tensor<2, 3> F_h = F;
+              F_h[i][j] += h;
+              const double W_plus = energy_of(F_h);
+              F_h[i][j] -= 2 * h;
+              P[i][j] = (W_plus - energy_of(F_h)) / (2 * h);
+            }
+        const Tensor<2, 3> sigma = out.stress_tensor(q);
+        EXPECT_LT(relative_error(sigma, P * transpose(F) / J), 1e-6)
+          << "point " << q << ": sigma = " << sigma
+          << "\nFD: " << P * transpose(F) / J;
+        EXPECT_NEAR(out.strain_energy_density[q],
+                    energy_of(F),
+                    1e-14 * std::abs(energy_of(F)));
+
+        // Stress power along a random rate (in plane in 2D).
+        const Tensor<2, 3> F_dot =
+          random_deformation_gradient<dim>(generator, 1.0) -
+          Tensor<2, 3>(unit_symmetric_tensor<3>());
+        const SymmetricTensor<2, 3> D = symmetrize(F_dot * invert(F));
+        const double                dW_dt =
+          (energy_of(F + h * F_dot) - energy_of(F - h * F_dot)) / (2 * h);
+        const double power = J * scalar_product(out.stress_tensor(q), D);
+        EXPECT_NEAR(dW_dt, power, 1e-7 * (std::abs(power) + 1))
+          << "point " << q;
+        if (dim == 2)
+          {
+            EXPECT_EQ(out.stress_tensor(q)[0][2], 0.0);
+            EXPECT_EQ(out.stress_tensor(q)[1][2], 0.0);
+          }
+      }
+  }
+} // namespace
+
+TEST(NeoHookeanLogJ, UniaxialAndHydrostaticStretch2D)
+{
+  check_log_neo_hookean_stretches<2>();
+}
+
+TEST(NeoHookeanLogJ, UniaxialAndHydrostaticStretch3D)
+{
+  check_log_neo_hookean_stretches<3>();
+}
+
+TEST(NeoHookeanLogJ, StressIsEnergyDerivative2D)
+{
+  check_log_neo_hookean_energy_derivative<2>();
+}
+
+TEST(NeoHookeanLogJ, StressIsEnergyDerivative3D)
+{
+  check_log_neo_hookean_energy_derivative<3>();
+}
+
+// A rigid rotation R of a deformed state turns the stress: sigma(R F) =
+// R sigma(F) R^T (objective), with the same energy; a full batch of 64
+// points (the vectorized path) gives the values of stress_and_energy().
+TEST(NeoHookeanLogJ, ObjectiveAndFullBatch)
+{
+  const NeoHookean<3>       model = log_neo_hookean<3>(4.0, 1.1);
+  std::mt19937              generator(5);
+  std::vector<Tensor<2, 3>> batch, rotated;
+  const double              angle = 0.7;
+  Tensor<2, 3>              R;
+  R[0][0] = R[1][1] = std::cos(angle);
+  R[0][1]           = -std::sin(angle);
+  R[1][0]           = std::sin(angle);
+  R[2][2]           = 1;
+  for (unsigned int q = 0; q < StressUpdateInputs::capacity; ++q)
+    {
+      batch.push_back(random_deformation_gradient<3>(generator, 0.25));
+      rotated.push_back(R * batch.back());
+    }
+  const StressUpdateOutputs out         = update(model, batch);
+  const StressUpdateOutputs out_rotated = update(model, rotated);
+  for (unsigned int q = 0; q < batch.size(); ++q)
+    {
+      const Tensor<2, 3> sigma = out.stress_tensor(q);
+      EXPECT_LT(relative_error(out_rotated.stress_tensor(q),
+                               R * sigma * transpose(R)),
+                1e-13)
+        << "point " << q;
+      EXPECT_NEAR(out_rotated.strain_energy_density[q],
+                  out.strain_energy_density[q],
+                  1e-13 * std::abs(out.strain_energy_density[q]));
+      SymmetricTensor<2, 3> tau;
+      double                W = 0;
+      model.stress_and_energy(batch[q], tau, W);
+      EXPECT_LT(relative_error(sigma, tau / determinant(batch[q])), 1e-14);
+    }
+}
+
+// At J = 1 the wave speed is sqrt((K + 4G/3)/rho0) as for the 'J^2' form;
+// it grows in compression (lambda > 0), and the batch maximum is the
+// largest of the points'.
+TEST(NeoHookeanLogJ, WaveSpeed)
+{
+  const double        K = 4.0e6, G = 1.5e6, density = 1200;
+  const NeoHookean<2> model = log_neo_hookean<2>(K, G);
+  EXPECT_NEAR(model.wave_speed(density, 1.0),
+              std::sqrt((K + 4.0 / 3.0 * G) / density),
+              1e-12 * std::sqrt(K / density));
+  const double lambda = K - 2. / 3. * G;
+  EXPECT_NEAR(model.wave_speed(density, 0.8),
+              std::sqrt((lambda + 2 * G - 2 * lambda * std::log(0.8)) /
+                        density),
+              1e-12 * std::sqrt(K / density));
+  const std::vector<double> J = {1.1, 0.8, 1.3, 0.95};
+  EXPECT_EQ(model.max_wave_speed(density, make_array_view(J)),
+            model.wave_speed(density, 0.8));
+}
+
+
+
+// Young's modulus and Poisson's ratio as the alternative to the bulk and
+// shear moduli, through the parameter file: the same K = E/(3(1 - 2 nu)),
+// G = E/(2(1 + nu)) (and E, nu from K, G for the linear elastic model); an
+// error naming the subsection and the entries for both pairs, an incomplete
+// pair or a Poisson's ratio outside (-1, 0.5).
+namespace
+{
+  template <typename Model>
+  std::unique_ptr<Model>
+  parsed(const std::string &settings)
+  {
+    ParameterHandler prm;
+    Model::declare_parameters(prm);
+    prm.parse_input_from_string(settings);
+    auto model = std::make_unique<Model>();
+    model->parse_parameters(prm);
+    return model;
+  }
+} // namespace
+
+TEST(ElasticConstants, YoungsModulusAndPoissonsRatio)
+{
+  using fmpm::ConstitutiveModel::ElasticConstants;
+  using fmpm::ConstitutiveModel::LinearElastic;
+  using fmpm::ConstitutiveModel::MieGruneisen;
+  const double      E = 2.1e11, nu = 0.29;
+  const double      K = E / (3 * (1 - 2 * nu)), G = E / (2 * (1 + nu));
+  const std::string E_nu =
+    "set Young's modulus = 2.1e11\nset Poisson's ratio = 0.29\n";
+  {
+    const auto model = parsed<NeoHookean<2>>(E_nu);
+    EXPECT_EQ(model->bulk_modulus, K);
+    EXPECT_EQ(model->shear_modulus, G);
+    EXPECT_NO_THROW(model->check_parameters("Material 0/Neo hookean"));
+    // No constants: the defaults, as before.
+    const auto defaults = parsed<NeoHookean<3>>("");
+    EXPECT_EQ(defaults->bulk_modulus, 1e6);
+    EXPECT_EQ(defaults->shear_modulus, 0.5e6);
+    // The model's own pair, one entry: the other keeps its default.
+    const auto bulk_only = parsed<NeoHookean<2>>("set Bulk modulus = 3e6\n");
+    EXPECT_EQ(bulk_only->bulk_modulus, 3e6);
+    EXPECT_EQ(bulk_only->shear_modulus, 0.5e6);
+    EXPECT_NO_THROW(bulk_only->check_parameters("Material 0/Neo hookean"));
+  }
+  {
+    const auto model = parsed<MieGruneisen<3>>(E_nu);
+    EXPECT_EQ(model->bulk_modulus, K);
+    EXPECT_EQ(model->shear_modulus, G);
+  }
+  {
+    // Linear elastic computes with E, nu: K, G give them back.
+    const auto model = parsed<LinearElastic<2>>(
+      "set Bulk modulus = " + fmpm::format_number(K) +
+      "\nset Shear modulus = " + fmpm::format_number(G) + "\n");
+    EXPECT_NEAR(model->youngs_modulus, E, 1e-15 * E);
+    EXPECT_NEAR(model->poissons_ratio, nu, 1e-15);
+    EXPECT_NO_THROW(model->check_parameters("Material 0/Linear elastic"));
+  }
+  EXPECT_NEAR(ElasticConstants::youngs_modulus_of(K, G), E, 1e-15 * E);
+  EXPECT_NEAR(ElasticConstants::poissons_ratio_of(K, G), nu, 1e-15);
+
+  const std::string where = "Material 2/Neo hookean";
+  expect_error(
+    [&]() {
+      parsed<NeoHookean<2>>(E_nu + "set Shear modulus = 1e9\n")
+        ->check_parameters(where);
+    },
+    {where + "/Shear modulus = 1e9",
+     where + "/Young's modulus = 2.1e11",
+     "not both"});
+  expect_error(
+    [&]() {
+      parsed<NeoHookean<3>>("set Poisson's ratio = 0.3\n")
+        ->check_parameters(where);
+    },
+    {where + "/Poisson's ratio = 0.3", "without 'Young's modulus'"});
+  for (const std::string nu_text : {"0.5", "-1", "0.7"})
+    expect_error(
+      [&]() {
+        parsed<NeoHookean<2>>("set Young's modulus = 1e6\n"
+                              "set Poisson's ratio = " +
+                              nu_text + "\n")
+          ->check_parameters(where);
+      },
+      {where + "/Poisson's ratio = " + nu_text, "(-1, 0.5)"});
+  expect_error(
+    [&]() {
+      parsed<NeoHookean<2>>("set Young's modulus = -1e6\n"
+                            "set Poisson's ratio = 0.3\n")
+        ->check_parameters(where);
+    },
+    {where + "/Young's modulus = -1e6", "not positive"});
+  const std::string le_where = "Material 1/Linear elastic";
+  expect_error(
+    [&]() {
+      parsed<LinearElastic<3>>("set Shear modulus = 1e6\n")
+        ->check_parameters(le_where);
+    },
+    {le_where + "/Shear modulus = 1e6", "without 'Bulk modulus'"});
+  expect_error(
+    [&]() {
+      parsed<LinearElastic<3>>("set Young's modulus = 1e6\n"
+                               "set Bulk modulus = 1e6\n"
+                               "set Shear modulus = 1e6\n")
+        ->check_parameters(le_where);
+    },
+    {le_where + "/Bulk modulus = 1e6", le_where + "/Young's modulus = 1e6"});
 }

@@ -4,6 +4,7 @@
 #ifndef fmpm_constitutive_model_linear_elastic_h
 #define fmpm_constitutive_model_linear_elastic_h
 
+#include <fmpm/constitutive_model/elastic_constants.h>
 #include <fmpm/constitutive_model/interface.h>
 
 namespace fmpm
@@ -73,6 +74,8 @@ namespace fmpm
         total
       };
       StrainMeasure strain_measure = StrainMeasure::incremental;
+      /** The constants as the scene sets them (E, ν or K, G). */
+      ElasticConstants elastic_constants;
     };
   } // namespace ConstitutiveModel
 } // namespace fmpm

@@ -4,6 +4,7 @@
 #ifndef fmpm_constitutive_model_mie_gruneisen_h
 #define fmpm_constitutive_model_mie_gruneisen_h
 
+#include <fmpm/constitutive_model/elastic_constants.h>
 #include <fmpm/constitutive_model/interface.h>
 
 namespace fmpm
@@ -102,6 +103,8 @@ namespace fmpm
       double artificial_viscosity_a2 = 0.0;
       double yield_stress            = 0.0;
       double hardening_modulus       = 0.0;
+      /** The constants as the scene sets them (K, G or E, ν). */
+      ElasticConstants elastic_constants;
 
     private:
       /** Property slots: U, ε_p, and b̄_e − I (6, with plasticity). */

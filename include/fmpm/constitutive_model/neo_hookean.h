@@ -4,6 +4,7 @@
 #ifndef fmpm_constitutive_model_neo_hookean_h
 #define fmpm_constitutive_model_neo_hookean_h
 
+#include <fmpm/constitutive_model/elastic_constants.h>
 #include <fmpm/constitutive_model/interface.h>
 
 namespace fmpm
@@ -11,11 +12,22 @@ namespace fmpm
   namespace ConstitutiveModel
   {
     /**
-     * @brief Compressible neo-Hookean hyperelasticity, seed 004 Eq. (18):
-     * \f$W = \frac{G}{2}(I_1 J^{-2/3} - 3) + \frac{K}{2}(\frac{1}{2}(J^2-1)
-     * - \ln J)\f$, giving the Kirchhoff stress
-     * \f$\tau = G\,\mathrm{dev}(\bar b) + \frac{K}{2}(J^2-1) I\f$ with
-     * \f$\bar b = J^{-2/3} F F^T\f$ and Cauchy stress \f$\sigma = \tau/J\f$.
+     * @brief Compressible neo-Hookean hyperelasticity in one of two forms
+     * ('Energy form'):
+     * - 'J^2' (default), seed 004 Eq. (18):
+     *   \f$W = \frac{G}{2}(I_1 J^{-2/3} - 3) + \frac{K}{2}(\frac{1}{2}(J^2-1)
+     *   - \ln J)\f$, giving the Kirchhoff stress
+     *   \f$\tau = G\,\mathrm{dev}(\bar b) + \frac{K}{2}(J^2-1) I\f$ with
+     *   \f$\bar b = J^{-2/3} F F^T\f$;
+     * - 'ln J', the form of [BonetWood2008] §6.4.3 most MPM benchmarks use:
+     *   \f$W = \frac{\mu}{2}(I_1 - 3) - \mu\ln J +
+     *   \frac{\lambda}{2}(\ln J)^2\f$, giving
+     *   \f$\tau = \mu (b - I) + \lambda \ln J\, I\f$ with \f$b = F F^T\f$,
+     *   \f$\mu = G\f$, \f$\lambda = K - 2G/3\f$.
+     *
+     * The Cauchy stress is \f$\sigma = \tau/J\f$. Both depend on F only
+     * through b and J: objective. In 2D (plane strain) b_zz = 1 is part of
+     * I_1 and of σ_zz.
      *
      * @ingroup ConstitutiveModels
      */
@@ -61,6 +73,17 @@ namespace fmpm
       double bulk_modulus = 1.0e6;
       /** Shear modulus G. Units: Pa. */
       double shear_modulus = 0.5e6;
+      /** 'Energy form', resolved from its name when parsed. */
+      enum class EnergyForm
+      {
+        /** [NHS2020-contact] Eq. (18). */
+        j_squared,
+        /** λ ln J / J I + μ/J (b − I). */
+        log_j
+      };
+      EnergyForm energy_form = EnergyForm::j_squared;
+      /** The constants as the scene sets them (K, G or E, ν). */
+      ElasticConstants elastic_constants;
     };
   } // namespace ConstitutiveModel
 } // namespace fmpm
