@@ -118,10 +118,12 @@ namespace
   // A block that does not fill the box, free flight with v = (0.3, 0.2) in
   // a box periodic in x and y, for 4 s: it crosses both faces (and the
   // corner) and straddles them. Rigid translation: the strain energy stays
-  // zero (nodal sums across each face add up: a block cut at a face would
-  // be stretched), momentum and kinetic energy keep their values, every
-  // point's displacement x - X is v t (the initial position moves with the
-  // point at each crossing), and every point is inside the box.
+  // zero, momentum and kinetic energy keep their values, every point's
+  // displacement x - X is v t (the initial position moves with the point at
+  // each crossing), and every point is inside the box: a point that is not
+  // brought back is lost (mass drops) or leaves the box. (The nodal sums
+  // across a face are what the simple shear tests: a uniform velocity is
+  // the same on both sides of the face, joined or not.)
   TEST(Periodic, BlockTranslatesThroughPeriodicFaces)
   {
     for (const std::string update : {"flip", "pic"})
