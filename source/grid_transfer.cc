@@ -79,9 +79,10 @@ namespace fmpm
             for (unsigned int d = 0; d < dim; ++d)
               if (c != d && std::abs(J[c][d]) > 1e-12 * scale)
                 data.is_axis_aligned = false;
+          // (A periodic face is no boundary: the mesh goes on across it.)
           data.boundary_faces = 0;
           for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary())
+            if (cell->face(f)->at_boundary() && !cell->has_periodic_neighbor(f))
               data.boundary_faces |= (1u << f);
 
           // The full vertex list for the cells that need it: GIMP's

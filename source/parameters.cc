@@ -293,6 +293,20 @@ namespace fmpm
                         "(GridTools::distort_random, fixed seed) after the "
                         "global refinement: an unstructured quadrilateral/"
                         "hexahedral mesh. 0 keeps the mesh. Units: none.");
+      prm.declare_entry(
+        "Periodic directions",
+        "",
+        Patterns::List(Patterns::Selection("x|y|z"), 0, 3, ","),
+        "Axes along which the box is periodic, e.g. 'x' or 'x, z' ('Type = "
+        "box' only): the two faces across each axis (boundary ids 0 and 1 "
+        "for x, 2 and 3 for y, 4 and 5 for z) are one. A material point "
+        "leaving through one face enters through the other (its position "
+        "and initial position shift by the box length, its deformation is "
+        "kept), and the nodes of the two faces are one node: masses, momenta "
+        "and forces of both sides add up there. No velocity condition may be "
+        "set on those boundary ids. Classic shape functions only; not with "
+        "multimaterial contact or mesh adaptation. Empty: none. Units: "
+        "none.");
     }
     prm.leave_subsection();
   }
@@ -313,7 +327,26 @@ namespace fmpm
     file_name         = prm.get("File name");
     global_refinement = prm.get_integer("Initial global refinement");
     distortion        = prm.get_double("Random distortion");
+    periodic          = {{false, false, false}};
+    for (const std::string &axis :
+         Utilities::split_string_list(prm.get("Periodic directions")))
+      {
+        const unsigned int d = axis[0] - 'x';
+        AssertThrow(d < dim,
+                    ExcMessage("Mesh/Periodic directions = <" +
+                               prm.get("Periodic directions") +
+                               "> names the axis " + axis + ", which a " +
+                               std::to_string(dim) +
+                               "D scene does not have; allowed: " +
+                               (dim == 2 ? "x, y." : "x, y, z.")));
+        periodic[d] = true;
+      }
     prm.leave_subsection();
+    AssertThrow(!any_periodic() || type == Type::box,
+                ExcMessage("Mesh/Periodic directions needs Mesh/Type = box "
+                           "(whose opposite faces match node for node); this "
+                           "scene has Mesh/Type = " +
+                           std::string(type_names.name(type)) + "."));
     if (type == Type::box || type == Type::ball)
       for (unsigned int d = 0; d < dim; ++d)
         AssertThrow(upper_corner[d] > lower_corner[d],

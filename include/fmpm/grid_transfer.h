@@ -89,7 +89,8 @@ namespace fmpm
       bool uniform_patch = false;
       /** Bit i set if DoF i is constrained (a hanging node). */
       unsigned char constrained_nodes = 0;
-      /** Bit f set if face f (xi_{f/2} = f%2) lies on the mesh boundary. */
+      /** Bit f set if face f (xi_{f/2} = f%2) lies on the mesh boundary
+       * (not a periodic face). */
       unsigned char boundary_faces = 0;
 
       /** Vertex 0 and vertex n_nodes - 1: an axis-aligned box's corners. */

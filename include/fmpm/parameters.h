@@ -11,6 +11,7 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/base/types.h>
 
+#include <array>
 #include <map>
 #include <string>
 #include <utility>
@@ -101,6 +102,16 @@ namespace fmpm
     /** Random vertex displacement (GridTools::distort_random) as a fraction
      * of the shortest adjacent edge; 0 keeps the mesh. */
     double distortion = 0;
+    /** 'Mesh/Periodic directions': periodic[d] if the box's two faces
+     * across axis d are one (boundary ids 2d and 2d + 1). */
+    std::array<bool, 3> periodic{{false, false, false}};
+
+    /** Whether any direction is periodic. */
+    bool
+    any_periodic() const
+    {
+      return periodic[0] || periodic[1] || periodic[2];
+    }
 
     static void
     declare_parameters(ParameterHandler &prm, const unsigned int dim);

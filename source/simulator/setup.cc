@@ -93,6 +93,20 @@ namespace fmpm
                                 /*seed=*/20260);
     if (via_serial)
       triangulation.copy_triangulation(serial);
+    // Mesh/Periodic directions: p4est joins the two faces across each
+    // periodic axis of the box (before any refinement, also before a
+    // checkpoint's refinement is loaded); setup_dofs() joins their nodes.
+    if (mesh.any_periodic())
+      {
+        std::vector<GridTools::PeriodicFacePair<
+          typename Triangulation<dim>::cell_iterator>>
+          face_pairs;
+        for (unsigned int d = 0; d < dim; ++d)
+          if (mesh.periodic[d])
+            GridTools::collect_periodic_faces(
+              triangulation, 2 * d, 2 * d + 1, d, face_pairs);
+        triangulation.add_periodicity(face_pairs);
+      }
     // A resumed run loads the refinement from its checkpoint onto the
     // coarse mesh.
     if (!resume_from_checkpoint)
@@ -109,11 +123,19 @@ namespace fmpm
     locally_owned_dofs = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, locally_relevant_dofs);
 
-    // Only hanging-node constraints: velocity conditions are applied to the
-    // nodal fields directly, as seed 000 §2.1 describes.
+    // Only hanging-node and periodicity constraints: velocity conditions
+    // are applied to the nodal fields directly, as seed 000 §2.1 describes.
+    // A node of a periodic face is constrained to its twin on the opposite
+    // face (weight 1): the supports give its share to the twin, so the
+    // nodal sums of both sides add up there, and distribute() copies the
+    // twin's values back, like a hanging node's.
     constraints.clear();
     constraints.reinit(locally_relevant_dofs);
     DoFTools::make_hanging_node_constraints(dof_handler, constraints);
+    for (unsigned int d = 0; d < dim; ++d)
+      if (parameters.mesh.periodic[d])
+        DoFTools::make_periodicity_constraints(
+          dof_handler, 2 * d, 2 * d + 1, d, constraints);
     constraints.close();
     has_hanging_nodes =
       Utilities::MPI::max(constraints.n_constraints() > 0 ? 1u : 0u,
@@ -808,6 +830,48 @@ namespace fmpm
                     ExcMessage("Contact/Model name = multimaterial needs a "
                                "'Boundary conditions/Method' without the full "
                                "mass matrix (not collection)."));
+      }
+
+    // Periodic faces (Mesh/Periodic directions) carry no condition; what
+    // is not available across them is refused.
+    if (parameters.mesh.any_periodic())
+      {
+        const auto check_ids = [&](const std::vector<types::boundary_id> &ids,
+                                   const std::string &where) {
+          for (const types::boundary_id id : ids)
+            AssertThrow(
+              id >= 2 * dim || !parameters.mesh.periodic[id / 2],
+              ExcMessage(where + " contains boundary id " + std::to_string(id) +
+                         ", a face of the periodic "
+                         "direction " +
+                         std::string(1, 'x' + id / 2) +
+                         " (Mesh/Periodic directions): the two faces are "
+                         "one and carry no velocity condition. Remove the "
+                         "id or the direction."));
+        };
+        const auto &conditions = parameters.boundary_conditions;
+        check_ids(conditions.fixed, "Boundary conditions/Fixed boundary ids");
+        check_ids(conditions.roller, "Boundary conditions/Roller boundary ids");
+        for (unsigned int w = 0; w < conditions.moving_walls.size(); ++w)
+          check_ids(conditions.moving_walls[w].boundary_ids,
+                    "Boundary conditions/" +
+                      numbered_subsection("Moving wall", w) + "/Boundary ids");
+        AssertThrow(shape_function == ShapeFunction::Type::classic,
+                    ExcMessage("Mesh/Periodic directions works with 'Shape "
+                               "function/Type = classic' only (GIMP and "
+                               "CPDI supports that cross a periodic face "
+                               "are not joined yet); this scene has '" +
+                               parameters.method.shape_function + "'."));
+        AssertThrow(!(parameters.contact.multimaterial &&
+                      parameters.size.n_materials > 1),
+                    ExcMessage("Mesh/Periodic directions is not available "
+                               "with Contact/Model name = multimaterial (the "
+                               "contact geometry reads point positions, "
+                               "which jump across a periodic face)."));
+        AssertThrow(!parameters.refinement.adaptive(),
+                    ExcMessage("Mesh/Periodic directions is not available "
+                               "with mesh adaptation: set Mesh "
+                               "refinement/Strategy = none."));
       }
 
     // A fixed time step must be stable.

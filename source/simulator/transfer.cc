@@ -2112,8 +2112,39 @@ namespace fmpm
     // only these points), and the store puts its points back in cell order.
     // A point not found nearby or outside the mesh: deal.II's sort handles
     // every point (and reports lost points).
-    auto full_sort = [this]() {
+    // Mesh/Periodic directions: the box's length along each periodic axis.
+    // A point that crosses a periodic face enters through the opposite one:
+    // its position and initial position shift by the length (u = x − X
+    // and F are kept).
+    Tensor<1, dim> period;
+    for (unsigned int d = 0; d < dim; ++d)
+      if (parameters.mesh.periodic[d])
+        period[d] =
+          parameters.mesh.upper_corner[d] - parameters.mesh.lower_corner[d];
+    const auto shift_point = [this](const unsigned int    k,
+                                    const Tensor<1, dim> &shift) {
+      points.position[k] += shift;
+      for (unsigned int d = 0; d < dim; ++d)
+        points.column(PropertyIndex<dim>::initial_position + d)[k] += shift[d];
+    };
+    auto full_sort = [&]() {
       points_that_left_their_cell.clear();
+      if (parameters.mesh.any_periodic())
+        for (unsigned int k = 0; k < points.n_points(); ++k)
+          {
+            Tensor<1, dim> shift;
+            for (unsigned int d = 0; d < dim; ++d)
+              if (period[d] > 0)
+                {
+                  const double x = points.position[k][d];
+                  if (x < parameters.mesh.lower_corner[d])
+                    shift[d] = period[d];
+                  else if (x >= parameters.mesh.upper_corner[d])
+                    shift[d] = -period[d];
+                }
+            if (shift.norm_square() > 0)
+              shift_point(k, shift);
+          }
       points_to_handler();
       particle_handler.sort_particles_into_subdomains_and_cells();
       points_from_handler();
@@ -2146,8 +2177,11 @@ namespace fmpm
         // to neighbour (a corner takes two steps); where that meets a
         // boundary, a finer neighbour or an artificial cell, the cells
         // around the old cell's vertices.
+        // Across a periodic face the walk goes on in the twin cell, with x
+        // shifted by the period (x_walk).
         typename Triangulation<dim>::active_cell_iterator target;
         Point<dim>                                        xi;
+        Point<dim>                                        x_walk = x;
         {
           auto       walk    = cell;
           Point<dim> xi_walk = GridTransfer<dim>::reference_point(
@@ -2170,15 +2204,26 @@ namespace fmpm
                     }
                   break;
                 }
-              if (walk->at_boundary(face) ||
-                  walk->neighbor(face)->has_children())
+              if (walk->at_boundary(face))
+                {
+                  if (!walk->has_periodic_neighbor(face) ||
+                      walk->periodic_neighbor(face)->has_children())
+                    break;
+                  x_walk[face / 2] +=
+                    (face % 2 == 1 ? -1. : 1.) * period[face / 2];
+                  walk = walk->periodic_neighbor(face);
+                }
+              else if (walk->neighbor(face)->has_children())
                 break;
-              walk = walk->neighbor(face);
+              else
+                walk = walk->neighbor(face);
               if (walk->is_artificial())
                 break;
               xi_walk = GridTransfer<dim>::reference_point(
-                transfer.cell_data(walk->active_cell_index()), x, center);
+                transfer.cell_data(walk->active_cell_index()), x_walk, center);
             }
+          if (target.state() == IteratorState::valid && x_walk != x)
+            shift_point(k, x_walk - x);
         }
         if (target.state() != IteratorState::valid)
           for (const unsigned int v : cell->vertex_indices())
