@@ -557,6 +557,10 @@ namespace fmpm
     history_extra_columns() const;
     void
     print_test_particles() const;
+    /** Set the volume_change_rms and checkerboard_j of @p row (over all
+     * ranks; postprocess/checkerboard.h). */
+    void
+    compute_checkerboard(HistoryRow<dim> &row) const;
     /** particles_NNNNN.csv of output @p n_output (Output/Write particle
      * csv). */
     void
@@ -657,6 +661,9 @@ namespace fmpm
     /** Largest |v⁺ · n̂ − v_b| on the condition nodes over the run (this
      * rank). Units: m/s. */
     double max_condition_error = 0;
+    /** Whether the run has warned that the checkerboard indicator passed
+     * its threshold. */
+    bool checkerboard_warned = false;
     /** Corrections Δv (of v) and Δv⁺ (of v⁺) per node condition. */
     std::array<std::vector<double>, 2> velocity_corrections;
     /** Cells around each vertex, for finding the new cell of a moved point. */

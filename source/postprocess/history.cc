@@ -43,7 +43,7 @@ namespace fmpm
         *file << ",reaction_" << label << '_' << "xyz"[d];
     for (const auto &column : extra_columns)
       *file << ',' << column;
-    *file << '\n';
+    *file << ",volume_change_rms,checkerboard_j\n";
     file->flush();
   }
 
@@ -71,7 +71,7 @@ namespace fmpm
         *file << ',' << (r < row.reactions.size() ? row.reactions[r][d] : 0.);
     for (unsigned int c = 0; c < n_extra; ++c)
       *file << ',' << (c < row.extra.size() ? row.extra[c] : 0.);
-    *file << '\n';
+    *file << ',' << row.volume_change_rms << ',' << row.checkerboard_j << '\n';
     file->flush();
   }
 

@@ -50,7 +50,8 @@ namespace boost
       archive &row.step &row.time &row.dt &row.kinetic_energy &row
         .strain_energy &row.potential_energy &row.total_energy &row
         .momentum &row.mass &row.error_velocity_l2 &row
-        .error_displacement_l2 &row.dissipated_energy &row.reactions &row.extra;
+        .error_displacement_l2 &row.dissipated_energy &row.reactions &row
+        .extra &row.volume_change_rms &row.checkerboard_j;
     }
   } // namespace serialization
 } // namespace boost

@@ -4,6 +4,7 @@
 // What a run leaves behind: VTU/PVTU/PVD files for ParaView, history.csv,
 // summary.json, progress lines and the test-mode printout.
 
+#include <fmpm/postprocess/checkerboard.h>
 #include <fmpm/simulator.h>
 
 #include <deal.II/base/data_out_base.h>
@@ -391,7 +392,27 @@ namespace fmpm
         std::sqrt(statistics.displacement_error_squared /
                   statistics.displacement_reference_squared) :
         std::sqrt(statistics.displacement_error_squared / statistics.mass);
+    compute_checkerboard(row);
     history.add(row);
+    if (row.checkerboard_j > Checkerboard::warning_threshold<dim> &&
+        !checkerboard_warned)
+      {
+        checkerboard_warned = true;
+        if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0 &&
+            !parameters.test_mode)
+          std::cerr
+            << "fmpm: warning: the checkerboard indicator of J "
+               "(history.csv column checkerboard_j) is "
+            << format_number(row.checkerboard_j, 3)
+            << " at t = " << format_number(row.time, 6) << ", above "
+            << format_number(Checkerboard::warning_threshold<dim>)
+            << ": neighbouring points have J alternating by more than the "
+               "deformation the grid resolves, and the results are "
+               "unreliable from here on (doc/studies/cantilever.md). Use "
+               "'Particle update/Flip/Position update psi = 1' (the "
+               "default) or a smaller Time/Courant number."
+            << std::endl;
+      }
 
     if (parameters.test_mode)
       {
@@ -509,6 +530,42 @@ namespace fmpm
           << statistics.strain_energy << ")  " << std::setprecision(3)
           << 100 * fraction << "%  wall " << wall << " s, about " << eta
           << " s left" << std::endl;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::compute_checkerboard(HistoryRow<dim> &row) const
+  {
+    using Index = PropertyIndex<dim>;
+    // J per point in the store's (cell) order, then the sums cell by cell.
+    std::vector<double> J(points.n_points());
+    for (unsigned int k = 0; k < points.n_points(); ++k)
+      J[k] =
+        determinant(get_tensor3(points.record(k), Index::deformation_gradient));
+    const double      *mass = points.column(Index::mass);
+    Checkerboard::Sums sums;
+    for (unsigned int c = 0; c < points.n_cells(); ++c)
+      {
+        const unsigned int begin = points.cell_point_begin[c],
+                           n     = points.cell_point_begin[c + 1] - begin;
+        sums += Checkerboard::cell_sums<dim>(
+          ArrayView<const Point<dim>>(points.position.data() + begin, n),
+          ArrayView<const double>(mass + begin, n),
+          ArrayView<const double>(J.data() + begin, n));
+      }
+    std::vector<double> global = {sums.residual, sums.volume_change, sums.mass};
+    Utilities::MPI::sum(global, mpi_communicator, global);
+    sums.residual         = global[0];
+    sums.volume_change    = global[1];
+    sums.mass             = global[2];
+    row.volume_change_rms = sums.volume_change_rms();
+    double largest_rms    = row.volume_change_rms;
+    for (const auto &earlier : history.rows())
+      largest_rms = std::max(largest_rms, earlier.volume_change_rms);
+    row.checkerboard_j =
+      Checkerboard::indicator(sums.residual_rms(), largest_rms);
   }
 
 
@@ -760,6 +817,19 @@ namespace fmpm
                             external_work_scale}))
         << ",\n";
     out << "  \"lost_points\": " << total_lost_points << ",\n";
+    {
+      // The largest checkerboard indicator of the outputs, and its time.
+      double max_checkerboard = 0, max_checkerboard_time = 0;
+      for (const auto &row : history.rows())
+        if (row.checkerboard_j > max_checkerboard)
+          {
+            max_checkerboard      = row.checkerboard_j;
+            max_checkerboard_time = row.time;
+          }
+      out << "  \"max_checkerboard_j\": " << number(max_checkerboard) << ",\n";
+      out << "  \"max_checkerboard_j_time\": " << number(max_checkerboard_time)
+          << ",\n";
+    }
     if (contact_active())
       {
         out << "  \"contact_normals\": "

@@ -152,14 +152,17 @@ TEST(ParticleUpdate, FmpmLumpedGivesPicVelocityNotPicPosition)
 
 TEST(ParticleUpdate, FlipColumnsOfTable21)
 {
-  const Batch<2> in   = random_batch(20);
-  const double   dt   = in.time_step;
-  const Batch<2> flip = run("flip", in);
+  const Batch<2> in = random_batch(20);
+  const double   dt = in.time_step;
+  const Batch<2> flip =
+    run("flip", in, "subsection Flip\nset Position update psi = 0\nend\n");
   const Batch<2> flip1 =
     run("flip", in, "subsection Flip\nset Position update psi = 1\nend\n");
-  const Batch<2> fmpm0 = run("fmpm0", in);
-  const Batch<2> mid   = run("flip midpoint", in);
-  const Batch<2> end   = run("flip end velocity", in);
+  // The default is psi = 1.
+  const Batch<2> flip_default = run("flip", in);
+  const Batch<2> fmpm0        = run("fmpm0", in);
+  const Batch<2> mid          = run("flip midpoint", in);
+  const Batch<2> end          = run("flip end velocity", in);
   const Batch<2> blend =
     run("flip pic blend",
         in,
@@ -170,13 +173,14 @@ TEST(ParticleUpdate, FlipColumnsOfTable21)
       const Tensor<1, 2> v_p = in.grid[updated_velocity][q];
       const Tensor<1, 2> V   = in.velocity[q];
       const Point<2>     X   = in.position[q];
-      // FLIP(Std): V += a dt, X += v_p dt.
+      // FLIP(Std) with ψ = 0: V += a dt, X += v_p dt.
       EXPECT_LT((flip.velocity[q] - (V + a * dt)).norm(), 1e-15);
       EXPECT_LT((flip.position[q] - (X + v_p * dt)).norm(), 1e-15);
       // ψ = 1 and FMPM(0): X += (v_p − ½ a dt) dt (Eq. 2.28, Table 2.1).
       EXPECT_LT((flip1.position[q] - (X + (v_p - 0.5 * dt * a) * dt)).norm(),
                 1e-15);
       EXPECT_EQ(fmpm0.position[q], flip1.position[q]);
+      EXPECT_EQ(flip_default.position[q], flip1.position[q]);
       // Eq. 2.33: X += (V + ½ a dt) dt.
       EXPECT_LT((mid.position[q] - (X + (V + 0.5 * dt * a) * dt)).norm(),
                 1e-15);

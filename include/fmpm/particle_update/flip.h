@@ -13,8 +13,10 @@ namespace fmpm
     /**
      * @brief FLIP(Std), seed 000 Eqs. 2.27-2.28 and Table 2.1:
      * V += a Δt, X += (v_p − ψ/2 a Δt) Δt with a = S m̃ₖ⁻¹ f and
-     * v_p = S m̃ₖ⁻¹ p⁺ (lumped m for the standard method). ψ = 0 is the usual
-     * first-order position update, ψ = 1 the second-order one.
+     * v_p = S m̃ₖ⁻¹ p⁺ (lumped m for the standard method). ψ = 1 (default)
+     * is the second-order position update, ψ = 0 the usual first-order one,
+     * which lets a checkerboard of J grow in large-deflection dynamics
+     * (doc/studies/cantilever.md).
      *
      * @ingroup ParticleUpdates
      */
@@ -35,7 +37,7 @@ namespace fmpm
       update(Batch<dim> &batch) const override;
 
       /** ψ of Eq. 2.28. */
-      double psi = 0;
+      double psi = 1;
     };
 
     /**

@@ -33,6 +33,10 @@ namespace fmpm
     double error_displacement_l2 = 0;
     /** Energy dissipated by the particle updates since the start. */
     double dissipated_energy = 0;
+    /** The RMS of J − 1 over the points. */
+    double volume_change_rms = 0;
+    /** The checkerboard indicator of J (postprocess/checkerboard.h). */
+    double checkerboard_j = 0;
     /** Force each reaction label's boundary exerts on the material in the
      * last step (reaction_<label>_x, ...). Units: N (N/m in 2D). */
     std::vector<Tensor<1, dim>> reactions;
