@@ -360,6 +360,211 @@ namespace fmpm
       std::array<types::global_dof_index, n_slots> dof;
     };
 
+    /**
+     * @brief CPDI supports (seed 001 Eq. cpdi) around one locally owned cell
+     * whose patch is uniform (GridTransfer's CellData::uniform_patch) and
+     * exactly axis-aligned: the cell of a corner x_α is found by
+     * floor((x_α − x₀)/h) and its ξ by the cell's diagonal affine map, with
+     * no point location; the corners' nodes are merged by their planes (four
+     * per direction, as in UniformGimpPatch).
+     *
+     * The operations, and the order of the corners and of the nodes, are
+     * those of compute_support()'s general path, which locates each corner
+     * with GridTransfer::locate(): the same bits. As there, a corner takes
+     * the previous corner's cell when that cell holds it within 1e-10 of
+     * its size; a corner within 1e-9 of a face of another cell, or outside
+     * the patch's cells (beyond the mesh boundary), is located by
+     * GridTransfer::locate().
+     * Built once per cell, read by each of its points.
+     */
+    template <int dim>
+    class UniformCpdiPatch
+    {
+    public:
+      static constexpr unsigned int n_nodes = GridTransfer<dim>::n_nodes;
+      /** The most nodes a support can have: 2^dim corners of 2^dim nodes
+       * each, within the 4^dim nodes of the patch. */
+      static constexpr unsigned int max_support_size = n_nodes * n_nodes;
+
+      /**
+       * @brief The planes and cells of the patch of @p cell_index (which
+       * must have a uniform patch).
+       */
+      void
+      reinit(const GridTransfer<dim> &transfer, const unsigned int cell_index);
+
+      /**
+       * @brief Whether the patch's cells are exact axis-aligned boxes (no
+       * off-diagonal entry in their inverse Jacobians), so that support()
+       * repeats the general path's operations.
+       */
+      bool
+      applies() const
+      {
+        return exact;
+      }
+
+      /**
+       * @brief S̄_gp and Ḡ_gp of the point at @p x (in the patch's cell)
+       * with the domain s = F diag(l⁰), limited as compute_support() does
+       * for a positive @p cpdi_critical_radius: S̄ = 2^-dim Σ_α S_g(x_α),
+       * Ḡ = 2^-dim Σ_α S_g(x_α) s⁻ᵀ r_α (seed 001 Eq. cpdi and the matrix
+       * form after it).
+       *
+       * Writes the entries to @p node, @p S and @p G (room for
+       * max_support_size each) and returns their number, or 0 when a
+       * corner is in no cell of the patch (compute_support() reports it).
+       */
+      DEAL_II_ALWAYS_INLINE unsigned int
+      support(const GridTransfer<dim> &transfer,
+              const Point<dim>        &x,
+              const Tensor<2, dim>    &F,
+              const Tensor<1, dim>    &l0,
+              const double             cpdi_critical_radius,
+              unsigned int            *node,
+              double                  *S,
+              Tensor<1, dim>          *G) const
+      {
+        Tensor<2, dim> s;
+        for (unsigned int c = 0; c < dim; ++c)
+          for (unsigned int j = 0; j < dim; ++j)
+            s[c][j] = F[c][j] * l0[j];
+        if (cpdi_critical_radius > 0)
+          limit_cpdi_domain(s, cpdi_critical_radius * smallest_extent);
+        const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
+        const double         weight              = 1.0 / n_nodes; // 2^-dim
+        // Entry of each plane slot in this support (none: 0xff).
+        unsigned char entry_of_slot[max_support_size];
+        std::fill(entry_of_slot, entry_of_slot + max_support_size, 0xff);
+        unsigned int count = 0;
+        unsigned int hint  = own_column;
+        for (unsigned int alpha = 0; alpha < n_nodes; ++alpha)
+          {
+            Tensor<1, dim> r;
+            for (unsigned int j = 0; j < dim; ++j)
+              r[j] = ((alpha >> j) & 1) ? 1. : -1.;
+            const Point<dim> corner = x + s * r;
+            unsigned int     column;
+            Point<dim>       xi;
+            if (!locate(transfer, corner, hint, column, xi))
+              return 0;
+            hint = column;
+            std::array<double, n_nodes> S_corner;
+            GridTransfer<dim>::values(xi, S_corner);
+            const Tensor<1, dim> w     = weight * (s_inverse_transpose * r);
+            const ColumnCell    &cell_ = cell[column];
+            for (unsigned int i = 0; i < n_nodes; ++i)
+              {
+                const unsigned char slot  = cell_.slot[i];
+                const unsigned char entry = entry_of_slot[slot];
+                if (entry == 0xff)
+                  {
+                    entry_of_slot[slot] = count;
+                    node[count]         = cell_.local_index[i];
+                    S[count]            = weight * S_corner[i];
+                    G[count]            = S_corner[i] * w;
+                    ++count;
+                  }
+                else
+                  {
+                    S[entry] += weight * S_corner[i];
+                    G[entry] += S_corner[i] * w;
+                  }
+              }
+          }
+        return count;
+      }
+
+    private:
+      /** A cell of the patch: what the corners in it read. */
+      struct ColumnCell
+      {
+        /** The diagonal of its inverse Jacobian (1/h_d). */
+        double inverse_extent[dim];
+        /** Its nodes in vertex order, and their plane slots Σ p_d 4^d. */
+        unsigned int  local_index[n_nodes];
+        unsigned char slot[n_nodes];
+      };
+
+      /**
+       * The cell (column Σ c_d 3^d) and reference point of @p corner as
+       * GridTransfer::locate() finds them from the cell @p hint: the hint
+       * if it holds the corner within 1e-10, else the cell of floor((x −
+       * x₀)/h) if it holds it 1e-9 away from its faces, else locate()'s
+       * answer. False if the corner is in no cell of the patch.
+       */
+      DEAL_II_ALWAYS_INLINE bool
+      locate(const GridTransfer<dim> &transfer,
+             const Point<dim>        &corner,
+             const unsigned int       hint,
+             unsigned int            &column,
+             Point<dim>              &xi) const
+      {
+        if (has_cell[hint] && reference_point(hint, corner, xi, 1e-10))
+          {
+            column = hint;
+            return true;
+          }
+        column              = 0;
+        unsigned int stride = 1;
+        for (unsigned int d = 0; d < dim; ++d, stride *= 3)
+          {
+            const double t = (corner[d] - plane[d][0]) * inverse_spacing[d];
+            if (!(t >= 0 && t < 3)) // (NaN too)
+              return locate_in_general(transfer, corner, hint, column, xi);
+            column += stride * static_cast<unsigned int>(t);
+          }
+        if (column != hint && has_cell[column] &&
+            reference_point(column, corner, xi, -1e-9))
+          return true;
+        return locate_in_general(transfer, corner, hint, column, xi);
+      }
+
+      /** ξ of @p x in the cell of @p column (GridTransfer::reference_point()'s
+       * operations on an axis-aligned box), and whether it lies in [−margin,
+       * 1 + margin]^dim. */
+      DEAL_II_ALWAYS_INLINE bool
+      reference_point(const unsigned int column,
+                      const Point<dim>  &x,
+                      Point<dim>        &xi,
+                      const double       margin) const
+      {
+        bool         inside = true;
+        unsigned int c      = column;
+        for (unsigned int d = 0; d < dim; ++d, c /= 3)
+          {
+            // (0 + ...: the sum from 0 that reference_point() forms, with
+            // the exact zeros of the off-diagonal terms.)
+            xi[d] =
+              0. + cell[column].inverse_extent[d] * (x[d] - plane[d][c % 3]);
+            inside = inside && xi[d] >= -margin && xi[d] <= 1 + margin;
+          }
+        return inside;
+      }
+
+      /** GridTransfer::locate() from the hint's cell. */
+      bool
+      locate_in_general(const GridTransfer<dim> &transfer,
+                        const Point<dim>        &corner,
+                        const unsigned int       hint,
+                        unsigned int            &column,
+                        Point<dim>              &xi) const;
+
+      static constexpr unsigned int n_columns = dim == 2 ? 9 : 27;
+      /** The patch's cells, at column Σ c_d 3^d (c_d: 0 below the own cell,
+       * 1 the own cell's, 2 above). */
+      std::array<ColumnCell, n_columns>   cell;
+      std::array<bool, n_columns>         has_cell;
+      std::array<unsigned int, n_columns> cell_index;
+      static constexpr unsigned int       own_column = dim == 2 ? 4 : 13;
+      /** Plane coordinates per direction, and 1/h of the own cell. */
+      double plane[dim][4];
+      double inverse_spacing[dim];
+      /** The smallest extent of the own cell (for the critical radius). */
+      double smallest_extent = 0;
+      bool   exact           = false;
+    };
+
     /** The half-lengths of the GIMP box of a point (uGIMP or cpGIMP). */
     template <int dim>
     Tensor<1, dim>

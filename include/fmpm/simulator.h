@@ -593,6 +593,10 @@ namespace fmpm
      * gimp_patches[gimp_patch_of_cell[c]] (invalid: not built yet). */
     std::vector<ShapeFunction::UniformGimpPatch<dim>> gimp_patches;
     std::vector<unsigned int>                         gimp_patch_of_cell;
+    /** CPDI's corners located arithmetically, the same way: the patch of c
+     * is cpdi_patches[cpdi_patch_of_cell[c]]. */
+    std::vector<ShapeFunction::UniformCpdiPatch<dim>> cpdi_patches;
+    std::vector<unsigned int>                         cpdi_patch_of_cell;
 
     /** Multimaterial contact: the per-material fields and the corrections
      * (null without contact). */

@@ -171,6 +171,8 @@ namespace fmpm
                     &vertex_to_cells);
     gimp_patches.clear();
     gimp_patch_of_cell.clear();
+    cpdi_patches.clear();
+    cpdi_patch_of_cell.clear();
     // The locally owned cells in the order of the passes.
     std::vector<typename Triangulation<dim>::active_cell_iterator>
       owned_cells_in_id_order;

@@ -808,6 +808,11 @@ namespace fmpm
       gimp_patch_of_cell.resize(triangulation.n_active_cells(),
                                 numbers::invalid_unsigned_int);
     const ShapeFunction::UniformGimpPatch<dim> *gimp_patch = nullptr;
+    const bool cpdi = (shape_function == ShapeFunction::Type::cpdi);
+    if (cpdi)
+      cpdi_patch_of_cell.resize(triangulation.n_active_cells(),
+                                numbers::invalid_unsigned_int);
+    const ShapeFunction::UniformCpdiPatch<dim> *cpdi_patch = nullptr;
     // The points in the store's order: cell by cell (cells in the order of
     // their ids, so that the sums over points onto nodes do not depend on
     // the mesh's storage order, which a mesh loaded from a checkpoint does
@@ -826,6 +831,18 @@ namespace fmpm
                 gimp_patches.back().reinit(transfer, c);
               }
             gimp_patch = &gimp_patches[gimp_patch_of_cell[c]];
+          }
+        cpdi_patch = nullptr;
+        if (cpdi && data.uniform_patch)
+          {
+            if (cpdi_patch_of_cell[c] == numbers::invalid_unsigned_int)
+              {
+                cpdi_patch_of_cell[c] = cpdi_patches.size();
+                cpdi_patches.emplace_back();
+                cpdi_patches.back().reinit(transfer, c);
+              }
+            if (cpdi_patches[cpdi_patch_of_cell[c]].applies())
+              cpdi_patch = &cpdi_patches[cpdi_patch_of_cell[c]];
           }
         for (unsigned int k = points.cell_point_begin[cell_number];
              k < points.cell_point_begin[cell_number + 1];
@@ -892,6 +909,30 @@ namespace fmpm
                             G_out[count]    = G_ip;
                             ++count;
                           }))
+                      {
+                        supports.n_stored += count;
+                        support_end[k] = supports.n_stored;
+                        if (extrapolate_here)
+                          extrapolate_point(k, first);
+                        continue;
+                      }
+                  }
+                // CPDI on a uniform patch: the corners' cells found
+                // arithmetically (the general path's bits).
+                if (cpdi_patch != nullptr)
+                  {
+                    supports.make_room(
+                      ShapeFunction::UniformCpdiPatch<dim>::max_support_size);
+                    const unsigned int count = cpdi_patch->support(
+                      transfer,
+                      location,
+                      F,
+                      l0,
+                      parameters.method.cpdi_critical_radius,
+                      supports.node.data() + first,
+                      supports.S.data() + first,
+                      supports.G.data() + first);
+                    if (count > 0)
                       {
                         supports.n_stored += count;
                         support_end[k] = supports.n_stored;

@@ -713,6 +713,151 @@ namespace
         EXPECT_EQ(support[i].G, reference[i].G);
       }
   }
+
+
+
+  // UniformCpdiPatch (CPDI's corners located arithmetically, the path the
+  // support cache takes on uniform patches) against the general path that
+  // locates each corner with GridTransfer::locate(): the same nodes in the
+  // same order with the same S̄ and Ḡ, bit for bit. Random points and
+  // deformed domains whose corners reach into the neighbour cells, at the
+  // mesh boundary (corners beyond it, in the extended basis of a boundary
+  // cell), with the critical radius, and undeformed points of a regular
+  // lattice (l⁰ = h/4: every corner on a cell face or node). A domain too
+  // large for the patch gives no support (the general path reports it).
+  TYPED_TEST(ShapeFunctionTest, CpdiPatchEqualsGeneralPath)
+  {
+    constexpr int          dim = TypeParam::value;
+    constexpr unsigned int n   = GeometryInfo<dim>::vertices_per_cell;
+    // h = 1/6 and 1/5: the cell sizes differ in their last bits.
+    Setup<dim>   setup(MeshKind::uniform, dim == 2 ? 6 : 5);
+    const double h = setup.h;
+    std::mt19937 generator(23 + dim);
+    std::uniform_real_distribution<double> anywhere(1e-9, 1 - 1e-9),
+      size(0.1, 0.5);
+    std::vector<fmpm::ShapeFunction::Node<dim>> fast, general;
+    unsigned int n_compared = 0, n_neighbour_corners = 0, n_beyond_mesh = 0,
+                 n_on_faces = 0, n_too_far = 0;
+    auto compare = [&](const Point<dim>     &x,
+                       const Tensor<2, dim> &F,
+                       const Tensor<1, dim> &l0,
+                       const double          critical_radius) {
+      const unsigned int cell = setup.cell_of(x);
+      ASSERT_TRUE(setup.transfer.cell_data(cell).uniform_patch);
+      fmpm::ShapeFunction::UniformCpdiPatch<dim> patch;
+      patch.reinit(setup.transfer, cell);
+      ASSERT_TRUE(patch.applies());
+      const auto status = fmpm::ShapeFunction::compute_support(Type::cpdi,
+                                                               setup.transfer,
+                                                               cell,
+                                                               x,
+                                                               F,
+                                                               l0,
+                                                               general,
+                                                               false,
+                                                               critical_radius);
+      // The patch as the support cache calls it.
+      constexpr unsigned int size =
+        fmpm::ShapeFunction::UniformCpdiPatch<dim>::max_support_size;
+      unsigned int       node[size];
+      double             S[size];
+      Tensor<1, dim>     G[size];
+      const unsigned int count =
+        patch.support(setup.transfer, x, F, l0, critical_radius, node, S, G);
+      if (status != fmpm::ShapeFunction::Status::ok)
+        {
+          EXPECT_EQ(count, 0u) << x;
+          ++n_too_far;
+          return;
+        }
+      ASSERT_EQ(count, general.size()) << x;
+      ASSERT_EQ(fmpm::ShapeFunction::compute_support(Type::cpdi,
+                                                     setup.transfer,
+                                                     cell,
+                                                     x,
+                                                     F,
+                                                     l0,
+                                                     fast,
+                                                     true,
+                                                     critical_radius),
+                fmpm::ShapeFunction::Status::ok);
+      ASSERT_EQ(fast.size(), general.size());
+      for (unsigned int e = 0; e < count; ++e)
+        {
+          EXPECT_EQ(node[e], general[e].local_index) << x;
+          EXPECT_EQ(S[e], general[e].S) << x;
+          EXPECT_EQ(G[e], general[e].G) << x;
+          EXPECT_EQ(fast[e].local_index, general[e].local_index);
+          EXPECT_EQ(fast[e].dof, general[e].dof);
+          EXPECT_FALSE(fast[e].constrained);
+          EXPECT_EQ(fast[e].S, general[e].S);
+          EXPECT_EQ(fast[e].G, general[e].G);
+        }
+      ++n_compared;
+      n_neighbour_corners += (count > n);
+      // Corners beyond the mesh (without the limit).
+      bool beyond = false;
+      for (unsigned int alpha = 0; alpha < n; ++alpha)
+        for (unsigned int c = 0; c < dim; ++c)
+          {
+            double corner = x[c];
+            for (unsigned int j = 0; j < dim; ++j)
+              corner += F[c][j] * l0[j] * (((alpha >> j) & 1) ? 1 : -1);
+            beyond = beyond || corner < 0 || corner > 1;
+          }
+      n_beyond_mesh += beyond;
+    };
+
+    for (unsigned int p = 0; p < 400; ++p)
+      {
+        Point<dim>     x;
+        Tensor<1, dim> l0;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            x[d]  = anywhere(generator);
+            l0[d] = size(generator) * h;
+          }
+        const Tensor<2, dim> F =
+          random_deformation_gradient<dim>(generator, 0.5);
+        compare(x, F, l0, 0);
+        compare(x, 3 * F, l0, 1.0);
+      }
+    // The regular lattice, undeformed and sheared: corners on faces.
+    Tensor<2, dim> identity, shear;
+    Tensor<1, dim> quarter;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        identity[d][d] = shear[d][d] = 1;
+        quarter[d]                   = 0.25 * h;
+      }
+    shear[0][1] = 1; // corners x ± l⁰ on faces in direction 1 only
+    const unsigned int n_cells = dim == 2 ? 6 : 5;
+    for (unsigned int cell = 0; cell < Utilities::pow(n_cells, dim); cell += 3)
+      for (unsigned int q = 0; q < n; ++q)
+        {
+          Point<dim>   x;
+          unsigned int index = cell;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              x[d] = (index % n_cells + (((q >> d) & 1) ? 0.75 : 0.25)) * h;
+              index /= n_cells;
+            }
+          compare(x, identity, quarter, 0);
+          compare(x, shear, quarter, 0);
+          n_on_faces += 2;
+        }
+    // A domain beyond the patch.
+    Point<dim> centre;
+    for (unsigned int d = 0; d < dim; ++d)
+      centre[d] = 0.5;
+    compare(centre, 8 * identity, quarter, 0);
+
+    EXPECT_GT(n_compared, 700u);
+    EXPECT_GT(n_neighbour_corners, 300u);
+    EXPECT_GT(n_beyond_mesh, 50u);
+    EXPECT_GT(n_on_faces, 40u);
+    EXPECT_GE(n_too_far, 1u);
+  }
 } // namespace
 
 

@@ -1,0 +1,79 @@
+#!/bin/bash
+# SPDX-License-Identifier: LGPL-2.1-or-later
+# NairnMPM twin of fmpm's parameters/disk_impact.prm (units mm-g-ms): two neo-Hookean disks,
+# R = 10 mm at (11.5, 12) and (32.5, 12), each moving toward the other at 8.165 m/s, E = 1000 MPa,
+# nu = 0.33 (K = 980.39 MPa, G = 375.94 MPa, U(J) = (K/2)((J^2-1)/2 - ln J)), rho = 1.5 g/cm^3,
+# plane strain, 44 x 24 mm grid of 0.5 mm cells, 2x2 points per cell, lCPDI, USL-, Courant 0.2,
+# frictionless contact with logistic-regression normals, to 0.245 ms.
+# Needs NairnMPM built by ../shared/peers/build_nairn.sh (binary in ~/.nairn/bin or $NAIRN_DIR/bin).
+# Prints the points, steps, wall time and the energy lost, 1 - (KE + SE)_end / (KE + SE)_0.
+# usage: nairn_disk_impact.sh VARIANT [THREADS]    VARIANT = FLIP | FMPM<k> | XPIC<k>
+# env: CELL (mm, default 0.5)
+set -euo pipefail
+var=${1:?variant}; np=${2:-1}
+bin=${NAIRN:-${NAIRN_DIR:-$HOME/.nairn}/bin/NairnMPM}
+[[ -x $bin ]] || { echo "NairnMPM not built: get a git copy of nairnj/nairn-mpm-fea, then build_nairn.sh GIT_DIR"; exit 1; }
+CELL=${CELL:-0.5}
+case $var in
+  FLIP) task="" ;;
+  XPIC*) task="<Schedule name=\"PeriodicXPIC\"><Parameter name=\"XPICOrder\">${var#XPIC}</Parameter><Parameter name=\"periodicSteps\">1</Parameter></Schedule>" ;;
+  FMPM*) task="<Schedule name=\"PeriodicXPIC\"><Parameter name=\"FMPMOrder\">${var#FMPM}</Parameter><Parameter name=\"periodicSteps\">1</Parameter></Schedule>" ;;
+  *) echo "unknown variant $var"; exit 2 ;;
+esac
+d=$(mktemp -d -t ndisk.XXXXXX); cd "$d"
+material() {
+  echo "  <Material Type=\"28\" Name=\"$1\"><rho>0.0015</rho><K>980.392156862745</K><G>375.939849624060</G><UJOption>2</UJOption></Material>"
+}
+cat > in.xml <<X
+<?xml version='1.0'?>
+<!DOCTYPE JANFEAInput SYSTEM "NairnMPM.dtd">
+<JANFEAInput version='3'>
+  <Header><Description>disk impact $var</Description><Analysis>10</Analysis>
+    <ConsistentUnits length="mm" mass="g" time="ms"/></Header>
+  <MPMHeader>
+    <MPMMethod>3</MPMMethod><SkipPostExtrapolation/>
+    <GIMP type="lCPDI"/>
+    <MatlPtsPerElement>4</MatlPtsPerElement>
+    <Timing CFL="0.2"/>
+    <MaxTime>0.245</MaxTime>
+    <ArchiveTime>0.245</ArchiveTime>
+    <ArchiveRoot>Results_disks/disks.</ArchiveRoot>
+    <MPMArchiveOrder>iYYYNNNNNNNNNNNNNN</MPMArchiveOrder>
+    <GlobalArchiveTime>0.01</GlobalArchiveTime>
+    <GlobalArchive type="Kinetic Energy"/>
+    <GlobalArchive type="Strain Energy"/>
+    <MultiMaterialMode Normals="6"><Friction>0</Friction></MultiMaterialMode>
+  </MPMHeader>
+  <Mesh output="file">
+    <Grid xmin="0" xmax="44" ymin="0" ymax="24">
+      <Horiz cellsize="$CELL"/><Vert cellsize="$CELL"/>
+    </Grid>
+  </Mesh>
+  <MaterialPoints>
+    <Body matname="disk0" thick="1" vx="8.16496580927726" vy="0"><Oval xmin="1.5" xmax="21.5" ymin="2" ymax="22"/></Body>
+    <Body matname="disk1" thick="1" vx="-8.16496580927726" vy="0"><Oval xmin="22.5" xmax="42.5" ymin="2" ymax="22"/></Body>
+  </MaterialPoints>
+$(material disk0)
+$(material disk1)
+$( [[ -n $task ]] && echo "  <CustomTasks>$task</CustomTasks>" )
+</JANFEAInput>
+X
+cp "$(dirname "$bin")/NairnMPM.dtd" .
+start=$(date +%s.%N)
+"$bin" -np "$np" in.xml > output.txt 2>&1 || { echo "NairnMPM failed: $(tail -3 output.txt | tr '\n' ' ')"; exit 1; }
+wall=$(python3 -c "import time; print(time.time() - $start)")
+python3 - "$var" "$np" "$wall" <<'PY'
+import glob, re, sys
+var, np_, wall = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
+out = open('output.txt').read()
+steps = int(re.search(r'Calculation Steps:\s*(\d+)', out).group(1))
+npts = int(re.search(r'Number of Material Points:\s*(\d+)', out).group(1))
+g = glob.glob('Results_*/*.global')[0]
+lines = open(g).readlines()
+names = re.findall(r'"([^"]+)"', lines[0] + lines[1])
+rows = [list(map(float, l.split())) for l in lines if l.strip() and not l.startswith('#')]
+col = {n: i + 1 for i, n in enumerate(names)}
+e = lambda r: r[col['Kinetic Energy']] + r[col['Strain Energy']]
+print(f'NairnMPM disk impact {var} threads={np_} points={npts} steps={steps} wall_s={wall:.2f} '
+      f'energy_lost={100 * (1 - e(rows[-1]) / e(rows[0])):.2f}%')
+PY
