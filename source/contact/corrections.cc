@@ -106,6 +106,7 @@ namespace fmpm
                             F[a][b] =
                               P[Index::deformation_gradient + 3 * a + b];
                         const Tensor<2, dim> F_inverse = invert(F);
+                        point.id                       = points.id[k];
                         point.material                 = supports.material[k];
                         for (unsigned int a = 0; a < dim; ++a)
                           {
@@ -152,6 +153,14 @@ namespace fmpm
                                      cloud_begin.end() - 1);
       for (const auto &point : owned_points)
         cloud[next[partitioner.global_to_local(point.node)]++] = point;
+      // The points of other ranks came after the rank's own: the clouds in
+      // id order, the same on every number of ranks.
+      for (unsigned int i = 0; i < n_owned; ++i)
+        std::sort(cloud.begin() + cloud_begin[i],
+                  cloud.begin() + cloud_begin[i + 1],
+                  [](const CloudPoint<dim> &a, const CloudPoint<dim> &b) {
+                    return a.id < b.id;
+                  });
     }
 
 

@@ -158,7 +158,9 @@ namespace fmpm
       for (unsigned int iteration = 0; iteration <= max_iterations; ++iteration)
         {
           // Eq. 21 with Eqs. 54-56: (JᵀWJ + Λ) Δφ = JᵀW(c − f) − Λφ,
-          // J_pj = ψ(x_p) x_pj, ψ = 2e^{−s}/(1 + e^{−s})² = 1/(2cosh²(s/2)).
+          // J_pj = ψ(x_p) x_pj, ψ = 2e^{−s}/(1 + e^{−s})². One exponential
+          // of −|s| gives f (Eq. 20, odd in s) and ψ (even) without
+          // overflow; at φ⁽⁰⁾ = 0, f = 0 and ψ = 1/2.
           double A[n * n] = {}, b[n];
           for (unsigned int j = 0; j < n; ++j)
             b[j] = -lambda[j] * phi[j];
@@ -167,15 +169,23 @@ namespace fmpm
               double xp[n];
               for (unsigned int d = 0; d < dim; ++d)
                 xp[d] = x[p][d] - origin[d];
-              xp[dim]  = 1;
-              double s = 0;
-              for (unsigned int j = 0; j < n; ++j)
-                s += xp[j] * phi[j];
-              const double cosh_half = std::cosh(0.5 * s);
-              const double psi       = 0.5 / (cosh_half * cosh_half);
-              const double f         = std::tanh(0.5 * s); // Eq. 20
-              const double psi2      = psi * psi;
-              const double residual  = psi * (c[p] - f);
+              xp[dim]    = 1;
+              double psi = 0.5, f = 0;
+              if (iteration > 0)
+                {
+                  double s = 0;
+                  for (unsigned int j = 0; j < n; ++j)
+                    s += xp[j] * phi[j];
+                  if (std::abs(s) > 40) // ψ < 1e-17: ψ² x x below λ's round-off
+                    continue;
+                  const double e     = std::exp(-std::abs(s));
+                  const double inv   = 1. / (1. + e);
+                  const double f_abs = (1. - e) * inv;
+                  psi                = 2. * e * inv * inv;
+                  f                  = s < 0 ? -f_abs : f_abs;
+                }
+              const double psi2     = psi * psi;
+              const double residual = psi * (c[p] - f);
               for (unsigned int j = 0; j < n; ++j)
                 {
                   b[j] += residual * xp[j];

@@ -7,7 +7,7 @@
 # be identical; history.csv and every later particles_NNNNN.csv agree to
 # 1e-9 (relative, or absolute for the round-off zeros such as shear
 # stresses of 1e-12; the order of sums over the ranks differs), and the runs
-# take the same number of steps.
+# take the same number of steps and the same logistic-regression iterations.
 #
 #   check_rank_count_3d.sh FMPM SCENE -- MPIEXEC NP_FLAG [PREFLAGS...]
 set -u
@@ -27,6 +27,12 @@ cmp -s one/particles_00000.csv two/particles_00000.csv \
        fail "the initial points differ between 1 and 2 ranks"; }
 steps() { grep '"n_steps"' "$1/summary.json"; }
 [ "$(steps one)" = "$(steps two)" ] || fail "steps: 1 rank $(steps one), 2 ranks $(steps two)"
+# Each node's point cloud is in one order on any number of ranks: the
+# logistic-regression fits take the same numbers of iterations.
+fits() { grep '"logistic_regression_' "$1/summary.json"; }
+[ -n "$(fits one)" ] || fail "no logistic-regression statistics in summary.json"
+[ "$(fits one)" = "$(fits two)" ] \
+  || fail "fits: 1 rank $(fits one | tr -d '\n'), 2 ranks $(fits two | tr -d '\n')"
 # The collision happens: the spheres' kinetic energy drops by a tenth.
 python3 - one/history.csv <<'PY' || fail "no collision in the serial run"
 import csv, sys

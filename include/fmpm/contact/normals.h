@@ -12,6 +12,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/base/types.h>
+#include <deal.II/particles/property_pool.h>
 
 #include <cmath>
 #include <memory>
@@ -127,16 +128,19 @@ namespace fmpm
     struct CloudPoint
     {
       types::global_dof_index node;
-      unsigned int            material;
-      double                  position[dim];
-      double                  F_inverse[dim * dim];
-      double                  initial_radii[dim];
+      /** The point's id: a node's cloud is in id order on any number of
+       * ranks (the fit's sums then run in one order). */
+      types::particle_index id;
+      unsigned int          material;
+      double                position[dim];
+      double                F_inverse[dim * dim];
+      double                initial_radii[dim];
 
       template <class Archive>
       void
       serialize(Archive &archive, const unsigned int)
       {
-        archive &node &material &position &F_inverse &initial_radii;
+        archive &node &id &material &position &F_inverse &initial_radii;
       }
     };
 
