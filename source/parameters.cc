@@ -1163,11 +1163,12 @@ namespace fmpm
                         format_number(defaults.interval),
                         Patterns::Double(0),
                         "Simulated time between outputs (history row and "
-                        "VTU files): an output at t = 0 and at each multiple "
-                        "of it (exactly with 'Exact output times', else "
-                        "after the first step that reaches it), and after "
-                        "the last step; 0 writes every 'Step interval' "
-                        "steps. Units: s.");
+                        "VTU files): an output at t = 0, after the first "
+                        "step that reaches each multiple of it (at that "
+                        "step's time, up to one step late; exactly at the "
+                        "multiple with 'Exact output times'), and after the "
+                        "last step; 0 writes every 'Step interval' steps. "
+                        "Units: s.");
       prm.declare_entry(
         "Exact output times",
         bool_text(defaults.exact_output_times),

@@ -420,7 +420,7 @@ namespace fmpm
     unsigned int step_interval = 0;
     /** Shorten the step that would pass a multiple of 'interval' so that
      * the output lands on it. */
-    bool exact_output_times = true;
+    bool exact_output_times = false;
     bool write_vtu          = true;
     /** Output/Tracked points as written: positions (dim numbers) or point
      * ids, separated by ';' (resolved by the Simulator). */

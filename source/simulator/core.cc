@@ -894,16 +894,18 @@ namespace fmpm
               const bool   beyond = side == 0 ? x[d] < face : x[d] > face;
               const types::boundary_id id_of_face = 2 * d + side;
               if (beyond && held.count(id_of_face) > 0)
+                // FMPM's, XPIC's and PIC midpoint's position updates read
+                // the point's own velocity when psi > 0 (seed 000 Table 2.1,
+                // Eq. 2.28).
                 return "Where: the point crossed boundary id " +
                        std::to_string(id_of_face) +
-                       ", which has a velocity condition. The condition holds "
-                       "the grid velocity, not the points: a particle update "
-                       "that moves points also with their own velocity (FLIP, "
-                       "or 'Position update psi' > 0) carries a point next to "
-                       "the boundary through it. Likely remedy: 'Position "
-                       "update psi = 0' in 'Particle update/Fmpm' (or "
-                       "'/Flip', '/Xpic'), which moves the points with the "
-                       "grid velocity.";
+                       ", which has a velocity condition: the condition holds "
+                       "the grid velocity at the boundary's nodes, not the "
+                       "points. A position update that moves a point also "
+                       "with its own velocity ('Position update psi' > 0 in "
+                       "'Particle update/Fmpm', '/Xpic' or '/Pic midpoint') "
+                       "can carry it through; with psi = 0 the points move "
+                       "with the grid velocity.";
             }
         return "";
       }

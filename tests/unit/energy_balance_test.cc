@@ -123,7 +123,7 @@ TEST(EnergyBalance, IndependentOfOriginAndEmptyMesh)
 
 
 
-// Output/Interval with Exact output times (the default): the history rows
+// Output/Interval with Exact output times = true: the history rows
 // lie at the multiples of the interval although the automatic time step
 // does not divide it; without, at the first step past each multiple.
 TEST(EnergyBalance, ExactOutputTimes)
