@@ -1200,8 +1200,35 @@ namespace fmpm
                         format_number(defaults.interval),
                         Patterns::Double(0),
                         "Simulated time between outputs (history row and "
-                        "VTU files); 0 writes every 'Step interval' steps. "
+                        "VTU files): an output at t = 0, after the first "
+                        "step that reaches each multiple of it (at that "
+                        "step's time, up to one step late; exactly at the "
+                        "multiple with 'Exact output times'), and after the "
+                        "last step; 0 writes every 'Step interval' steps. "
                         "Units: s.");
+      prm.declare_entry(
+        "Exact output times",
+        bool_text(defaults.exact_output_times),
+        Patterns::Bool(),
+        "With 'Interval' > 0: shorten the step that would pass a multiple "
+        "of 'Interval' so that it ends on it (the step before is shortened "
+        "too when the rest is less than two steps, as at 'End time', so "
+        "that no step is shorter than half the others); false: the output "
+        "follows the first step that reaches the multiple, at its time. "
+        "Units: none.");
+      prm.declare_entry(
+        "Tracked points",
+        defaults.tracked_points,
+        Patterns::Anything(),
+        "Material points whose displacement u = x - X, velocity and Cauchy "
+        "stress history.csv records at each row (columns trackN_ux, "
+        "trackN_uy[, trackN_uz], trackN_vx, ..., trackN_sxx, trackN_syy, "
+        "trackN_sxy in 2D (3D: sxx, syy, szz, sxy, sxz, syz), N = 1, 2, "
+        "... in the order given; nan once the point has left the mesh). "
+        "Entries separated by ';', each either a position (dim numbers "
+        "separated by ',': the point nearest to it at the start, which "
+        "must lie inside a body) or a point id (one integer). Empty: "
+        "none. Units: m (positions).");
       prm.declare_entry("Step interval",
                         std::to_string(defaults.step_interval),
                         Patterns::Integer(0),
@@ -1266,6 +1293,8 @@ namespace fmpm
     directory               = prm.get("Directory");
     interval                = prm.get_double("Interval");
     step_interval           = prm.get_integer("Step interval");
+    exact_output_times      = prm.get_bool("Exact output times");
+    tracked_points          = prm.get("Tracked points");
     write_vtu               = prm.get_bool("Write vtu");
     compression             = compression_names.value(prm.get("Compression"));
     write_particle_csv      = prm.get_bool("Write particle csv");
@@ -1331,10 +1360,14 @@ namespace fmpm
       prm.declare_entry("Energy growth limit",
                         format_number(defaults.energy_growth_limit),
                         Patterns::Double(1),
-                        "The run fails when the total energy exceeds this "
-                        "factor times the largest of the initial total "
-                        "energy, the energy put in by body forces, walls "
-                        "and tractions, and the kinetic energy of all "
+                        "The run fails when the energy balance E - E0 - W "
+                        "(W the work of walls and tractions; potential "
+                        "energy from the initial configuration) exceeds "
+                        "this factor minus 1 times the largest of the "
+                        "scale of summary.json's energy_error (initial "
+                        "kinetic + strain energy, energy exchanged, gross "
+                        "external work), the work gravity can do across "
+                        "the mesh's diagonal, and the kinetic energy of all "
                         "material at the fastest moving wall's speed. "
                         "Units: none.");
       prm.declare_entry(

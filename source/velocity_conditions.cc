@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
+#include <fmpm/function_parser.h>
 #include <fmpm/velocity_conditions.h>
 
 #include <deal.II/base/mpi.h>
@@ -76,57 +77,34 @@ namespace fmpm
     wall_displacement.assign(walls.size(), 0.);
     for (unsigned int w = 0; w < walls.size(); ++w)
       {
+        const std::string where =
+          "Boundary conditions/" + numbered_subsection("Moving wall", w);
+        const auto constants =
+          parse_function_constants(walls[w].constants,
+                                   where + "/Function constants");
         auto function = std::make_unique<FunctionParser<1>>(1);
-        try
-          {
-            function->initialize(
-              "x,t",
-              walls[w].velocity,
-              parse_function_constants(walls[w].constants,
-                                       "Boundary conditions/" +
-                                         numbered_subsection("Moving wall", w) +
-                                         "/Function constants"),
-              true);
-            function->value(Point<1>()); // muparser parses on first use
-          }
-        catch (const std::exception &e)
-          {
-            AssertThrow(false,
-                        ExcMessage("Boundary conditions/" +
-                                   numbered_subsection("Moving wall", w) +
-                                   "/Velocity = <" + walls[w].velocity +
-                                   "> is not a valid expression in t: " +
-                                   error_message(e)));
-          }
+        parse_function(*function,
+                       where + "/Velocity",
+                       walls[w].velocity,
+                       walls[w].velocity,
+                       "x,t",
+                       constants,
+                       true,
+                       "a valid expression in t");
         wall_velocity.push_back(std::move(function));
 
         std::unique_ptr<FunctionParser<dim>> region;
         if (!walls[w].region.empty())
           {
             region = std::make_unique<FunctionParser<dim>>(1);
-            try
-              {
-                region->initialize(
-                  FunctionParser<dim>::default_variable_names() + ",t",
-                  walls[w].region,
-                  parse_function_constants(walls[w].constants,
-                                           "Boundary conditions/" +
-                                             numbered_subsection("Moving wall",
-                                                                 w) +
-                                             "/Function constants"),
-                  true);
-                region->value(Point<dim>());
-              }
-            catch (const std::exception &e)
-              {
-                AssertThrow(false,
-                            ExcMessage("Boundary conditions/" +
-                                       numbered_subsection("Moving wall", w) +
-                                       "/Region = <" + walls[w].region +
-                                       "> is not a valid expression in x, y, "
-                                       "z, t: " +
-                                       error_message(e)));
-              }
+            parse_function(*region,
+                           where + "/Region",
+                           walls[w].region,
+                           walls[w].region,
+                           FunctionParser<dim>::default_variable_names() + ",t",
+                           constants,
+                           true,
+                           "a valid expression in x, y, z, t");
           }
         wall_region.push_back(std::move(region));
       }

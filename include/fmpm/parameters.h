@@ -429,7 +429,13 @@ namespace fmpm
     std::string  directory     = "output";
     double       interval      = 0.0;
     unsigned int step_interval = 0;
-    bool         write_vtu     = true;
+    /** Shorten the step that would pass a multiple of 'interval' so that
+     * the output lands on it. */
+    bool exact_output_times = false;
+    bool write_vtu          = true;
+    /** Output/Tracked points as written: positions (dim numbers) or point
+     * ids, separated by ';' (resolved by the Simulator). */
+    std::string tracked_points;
     /** zlib level of the VTU data. */
     enum class Compression
     {

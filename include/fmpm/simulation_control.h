@@ -31,6 +31,7 @@ namespace fmpm
       , max_steps(time.max_steps)
       , output_interval(output.interval)
       , output_step_interval(std::max(1u, output.step_interval))
+      , exact_output_times(output.exact_output_times)
       , checkpoint_step_interval(checkpoint.step_interval)
       , checkpoint_wall_interval(60 * checkpoint.wall_time_interval)
     {}
@@ -98,6 +99,17 @@ namespace fmpm
       if (output_interval > 0)
         return t >= next_output_time * (1 - 1e-12);
       return step_number % output_step_interval == 0;
+    }
+
+    /** The time from now to the next output time when the steps land on
+     * the output times (Output/Exact output times with Output/Interval >
+     * 0), else infinity. Units: s. */
+    double
+    time_to_next_output() const
+    {
+      if (output_interval > 0 && exact_output_times)
+        return next_output_time - current_time;
+      return std::numeric_limits<double>::infinity();
     }
 
     /** Whether output is due now. */
@@ -194,6 +206,7 @@ namespace fmpm
     const unsigned int max_steps;
     const double       output_interval;
     const unsigned int output_step_interval;
+    const bool         exact_output_times;
     const unsigned int checkpoint_step_interval;
     const double       checkpoint_wall_interval;
 

@@ -500,11 +500,31 @@ namespace fmpm
     sort_particles_into_cells();
     void
     check_energy(const GlobalStatistics<dim> &statistics);
+    /** The largest change of the kinetic, the strain or the potential
+     * energy from its initial value, at the outputs so far and in
+     * @p statistics. Units: J. */
+    double
+    energy_exchanged(const GlobalStatistics<dim> &statistics) const;
+    /** The energy balance (E - E0 - W) / scale of summary.json with scale
+     * the largest of KE0 + SE0, energy_exchanged() and Σ|dW| (README,
+     * Output files). */
+    double
+    energy_error(const GlobalStatistics<dim> &statistics) const;
+    double
+    energy_error_scale(const GlobalStatistics<dim> &statistics) const;
 
     /** Where the fastest material point is (id, body, position, speed), for
      * failure messages; collective. */
     std::string
     fastest_point() const;
+
+    /** Where a failure of one material point happened and what that points
+     * to: a point that left the mesh through a boundary with a velocity
+     * condition, or an inverted/failed point at a free surface or corner
+     * of its body (judged by the nodal masses of its cell). Empty for other
+     * failures. Collective. */
+    std::string
+    failure_location_hint(const SimulationFailure &failure) const;
 
     // --- checkpoint and restart (simulator/checkpoint_restart.cc) ---
     /** Install the SIGTERM/SIGINT handler that requests a checkpoint. */
@@ -561,6 +581,20 @@ namespace fmpm
      * ranks; postprocess/checkerboard.h). */
     void
     compute_checkerboard(HistoryRow<dim> &row) const;
+    /** The ids of Output/Tracked points: a position takes the point whose
+     * initial position is nearest to it (the same at the start and on
+     * resume). Throws, naming the entry, for a position outside every
+     * body or an id no point has. Collective. */
+    void
+    find_tracked_points();
+    /** history.csv columns of the tracked points (trackN_ux, ...). */
+    std::vector<std::string>
+    tracked_point_columns() const;
+    /** Displacement x - X, velocity and Cauchy stress of each tracked point
+     * in the order of tracked_point_columns() (NaN for a point that left
+     * the mesh), the same on every rank. Collective. */
+    std::vector<double>
+    tracked_point_values() const;
     /** particles_NNNNN.csv of output @p n_output (Output/Write particle
      * csv). */
     void
@@ -714,6 +748,8 @@ namespace fmpm
     }
 
     History<dim> history;
+    /** Ids of the points of Output/Tracked points, in its order. */
+    std::vector<types::particle_index> tracked_point_ids;
 
     /** Time, step, Δt and the output and checkpoint schedules. */
     SimulationControl control;
@@ -737,6 +773,12 @@ namespace fmpm
     /** Scale of the energy-growth bound (initial kinetic + strain energy, or
      * the work gravity can do across the mesh). Units: J. */
     double initial_energy_scale = 0;
+    /** Kinetic and strain energy at the start, and the largest change of
+     * the kinetic, strain or potential energy from its initial value at
+     * the outputs so far (energy_exchanged()). Units: J. */
+    double initial_kinetic_energy = 0;
+    double initial_strain_energy  = 0;
+    double max_energy_exchanged   = 0;
     /** Σ over outputs of the squared reference errors and norms. */
     std::array<double, 4> error_sums{{0, 0, 0, 0}};
     /** Energy dissipated by the particle updates on this rank in the

@@ -71,7 +71,7 @@ namespace fmpm
 
     /** First line of every state file, and its format version. */
     const std::string  state_magic   = "fmpm checkpoint";
-    const unsigned int state_version = 1;
+    const unsigned int state_version = 2;
 
     namespace fs = std::filesystem;
 
@@ -132,10 +132,11 @@ namespace fmpm
     // fields. The values are the same on every rank (sums and maxima were
     // reduced), so rank 0's copy serves any number of ranks on resume.
     archive &control &mass_floor_value &max_signal_speed &initial_total_energy
-      &initial_energy_scale &external_work &external_work_scale &mesh_diameter
-        &max_condition_error &reaction_forces &total_lost_points
-          &dissipated_energy &particle_pvd_records &grid_pvd_records
-            &particle_steps &mesh_adaptations &cell_steps &max_cells;
+      &initial_energy_scale &initial_kinetic_energy &initial_strain_energy
+        &max_energy_exchanged &external_work &external_work_scale &mesh_diameter
+          &max_condition_error &reaction_forces &total_lost_points
+            &dissipated_energy &particle_pvd_records &grid_pvd_records
+              &particle_steps &mesh_adaptations &cell_steps &max_cells;
     if (contact)
       archive &*contact;
     for (double &sum : error_sums)

@@ -3,6 +3,7 @@
 
 // The run loop and the MPM time step of seed 000 §2.2.
 
+#include <fmpm/function_parser.h>
 #include <fmpm/simulator.h>
 
 #include <deal.II/base/function_parser.h>
@@ -13,6 +14,8 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <set>
+#include <sstream>
 
 namespace fmpm
 {
@@ -51,6 +54,7 @@ namespace fmpm
     try
       {
         set_up(prm);
+        find_tracked_points();
       }
     catch (...)
       {
@@ -271,9 +275,11 @@ namespace fmpm
     if (dt == 0)
       dt = std::min(parameters.time.courant_number, stability.max_courant) *
            minimum_cell_size / max_signal_speed;
-    // Do not step past the end time (avoid a tiny last step by splitting the
-    // rest evenly when it is less than two steps).
-    const double rest = parameters.time.end_time - control.time();
+    // Do not step past the end time, nor past the next output time with
+    // Output/Exact output times (avoid a tiny step by splitting the rest
+    // evenly when it is less than two steps).
+    const double rest = std::min(parameters.time.end_time - control.time(),
+                                 control.time_to_next_output());
     if (rest < dt * (1 + 1e-12))
       dt = rest;
     else if (rest < 2 * dt)
@@ -358,8 +364,10 @@ namespace fmpm
           history.restore(restored_history_rows);
         else
           {
-            initial_total_energy = statistics.total_energy();
-            double g             = 0;
+            initial_total_energy   = statistics.total_energy();
+            initial_kinetic_energy = statistics.kinetic_energy;
+            initial_strain_energy  = statistics.strain_energy;
+            double g               = 0;
             for (unsigned int d = 0; d < dim; ++d)
               g += parameters.gravity[d] * parameters.gravity[d];
             // The diagonal of the mesh's bounding box (GridTools::diameter
@@ -461,10 +469,14 @@ namespace fmpm
               << "*** The run failed at step " << failure.step << ", time "
               << failure.time << ":" << std::endl
               << "    " << failure.what() << std::endl;
-        // Stresses from full-mass velocities need about 1/√3 of the lumped
-        // stable time step and less at free surfaces (doc/benchmarks.md).
-        if (!parameters.method.lumped_strain_velocities &&
-            mass_matrix->order() > 1)
+        // A failure at a body's edge or at a boundary condition names that
+        // cause; otherwise: stresses from full-mass velocities need about
+        // 1/√3 of the lumped stable time step (doc/benchmarks.md).
+        const std::string location_hint = failure_location_hint(failure);
+        if (!location_hint.empty())
+          pcout << "    " << location_hint << std::endl;
+        else if (!parameters.method.lumped_strain_velocities &&
+                 mass_matrix->order() > 1)
           pcout << "    The stresses are updated with velocities from the "
                 << "mass matrix '" << parameters.method.mass_matrix
                 << "', which needs a smaller time step than the lumped one "
@@ -676,18 +688,28 @@ namespace fmpm
         const auto constants =
           parse_function_constants(parameters.reference.constants,
                                    "Reference solution/Function constants");
-        reference_velocity     = std::make_unique<FunctionParser<dim>>(dim);
-        reference_displacement = std::make_unique<FunctionParser<dim>>(dim);
-        reference_velocity->initialize(
-          FunctionParser<dim>::default_variable_names() + ",t",
-          parameters.reference.velocity,
-          constants,
-          true);
-        reference_displacement->initialize(
-          FunctionParser<dim>::default_variable_names() + ",t",
-          to_function_expressions(parameters.reference.displacement),
-          constants,
-          true);
+        reference_velocity         = std::make_unique<FunctionParser<dim>>(dim);
+        reference_displacement     = std::make_unique<FunctionParser<dim>>(dim);
+        const std::string expected = std::to_string(dim) +
+                                     " expressions in x, y" +
+                                     (dim == 3 ? ", z" : "") + ", t";
+        parse_function(*reference_velocity,
+                       "Reference solution/Velocity",
+                       parameters.reference.velocity,
+                       to_function_expressions(parameters.reference.velocity),
+                       FunctionParser<dim>::default_variable_names() + ",t",
+                       constants,
+                       true,
+                       expected);
+        parse_function(*reference_displacement,
+                       "Reference solution/Displacement",
+                       parameters.reference.displacement,
+                       to_function_expressions(
+                         parameters.reference.displacement),
+                       FunctionParser<dim>::default_variable_names() + ",t",
+                       constants,
+                       true,
+                       expected);
         reference_velocity->set_time(control.time());
         reference_displacement->set_time(control.time());
       }
@@ -730,11 +752,13 @@ namespace fmpm
         s.kinetic_energy += 0.5 * M * V * V;
         s.strain_energy +=
           p[Index::initial_volume] * p[Index::strain_energy_density];
-        s.potential_energy -= M * (gravity * x);
+        // Gravity's potential energy relative to the initial configuration
+        // (independent of where the origin lies): -Σ M g·(x - X).
+        const Point<dim> X(get_vector<dim>(p, Index::initial_position));
+        s.potential_energy -= M * (gravity * (x - X));
         if (reference_velocity)
           {
-            const Point<dim> X(get_vector<dim>(p, Index::initial_position));
-            Tensor<1, dim>   v_ref, u_ref;
+            Tensor<1, dim> v_ref, u_ref;
             for (unsigned int d = 0; d < dim; ++d)
               {
                 v_ref[d] = reference_velocity->value(X, d);
@@ -797,9 +821,8 @@ namespace fmpm
     const double wall_speed =
       velocity_conditions.fastest_wall_speed(control.time());
     const double scale =
-      std::max({std::abs(initial_total_energy),
+      std::max({energy_error_scale(statistics),
                 initial_energy_scale,
-                external_work_scale,
                 0.5 * statistics.mass * wall_speed * wall_speed});
     if (!std::isfinite(E))
       throw SimulationFailure("total energy is not finite (NaN or Inf)",
@@ -828,6 +851,152 @@ namespace fmpm
           format_number(external_work, 6) + " J); " + fastest_point(),
         control.step_number(),
         control.time());
+  }
+
+
+
+  template <int dim>
+  std::string
+  Simulator<dim>::failure_location_hint(const SimulationFailure &failure) const
+  {
+    // The failure messages of one point start "material point <id> ".
+    const std::string message = failure.what();
+    const std::string prefix  = "material point ";
+    if (message.rfind(prefix, 0) != 0)
+      return "";
+    std::istringstream    id_text(message.substr(prefix.size()));
+    types::particle_index id = 0;
+    if (!(id_text >> id))
+      return "";
+
+    // 1. A point that left the mesh of a box through a face with a velocity
+    //    condition (boundary ids 2d, 2d + 1 of direction d).
+    const std::string left = "left the mesh at position (";
+    const auto        at   = message.find(left);
+    if (at != std::string::npos)
+      {
+        std::istringstream position_text(message.substr(at + left.size()));
+        Point<dim>         x;
+        for (unsigned int d = 0; d < dim; ++d)
+          position_text >> x[d];
+        if (!position_text || parameters.mesh.type != MeshParameters::Type::box)
+          return "";
+        const auto                  &bc = parameters.boundary_conditions;
+        std::set<types::boundary_id> held(bc.fixed.begin(), bc.fixed.end());
+        held.insert(bc.roller.begin(), bc.roller.end());
+        for (const auto &wall : bc.moving_walls)
+          held.insert(wall.boundary_ids.begin(), wall.boundary_ids.end());
+        for (unsigned int d = 0; d < dim; ++d)
+          for (const unsigned int side : {0u, 1u})
+            {
+              const double face = side == 0 ? parameters.mesh.lower_corner[d] :
+                                              parameters.mesh.upper_corner[d];
+              const bool   beyond = side == 0 ? x[d] < face : x[d] > face;
+              const types::boundary_id id_of_face = 2 * d + side;
+              if (beyond && held.count(id_of_face) > 0)
+                // FMPM's, XPIC's and PIC midpoint's position updates read
+                // the point's own velocity when psi > 0 (seed 000 Table 2.1,
+                // Eq. 2.28).
+                return "Where: the point crossed boundary id " +
+                       std::to_string(id_of_face) +
+                       ", which has a velocity condition: the condition holds "
+                       "the grid velocity at the boundary's nodes, not the "
+                       "points. A position update that moves a point also "
+                       "with its own velocity ('Position update psi' > 0 in "
+                       "'Particle update/Fmpm', '/Xpic' or '/Pic midpoint') "
+                       "can carry it through; with psi = 0 the points move "
+                       "with the grid velocity.";
+            }
+        return "";
+      }
+
+    // 2. An inverted or failed point: how full the nodes of its cell are.
+    //    A node inside a body holds about ρ₀ times the measure of a cell
+    //    (each of its 2^dim cells gives it 1/2^dim); a node at a free face
+    //    about half of that, at a free corner a quarter.
+    using Index     = PropertyIndex<dim>;
+    double min_fill = -1;
+    int    body     = -1;
+    for (unsigned int c = 0; c < points.n_cells(); ++c)
+      for (unsigned int k = points.cell_point_begin[c];
+           k < points.cell_point_begin[c + 1];
+           ++k)
+        if (points.id[k] == id)
+          {
+            const PointRecord p   = points.record(k);
+            const double density0 = p[Index::mass] / p[Index::initial_volume];
+            const auto  &cell     = points.cell_iterator(c);
+            std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+            typename DoFHandler<dim>::active_cell_iterator dof_cell(
+              &triangulation, cell->level(), cell->index(), &dof_handler);
+            dof_cell->get_dof_indices(dofs);
+            min_fill = std::numeric_limits<double>::max();
+            for (const auto dof : dofs)
+              min_fill =
+                std::min(min_fill,
+                         lumped_mass(dof) / (density0 * cell->measure()));
+            body = static_cast<int>(p[Index::body_id]);
+          }
+    min_fill = Utilities::MPI::max(min_fill, mpi_communicator);
+    body     = Utilities::MPI::max(body, mpi_communicator);
+    if (min_fill < 0 || min_fill >= 0.75)
+      return "";
+    std::string hint =
+      "Where: the point is at a free " +
+      std::string(min_fill < 0.375 ? "corner" : "surface") + " of Body " +
+      std::to_string(body) + " (the lightest node of its cell holds " +
+      format_number(100 * min_fill, 2) +
+      " % of the mass of a node inside the body). The nodes there rest on "
+      "few points, so their velocities and the deformation they give the "
+      "point are the least accurate of the body: the likely cause is the "
+      "resolution of the edge, not the time step. Likely remedies: more "
+      "'Points per cell' or a finer mesh";
+    if (!parameters.method.lumped_strain_velocities && mass_matrix->order() > 1)
+      hint += ", or 'Time/Strain update mass matrix = lumped' (the lumped "
+              "velocity p/m of a node is an average of its points' "
+              "velocities; the series of the mass matrix '" +
+              parameters.method.mass_matrix +
+              "' can amplify the momenta of nearly empty nodes)";
+    return hint + ".";
+  }
+
+
+
+  template <int dim>
+  double
+  Simulator<dim>::energy_exchanged(
+    const GlobalStatistics<dim> &statistics) const
+  {
+    // The potential energy is measured from the initial configuration
+    // (compute_statistics()), so its change is its value.
+    return std::max(
+      {max_energy_exchanged,
+       std::abs(statistics.kinetic_energy - initial_kinetic_energy),
+       std::abs(statistics.strain_energy - initial_strain_energy),
+       std::abs(statistics.potential_energy)});
+  }
+
+
+
+  template <int dim>
+  double
+  Simulator<dim>::energy_error_scale(
+    const GlobalStatistics<dim> &statistics) const
+  {
+    return std::max({initial_kinetic_energy + initial_strain_energy,
+                     energy_exchanged(statistics),
+                     external_work_scale,
+                     std::numeric_limits<double>::min()});
+  }
+
+
+
+  template <int dim>
+  double
+  Simulator<dim>::energy_error(const GlobalStatistics<dim> &statistics) const
+  {
+    return (statistics.total_energy() - initial_total_energy - external_work) /
+           energy_error_scale(statistics);
   }
 
 

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -358,6 +359,7 @@ namespace fmpm
     row.mass              = statistics.mass;
     row.dissipated_energy = dissipated_energy;
     row.reactions         = reaction_forces;
+    max_energy_exchanged  = energy_exchanged(statistics);
     if (statistics.per_material.size() > 0)
       {
         // Per material: mass, centre-of-mass velocity, volume-averaged
@@ -381,6 +383,8 @@ namespace fmpm
         row.extra.push_back(contact_nodes);
       }
     for (const double value : mass_matrix->history_values())
+      row.extra.push_back(value);
+    for (const double value : tracked_point_values())
       row.extra.push_back(value);
     row.error_velocity_l2 =
       statistics.velocity_reference_squared > 0 ?
@@ -807,15 +811,11 @@ namespace fmpm
         << ",\n";
     out << "  \"initial_total_energy\": " << number(initial_total_energy)
         << ",\n";
-    // The balance E - E0 - W of the run-time energy check, with W the work
-    // of walls and tractions.
-    out << "  \"energy_error\": "
-        << number((statistics.total_energy() - initial_total_energy -
-                   external_work) /
-                  std::max({std::abs(initial_total_energy),
-                            initial_energy_scale,
-                            external_work_scale}))
-        << ",\n";
+    // The balance E - E0 - W, with W the work of walls and tractions, over
+    // the largest energy the run held or moved (energy_error_scale()).
+    out << "  \"energy_error\": " << number(energy_error(statistics)) << ",\n";
+    out << "  \"energy_error_scale\": "
+        << number(energy_error_scale(statistics)) << ",\n";
     out << "  \"lost_points\": " << total_lost_points << ",\n";
     {
       // The largest checkerboard indicator of the outputs, and its time.
@@ -888,6 +888,8 @@ namespace fmpm
     std::vector<std::string> columns = material_history_columns();
     for (const auto &column : mass_matrix->history_columns())
       columns.push_back(column);
+    for (const auto &column : tracked_point_columns())
+      columns.push_back(column);
     return columns;
   }
 
@@ -917,6 +919,176 @@ namespace fmpm
     columns.push_back("friction_work");
     columns.push_back("contact_nodes");
     return columns;
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::find_tracked_points()
+  {
+    using Index = PropertyIndex<dim>;
+    tracked_point_ids.clear();
+    const std::string &text  = parameters.output.tracked_points;
+    const std::string  where = "Output/Tracked points = <" + text + ">: ";
+    for (const auto &entry : Utilities::split_string_list(text, ';'))
+      {
+        if (entry.empty())
+          continue;
+        const auto          fields = Utilities::split_string_list(entry, ',');
+        std::vector<double> numbers;
+        for (const auto &field : fields)
+          {
+            char        *end   = nullptr;
+            const double value = std::strtod(field.c_str(), &end);
+            AssertThrow(!field.empty() && *end == '\0' && std::isfinite(value),
+                        ExcMessage(where + "<" + entry +
+                                   "> is neither a point id nor " +
+                                   std::to_string(dim) +
+                                   " coordinates separated by ','."));
+            numbers.push_back(value);
+          }
+        AssertThrow(numbers.size() == 1 || numbers.size() == dim,
+                    ExcMessage(where + "<" + entry + "> has " +
+                               std::to_string(numbers.size()) +
+                               " numbers: give a point id (one integer) or a "
+                               "position (" +
+                               std::to_string(dim) + " coordinates)."));
+        if (numbers.size() == 1)
+          {
+            AssertThrow(numbers[0] >= 0 && numbers[0] == std::floor(numbers[0]),
+                        ExcMessage(where + "the point id <" + entry +
+                                   "> is not an integer >= 0."));
+            const auto id  = static_cast<types::particle_index>(numbers[0]);
+            bool       has = false;
+            for (unsigned int k = 0; k < points.n_points() && !has; ++k)
+              has = points.id[k] == id;
+            AssertThrow(Utilities::MPI::logical_or(has, mpi_communicator),
+                        ExcMessage(where + "no material point has id " + entry +
+                                   " (the scene has " +
+                                   std::to_string(n_global_material_points) +
+                                   " points)."));
+            tracked_point_ids.push_back(id);
+            continue;
+          }
+        // The point whose initial position is nearest (the smallest id among
+        // equally near ones); the position must lie in the box of a point's
+        // initial domain, X ± l0.
+        Point<dim> position;
+        for (unsigned int d = 0; d < dim; ++d)
+          position[d] = numbers[d];
+        double                distance = std::numeric_limits<double>::max();
+        types::particle_index nearest =
+          std::numeric_limits<types::particle_index>::max();
+        bool inside = false;
+        for (unsigned int k = 0; k < points.n_points(); ++k)
+          {
+            const PointRecord    p = points.record(k);
+            const Point<dim>     X(get_vector<dim>(p, Index::initial_position));
+            const Tensor<1, dim> l0 =
+              get_vector<dim>(p, Index::initial_half_length);
+            bool in_domain = true;
+            for (unsigned int d = 0; d < dim; ++d)
+              in_domain = in_domain &&
+                          std::abs(position[d] - X[d]) <= l0[d] * (1 + 1e-12);
+            inside         = inside || in_domain;
+            const double r = position.distance(X);
+            if (r < distance || (r == distance && points.id[k] < nearest))
+              {
+                distance = r;
+                nearest  = points.id[k];
+              }
+          }
+        const auto distances =
+          Utilities::MPI::all_gather(mpi_communicator, distance);
+        const auto ids = Utilities::MPI::all_gather(mpi_communicator, nearest);
+        distance       = std::numeric_limits<double>::max();
+        for (unsigned int r = 0; r < ids.size(); ++r)
+          if (distances[r] < distance ||
+              (distances[r] == distance && ids[r] < nearest))
+            {
+              distance = distances[r];
+              nearest  = ids[r];
+            }
+        std::ostringstream place;
+        place << "(" << position << ")";
+        AssertThrow(Utilities::MPI::logical_or(inside, mpi_communicator),
+                    ExcMessage(where + "the position " + place.str() +
+                               " lies outside every body (the nearest "
+                               "material point, id " +
+                               std::to_string(nearest) + ", started " +
+                               format_number(distance, 6) + " m from it)."));
+        tracked_point_ids.push_back(nearest);
+      }
+  }
+
+
+
+  template <int dim>
+  std::vector<std::string>
+  Simulator<dim>::tracked_point_columns() const
+  {
+    const std::vector<std::string> stress =
+      dim == 2 ? std::vector<std::string>{"xx", "yy", "xy"} :
+                 std::vector<std::string>{"xx", "yy", "zz", "xy", "xz", "yz"};
+    std::vector<std::string> columns;
+    for (unsigned int n = 0; n < tracked_point_ids.size(); ++n)
+      {
+        const std::string prefix = "track" + std::to_string(n + 1) + "_";
+        for (const char quantity : {'u', 'v'})
+          for (unsigned int d = 0; d < dim; ++d)
+            columns.push_back(prefix + quantity + "xyz"[d]);
+        for (const auto &c : stress)
+          columns.push_back(prefix + "s" + c);
+      }
+    return columns;
+  }
+
+
+
+  template <int dim>
+  std::vector<double>
+  Simulator<dim>::tracked_point_values() const
+  {
+    using Index                     = PropertyIndex<dim>;
+    constexpr unsigned int n_stress = GlobalStatistics<dim>::n_stress;
+    constexpr unsigned int n_values = 2 * dim + n_stress;
+    // The stored stress slots of xx, yy, xy in 2D (xx, yy, zz, xy, xz, yz in
+    // 3D), as in compute_statistics().
+    constexpr unsigned int stress_slots[6] = {0, 1, 3, 2, 4, 5};
+    const unsigned int     n_tracked       = tracked_point_ids.size();
+    // Each value from the one rank that owns the point, zeros from the
+    // others (the sums are exact), and the count of owners.
+    std::vector<double> values(n_tracked * (n_values + 1), 0.);
+    if (n_tracked == 0)
+      return values;
+    for (unsigned int k = 0; k < points.n_points(); ++k)
+      for (unsigned int n = 0; n < n_tracked; ++n)
+        if (points.id[k] == tracked_point_ids[n])
+          {
+            const PointRecord    p = points.record(k);
+            const Point<dim>     X(get_vector<dim>(p, Index::initial_position));
+            const Tensor<1, dim> u   = points.position[k] - X;
+            const Tensor<1, dim> V   = get_vector<dim>(p, Index::velocity);
+            double *const        row = &values[n * n_values];
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                row[d]       = u[d];
+                row[dim + d] = V[d];
+              }
+            for (unsigned int c = 0; c < n_stress; ++c)
+              row[2 * dim + c] =
+                p[Index::stress + (dim == 2 ? stress_slots[c] : c)];
+            values[n_tracked * n_values + n] = 1;
+          }
+    Utilities::MPI::sum(values, mpi_communicator, values);
+    for (unsigned int n = 0; n < n_tracked; ++n)
+      if (values[n_tracked * n_values + n] == 0)
+        std::fill(values.begin() + n * n_values,
+                  values.begin() + (n + 1) * n_values,
+                  std::numeric_limits<double>::quiet_NaN());
+    values.resize(n_tracked * n_values);
+    return values;
   }
 
 

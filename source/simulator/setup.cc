@@ -5,6 +5,7 @@
 // material points of every body, the grid velocity conditions and the
 // plugins.
 
+#include <fmpm/function_parser.h>
 #include <fmpm/simulator.h>
 
 #include <deal.II/base/function_parser.h>
@@ -318,26 +319,18 @@ namespace fmpm
         const std::string where =
           numbered_subsection("Body", b) + "/Initial velocity";
         initial_velocity.push_back(std::make_unique<FunctionParser<dim>>(dim));
-        try
-          {
-            initial_velocity.back()->initialize(
-              FunctionParser<dim>::default_variable_names(),
-              to_function_expressions(parameters.bodies[b].velocity_expression),
-              parse_function_constants(parameters.bodies[b].function_constants,
-                                       numbered_subsection("Body", b) +
-                                         "/Function constants"));
-          }
-        catch (const ExceptionBase &e)
-          {
-            std::ostringstream message;
-            e.print_info(message);
-            AssertThrow(false,
-                        ExcMessage(
-                          where + " = <" +
-                          parameters.bodies[b].velocity_expression +
-                          "> is not " + std::to_string(dim) +
-                          " numbers or expressions: " + message.str()));
-          }
+        parse_function(
+          *initial_velocity.back(),
+          where,
+          parameters.bodies[b].velocity_expression,
+          to_function_expressions(parameters.bodies[b].velocity_expression),
+          FunctionParser<dim>::default_variable_names(),
+          parse_function_constants(parameters.bodies[b].function_constants,
+                                   numbered_subsection("Body", b) +
+                                     "/Function constants"),
+          false,
+          std::to_string(dim) + " numbers or expressions in x, y" +
+            (dim == 3 ? ", z" : ""));
       }
 
     std::vector<BoundingBox<dim>> body_boxes;
@@ -643,27 +636,17 @@ namespace fmpm
     if (!parameters.body_acceleration.empty())
       {
         auto function = std::make_unique<FunctionParser<dim>>(dim);
-        try
-          {
-            function->initialize(
-              FunctionParser<dim>::default_variable_names() + ",t",
-              to_function_expressions(parameters.body_acceleration),
-              parse_function_constants(parameters.body_acceleration_constants,
-                                       "Body force/Function constants"),
-              true);
-            function->value(Point<dim>()); // parsed on first use
-          }
-        catch (const ExceptionBase &e)
-          {
-            std::ostringstream message;
-            e.print_info(message);
-            AssertThrow(false,
-                        ExcMessage(
-                          "Body force/Acceleration = <" +
-                          parameters.body_acceleration + "> is not " +
-                          std::to_string(dim) +
-                          " expressions in x, y, z, t: " + message.str()));
-          }
+        parse_function(
+          *function,
+          "Body force/Acceleration",
+          parameters.body_acceleration,
+          to_function_expressions(parameters.body_acceleration),
+          FunctionParser<dim>::default_variable_names() + ",t",
+          parse_function_constants(parameters.body_acceleration_constants,
+                                   "Body force/Function constants"),
+          true,
+          std::to_string(dim) + " expressions in x, y" +
+            (dim == 3 ? ", z" : "") + ", t");
         body_acceleration = std::move(function);
       }
 
@@ -676,49 +659,31 @@ namespace fmpm
         const std::string where =
           "Boundary conditions/" + numbered_subsection("Traction", n);
         auto function = std::make_unique<FunctionParser<1>>(dim);
-        try
-          {
-            function->initialize(
-              "x,t",
-              to_function_expressions(tractions[n].traction),
-              parse_function_constants(tractions[n].constants,
-                                       where + "/Function constants"),
-              true);
-            function->value(Point<1>()); // muparser parses on first use
-          }
-        catch (const std::exception &e)
-          {
-            AssertThrow(false,
-                        ExcMessage(where + "/Traction = <" +
-                                   tractions[n].traction + "> is not " +
-                                   std::to_string(dim) +
-                                   " expressions in t: " + error_message(e)));
-          }
+        parse_function(*function,
+                       where + "/Traction",
+                       tractions[n].traction,
+                       to_function_expressions(tractions[n].traction),
+                       "x,t",
+                       parse_function_constants(tractions[n].constants,
+                                                where + "/Function constants"),
+                       true,
+                       std::to_string(dim) + " expressions in t");
         traction_functions.push_back(std::move(function));
       }
     if (parameters.rotating_frame.enable)
       {
         angular_velocity = std::make_unique<FunctionParser<1>>(3);
-        try
-          {
-            angular_velocity->initialize(
-              "x,t",
-              to_function_expressions(
-                parameters.rotating_frame.angular_velocity),
-              parse_function_constants(
-                parameters.rotating_frame.constants,
-                "Body force/Rotating frame/Function constants"),
-              true);
-            angular_velocity->value(Point<1>());
-          }
-        catch (const std::exception &e)
-          {
-            AssertThrow(false,
-                        ExcMessage(
-                          "Body force/Rotating frame/Angular velocity = <" +
-                          parameters.rotating_frame.angular_velocity +
-                          "> is not 3 expressions in t: " + error_message(e)));
-          }
+        parse_function(*angular_velocity,
+                       "Body force/Rotating frame/Angular velocity",
+                       parameters.rotating_frame.angular_velocity,
+                       to_function_expressions(
+                         parameters.rotating_frame.angular_velocity),
+                       "x,t",
+                       parse_function_constants(
+                         parameters.rotating_frame.constants,
+                         "Body force/Rotating frame/Function constants"),
+                       true,
+                       "3 expressions in t");
       }
 
     // The method's measured critical Courant number caps the automatic time
