@@ -506,7 +506,8 @@ namespace fmpm
       "Or the wall as the nodes where this FunctionParser "
       "expression in x, y, z, t is positive (e.g. "
       "'0.2 + 0.1*t - x' for a plane moving along x); "
-      "re-evaluated every step. A piston that drives a body should "
+      "evaluated at set-up and after each mesh change, and every step "
+      "only if it names t. A piston that drives a body should "
       "also take the node less than one cell inside the body's face "
       "(every node whose shape functions reach the piston), else the "
       "body lags behind it (parameters/shock_nickel.prm). Units: m.");
@@ -519,14 +520,19 @@ namespace fmpm
     prm.declare_entry("Velocity",
                       defaults.velocity,
                       Patterns::Anything(),
-                      "Velocity v(t) along the direction, a "
-                      "FunctionParser expression in t (e.g. "
-                      "'v0*min(t/t0, 1)'). Units: m/s.");
+                      "Velocity v(x, t) along the direction, a "
+                      "FunctionParser expression in x, y, z (the node's "
+                      "position) and t (e.g. 'v0*min(t/t0, 1)', or "
+                      "'rate*y' for a simple shear). Evaluated once if "
+                      "constant, once per time if it names t only, and "
+                      "at every node of the wall if it names x, y or z "
+                      "(not with a box, which moves as a whole). "
+                      "Units: m/s.");
     prm.declare_entry("Function constants",
                       defaults.constants,
                       Patterns::Anything(),
-                      "Constants for 'Velocity', e.g. 'v0=0.1'. Units: "
-                      "as used.");
+                      "Constants for 'Velocity' and 'Region', e.g. "
+                      "'v0=0.1'. Units: as used.");
   }
 
 
@@ -640,6 +646,15 @@ namespace fmpm
                         Patterns::List(Patterns::Integer(0, 255)),
                         "Boundary ids on which the normal grid velocity is "
                         "zero (free slip, symmetry). Units: none.");
+      prm.declare_entry("Fixed region",
+                        defaults.fixed_region,
+                        Patterns::Anything(),
+                        "Clamp a region anywhere in the mesh: every grid "
+                        "velocity component is zero at the nodes where "
+                        "this FunctionParser expression in x, y, z, t is "
+                        "positive (e.g. '0.01 - abs(x)' for the nodes "
+                        "within 1 cm of x = 0); its reactions are reported "
+                        "as 'fixed_region'. Empty: none. Units: m.");
       prm.declare_entry(
         "Method",
         defaults.method,
@@ -685,7 +700,8 @@ namespace fmpm
       fixed.push_back(static_cast<types::boundary_id>(id));
     for (const double id : get_doubles(prm, "Roller boundary ids"))
       roller.push_back(static_cast<types::boundary_id>(id));
-    method = prm.get("Method");
+    fixed_region = prm.get("Fixed region");
+    method       = prm.get("Method");
     moving_walls.resize(size.n_moving_walls);
     for (unsigned int w = 0; w < size.n_moving_walls; ++w)
       {

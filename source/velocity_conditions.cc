@@ -8,7 +8,9 @@
 #include <deal.II/lac/lapack_full_matrix.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -23,6 +25,71 @@ namespace fmpm
       GridVectorField result(like);
       result = 0;
       return result;
+    }
+
+    /** Whether @p expression names one of @p variables (as a whole
+     * identifier: 't' is in 'v*t', not in 'sqrt(t0)'). */
+    bool
+    names_any(const std::string &expression, const std::string &variables)
+    {
+      const std::vector<std::string> names =
+        Utilities::split_string_list(variables, ',');
+      std::string::size_type i = 0;
+      while (i < expression.size())
+        {
+          const char c = expression[i];
+          if (std::isalpha(static_cast<unsigned char>(c)) || c == '_')
+            {
+              std::string::size_type j = i + 1;
+              while (j < expression.size() &&
+                     (std::isalnum(static_cast<unsigned char>(expression[j])) ||
+                      expression[j] == '_'))
+                ++j;
+              if (std::find(names.begin(),
+                            names.end(),
+                            expression.substr(i, j - i)) != names.end())
+                return true;
+              i = j;
+            }
+          else if (std::isdigit(static_cast<unsigned char>(c)) || c == '.')
+            {
+              // A number, with its exponent (1e-3 names no 'e').
+              std::string::size_type j = i + 1;
+              while (j < expression.size() &&
+                     (std::isalnum(static_cast<unsigned char>(expression[j])) ||
+                      expression[j] == '.' ||
+                      ((expression[j] == '-' || expression[j] == '+') &&
+                       (expression[j - 1] == 'e' || expression[j - 1] == 'E'))))
+                ++j;
+              i = j;
+            }
+          else
+            ++i;
+        }
+      return false;
+    }
+
+    /** A FunctionParser in x, y(, z), t of @p expression; @p what names the
+     * entry in the error message. */
+    template <int dim>
+    std::unique_ptr<FunctionParser<dim>>
+    parse_in_x_and_t(const std::string &expression,
+                     const std::string &constants,
+                     const std::string &where,
+                     const std::string &what)
+    {
+      auto function = std::make_unique<FunctionParser<dim>>(1);
+      parse_function(*function,
+                     where + "/" + what,
+                     expression,
+                     expression,
+                     FunctionParser<dim>::default_variable_names() + ",t",
+                     parse_function_constants(constants,
+                                              where + "/Function constants"),
+                     true,
+                     "a valid expression in " +
+                       FunctionParser<dim>::default_variable_names() + ", t");
+      return function;
     }
   } // namespace
 
@@ -74,40 +141,67 @@ namespace fmpm
         label_index("wall" + std::to_string(w));
 
     wall_velocity.clear();
+    wall_region.clear();
     wall_displacement.assign(walls.size(), 0.);
+    velocity_in_x.assign(walls.size(), false);
+    velocity_in_t.assign(walls.size(), false);
+    constant_velocity.assign(walls.size(), 0.);
+    any_velocity_in_x = false;
+    moving_nodes      = false;
+    const std::string space_variables =
+      FunctionParser<dim>::default_variable_names();
     for (unsigned int w = 0; w < walls.size(); ++w)
       {
         const std::string where =
           "Boundary conditions/" + numbered_subsection("Moving wall", w);
-        const auto constants =
-          parse_function_constants(walls[w].constants,
-                                   where + "/Function constants");
-        auto function = std::make_unique<FunctionParser<1>>(1);
-        parse_function(*function,
-                       where + "/Velocity",
-                       walls[w].velocity,
-                       walls[w].velocity,
-                       "x,t",
-                       constants,
-                       true,
-                       "a valid expression in t");
-        wall_velocity.push_back(std::move(function));
+        wall_velocity.push_back(parse_in_x_and_t<dim>(
+          walls[w].velocity, walls[w].constants, where, "Velocity"));
+        velocity_in_x[w]  = names_any(walls[w].velocity, space_variables);
+        velocity_in_t[w]  = names_any(walls[w].velocity, "t");
+        any_velocity_in_x = any_velocity_in_x || velocity_in_x[w];
+        if (!velocity_in_x[w] && !velocity_in_t[w])
+          constant_velocity[w] = wall_velocity[w]->value(Point<dim>());
+        const bool is_box =
+          walls[w].boundary_ids.empty() && walls[w].region.empty();
+        // A box moves rigidly: one velocity for all of it.
+        AssertThrow(!is_box || !velocity_in_x[w],
+                    ExcMessage(where + "/Velocity = <" + walls[w].velocity +
+                               "> depends on the position, but a wall given "
+                               "by 'Box lower/upper corner' moves as a "
+                               "whole: its velocity may depend on t only. "
+                               "Give the wall by 'Boundary ids' or "
+                               "'Region' for a velocity that varies in "
+                               "space."));
+        if (is_box && (velocity_in_t[w] || constant_velocity[w] != 0))
+          moving_nodes = true;
 
         std::unique_ptr<FunctionParser<dim>> region;
         if (!walls[w].region.empty())
           {
-            region = std::make_unique<FunctionParser<dim>>(1);
-            parse_function(*region,
-                           where + "/Region",
-                           walls[w].region,
-                           walls[w].region,
-                           FunctionParser<dim>::default_variable_names() + ",t",
-                           constants,
-                           true,
-                           "a valid expression in x, y, z, t");
+            region = parse_in_x_and_t<dim>(walls[w].region,
+                                           walls[w].constants,
+                                           where,
+                                           "Region");
+            if (names_any(walls[w].region, "t"))
+              moving_nodes = true;
           }
         wall_region.push_back(std::move(region));
       }
+
+    fixed_region.reset();
+    if (!bc.fixed_region.empty())
+      {
+        fixed_region       = parse_in_x_and_t<dim>(bc.fixed_region,
+                                             "",
+                                             "Boundary conditions",
+                                             "Fixed region");
+        fixed_region_label = label_index("fixed_region");
+        if (names_any(bc.fixed_region, "t"))
+          moving_nodes = true;
+      }
+    for (auto &values : cached_values)
+      values.clear();
+    cached_time.fill(std::numeric_limits<double>::quiet_NaN());
   }
 
 
@@ -117,7 +211,7 @@ namespace fmpm
   VelocityConditions<dim>::has_moving_boxes() const
   {
     for (const auto &wall : walls)
-      if (wall.boundary_ids.empty())
+      if (wall.boundary_ids.empty() && wall.region.empty())
         return true;
     return false;
   }
@@ -129,10 +223,20 @@ namespace fmpm
   VelocityConditions<dim>::fastest_wall_speed(const double t) const
   {
     double fastest = 0;
-    for (const auto &velocity : wall_velocity)
+    for (unsigned int w = 0; w < walls.size(); ++w)
+      if (!velocity_in_x[w])
+        {
+          wall_velocity[w]->set_time(t);
+          fastest =
+            std::max(fastest, std::abs(wall_velocity[w]->value(Point<dim>())));
+        }
+    if (any_velocity_in_x)
       {
-        velocity->set_time(t);
-        fastest = std::max(fastest, std::abs(velocity->value(Point<1>())));
+        const std::vector<double> &values = values_at(t);
+        for (unsigned int b = 0; b < conditions.size(); ++b)
+          if (conditions[b].wall >= 0 && velocity_in_x[conditions[b].wall])
+            fastest = std::max(fastest, std::abs(values[b]));
+        fastest = Utilities::MPI::max(fastest, mpi_communicator);
       }
     return fastest;
   }
@@ -148,25 +252,41 @@ namespace fmpm
   {
     double work = 0;
     for (unsigned int w = 0; w < walls.size(); ++w)
+      if (!velocity_in_x[w])
+        {
+          Tensor<1, dim> direction;
+          for (unsigned int d = 0; d < dim; ++d)
+            direction[d] = walls[w].direction[d];
+          wall_velocity[w]->set_time(t + 0.5 * dt);
+          const double             v = wall_velocity[w]->value(Point<dim>());
+          std::vector<std::string> wall_labels;
+          for (const auto id : walls[w].boundary_ids)
+            wall_labels.push_back(std::to_string(id));
+          if (walls[w].boundary_ids.empty())
+            wall_labels.push_back("wall" + std::to_string(w));
+          for (const auto &label : wall_labels)
+            {
+              const unsigned int s =
+                std::find(source_labels.begin(), source_labels.end(), label) -
+                source_labels.begin();
+              if (s < reactions.size())
+                work += (reactions[s] * direction) * v * dt;
+            }
+        }
+    if (any_velocity_in_x)
       {
-        Tensor<1, dim> direction;
-        for (unsigned int d = 0; d < dim; ++d)
-          direction[d] = walls[w].direction[d];
-        wall_velocity[w]->set_time(t + 0.5 * dt);
-        const double             v = wall_velocity[w]->value(Point<1>());
-        std::vector<std::string> wall_labels;
-        for (const auto id : walls[w].boundary_ids)
-          wall_labels.push_back(std::to_string(id));
-        if (walls[w].boundary_ids.empty())
-          wall_labels.push_back("wall" + std::to_string(w));
-        for (const auto &label : wall_labels)
+        // Σ_b Δp_b v_b(t + Δt/2): the force on each node times its own
+        // velocity.
+        double local_work = 0;
+        for (unsigned int b = 0; b < conditions.size(); ++b)
           {
-            const unsigned int s =
-              std::find(source_labels.begin(), source_labels.end(), label) -
-              source_labels.begin();
-            if (s < reactions.size())
-              work += (reactions[s] * direction) * v * dt;
+            const int w = conditions[b].wall;
+            if (w >= 0 && velocity_in_x[w])
+              local_work += condition_impulse[b] *
+                            wall_value(w, conditions[b], t + 0.5 * dt);
           }
+        work += Utilities::MPI::sum(local_work, mpi_communicator);
+        std::fill(condition_impulse.begin(), condition_impulse.end(), 0.);
       }
     return work;
   }
@@ -175,13 +295,52 @@ namespace fmpm
 
   template <int dim>
   double
-  VelocityConditions<dim>::value(const NodeCondition &condition,
-                                 const double         t) const
+  VelocityConditions<dim>::wall_value(const unsigned int   w,
+                                      const NodeCondition &c,
+                                      const double         t) const
   {
-    if (condition.wall < 0)
-      return 0;
-    wall_velocity[condition.wall]->set_time(t);
-    return wall_velocity[condition.wall]->value(Point<1>());
+    if (!velocity_in_x[w] && !velocity_in_t[w])
+      return constant_velocity[w];
+    wall_velocity[w]->set_time(t);
+    return wall_velocity[w]->value(
+      velocity_in_x[w] ? node_position[c.local_index] : Point<dim>());
+  }
+
+
+
+  template <int dim>
+  const std::vector<double> &
+  VelocityConditions<dim>::values_at(const double t) const
+  {
+    for (unsigned int s = 0; s < cached_time.size(); ++s)
+      if (cached_time[s] == t && cached_values[s].size() == conditions.size())
+        {
+          last_cache_slot = s;
+          return cached_values[s];
+        }
+    // The slot written least recently, never the one returned last (two
+    // calls in a row may hold both).
+    unsigned int s = next_cache_slot;
+    if (s == last_cache_slot)
+      s = (s + 1) % cached_time.size();
+    next_cache_slot             = (s + 1) % cached_time.size();
+    last_cache_slot             = s;
+    std::vector<double> &values = cached_values[s];
+    cached_time[s]              = t;
+    // v_w once per wall unless it depends on x, then per node.
+    std::vector<double> uniform(walls.size());
+    for (unsigned int w = 0; w < walls.size(); ++w)
+      if (!velocity_in_x[w])
+        uniform[w] = wall_value(w, NodeCondition{}, t);
+    values.resize(conditions.size());
+    for (unsigned int b = 0; b < conditions.size(); ++b)
+      {
+        const int w = conditions[b].wall;
+        values[b]   = w < 0             ? 0. :
+                      !velocity_in_x[w] ? uniform[w] :
+                                          wall_value(w, conditions[b], t);
+      }
+    return values;
   }
 
 
@@ -190,11 +349,13 @@ namespace fmpm
   void
   VelocityConditions<dim>::advance_walls(const double t, const double dt)
   {
+    // The displacement moves box walls, whose velocity depends on t only.
     for (unsigned int w = 0; w < walls.size(); ++w)
-      {
-        wall_velocity[w]->set_time(t + 0.5 * dt);
-        wall_displacement[w] += wall_velocity[w]->value(Point<1>()) * dt;
-      }
+      if (!velocity_in_x[w])
+        {
+          wall_velocity[w]->set_time(t + 0.5 * dt);
+          wall_displacement[w] += wall_velocity[w]->value(Point<dim>()) * dt;
+        }
   }
 
 
@@ -318,17 +479,19 @@ namespace fmpm
     std::map<std::pair<types::boundary_id, unsigned int>, Tensor<1, dim>>
                        normals;
     const unsigned int n_owned = partitioner.locally_owned_size();
-    // The nodes' positions only for walls given by a region or box.
-    const bool walls_by_region =
+    // The nodes' positions only for walls given by a region or box, for
+    // velocities in x, and for a fixed region.
+    const bool needs_positions =
+      any_velocity_in_x || fixed_region ||
       std::any_of(walls.begin(), walls.end(), [](const auto &wall) {
         return wall.boundary_ids.empty();
       });
-    node_position.assign(walls_by_region ? n_owned : 0, Point<dim>());
+    node_position.assign(needs_positions ? n_owned : 0, Point<dim>());
     node_position.shrink_to_fit();
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
         {
-          if (walls_by_region)
+          if (needs_positions)
             for (const unsigned int v : cell->vertex_indices())
               {
                 const auto dof = cell->vertex_dof_index(v, 0);
@@ -375,6 +538,28 @@ namespace fmpm
               }
         }
 
+    boundary_normals.assign(normals.begin(), normals.end());
+    build_conditions();
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::move_nodes(const double t)
+  {
+    current_time = t;
+    build_conditions();
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::build_conditions()
+  {
+    const unsigned int n_owned = partitioner_pointer->locally_owned_size();
+    const auto        &normals = boundary_normals;
     // Candidates in priority order: moving walls, fixed, roller.
     std::vector<std::vector<NodeCondition>> per_node(n_owned);
     auto label_of = [&](const std::string &label) {
@@ -411,6 +596,18 @@ namespace fmpm
                                                  entry.first.first)),
                                                static_cast<int>(w)});
       }
+    if (fixed_region)
+      {
+        fixed_region->set_time(current_time);
+        for (unsigned int i = 0; i < n_owned; ++i)
+          if (fixed_region->value(node_position[i]) > 0)
+            for (unsigned int d = 0; d < dim; ++d)
+              add_node_condition(per_node,
+                                 NodeCondition{i,
+                                               Point<dim>::unit_vector(d),
+                                               fixed_region_label,
+                                               -1});
+      }
     for (const auto &entry : normals)
       if (std::find(fixed.begin(), fixed.end(), entry.first.first) !=
           fixed.end())
@@ -434,6 +631,10 @@ namespace fmpm
     conditions.clear();
     for (const auto &list : per_node)
       conditions.insert(conditions.end(), list.begin(), list.end());
+    for (auto &values : cached_values)
+      values.clear();
+    cached_time.fill(std::numeric_limits<double>::quiet_NaN());
+    condition_impulse.assign(any_velocity_in_x ? conditions.size() : 0, 0.);
   }
 
 
@@ -450,8 +651,12 @@ namespace fmpm
     const double      floor = operators.mass_floor;
     auto add_impulse        = [&](const NodeCondition &c, const double amount) {
       if (impulse)
-        (*impulse)[c.source] += amount * c.normal;
+        {
+          (*impulse)[c.source] += amount * c.normal;
+          add_condition_impulse(&c - conditions.data(), amount);
+        }
     };
+    const std::vector<double> &v_b = values_at(t);
     auto component = [](const GridVectorField &field, const NodeCondition &c) {
       double s = 0;
       for (unsigned int d = 0; d < dim; ++d)
@@ -472,11 +677,12 @@ namespace fmpm
         case Method::constrained:
         case Method::lumped:
           // Δp_j = (m_j v_b − p_j · n̂) n̂ (Eqs. 2.51-2.52).
-          for (const auto &c : conditions)
+          for (unsigned int b = 0; b < conditions.size(); ++b)
             {
+              const auto  &c   = conditions[b];
               const double m_j = m.local_element(c.local_index);
               const double dp =
-                (m_j > floor ? m_j * value(c, t) : 0.) - component(q, c);
+                (m_j > floor ? m_j * v_b[b] : 0.) - component(q, c);
               add_along(q, c, dp);
               add_impulse(c, dp);
             }
@@ -495,15 +701,16 @@ namespace fmpm
                 v = zero_like(q);
                 operators.solve(q, v);
               }
-            for (const auto &c : conditions)
+            for (unsigned int b = 0; b < conditions.size(); ++b)
               {
+                const auto  &c   = conditions[b];
                 const double m_j = m.local_element(c.local_index);
                 if (!(m_j > floor))
                   continue;
                 const double v_j = method == Method::unlumped_1 ?
                                      component(q, c) / m_j :
                                      component(v, c);
-                const double dv  = value(c, t) - v_j;
+                const double dv  = v_b[b] - v_j;
                 add_along(delta_v, c, dv);
                 // Σ_i (m̃ Δv^(b))_i = m_j Δv (columns of m̃ sum to m).
                 add_impulse(c, m_j * dv);
@@ -530,7 +737,7 @@ namespace fmpm
               {
                 const auto &c = conditions[b];
                 active[b]     = m.local_element(c.local_index) > floor;
-                r[b]          = active[b] ? value(c, t) - component(v, c) : 0.;
+                r[b]          = active[b] ? v_b[b] - component(v, c) : 0.;
               }
             std::vector<double> phi(conditions.size());
             bool                solved = false;
@@ -618,13 +825,14 @@ namespace fmpm
   {
     if (corrections)
       corrections->resize(conditions.size());
+    const std::vector<double> &v_b = values_at(t);
     for (unsigned int b = 0; b < conditions.size(); ++b)
       {
         const auto &c   = conditions[b];
         double      v_n = 0;
         for (unsigned int d = 0; d < dim; ++d)
           v_n += v.block(d).local_element(c.local_index) * c.normal[d];
-        const double dv = value(c, t) - v_n;
+        const double dv = v_b[b] - v_n;
         for (unsigned int d = 0; d < dim; ++d)
           v.block(d).local_element(c.local_index) += dv * c.normal[d];
         if (corrections)
@@ -640,12 +848,15 @@ namespace fmpm
                                                  const double     t0,
                                                  const double     t1) const
   {
-    for (const auto &c : conditions)
+    const std::vector<double> &v_0 = values_at(t0);
+    const std::vector<double> &v_1 = values_at(t1);
+    for (unsigned int b = 0; b < conditions.size(); ++b)
       {
-        double a_n = 0;
+        const auto &c   = conditions[b];
+        double      a_n = 0;
         for (unsigned int d = 0; d < dim; ++d)
           a_n += a.block(d).local_element(c.local_index) * c.normal[d];
-        const double target = (value(c, t1) - value(c, t0)) / (t1 - t0);
+        const double target = (v_1[b] - v_0[b]) / (t1 - t0);
         for (unsigned int d = 0; d < dim; ++d)
           a.block(d).local_element(c.local_index) +=
             (target - a_n) * c.normal[d];
@@ -666,13 +877,14 @@ namespace fmpm
         mask[d]      = 0;
         value_out[d] = 0;
       }
-    for (const auto &c : conditions)
+    const std::vector<double> &v_b = values_at(t);
+    for (unsigned int b = 0; b < conditions.size(); ++b)
       for (unsigned int d = 0; d < dim; ++d)
-        if (std::abs(c.normal[d]) > 1 - 1e-12)
+        if (std::abs(conditions[b].normal[d]) > 1 - 1e-12)
           {
-            mask[d].local_element(c.local_index) = 1;
-            value_out[d].local_element(c.local_index) =
-              value(c, t) * c.normal[d];
+            mask[d].local_element(conditions[b].local_index) = 1;
+            value_out[d].local_element(conditions[b].local_index) =
+              v_b[b] * conditions[b].normal[d];
           }
   }
 

@@ -177,7 +177,7 @@ namespace fmpm
     std::string region;
     /** Unit direction n̂ of the prescribed velocity component. */
     std::vector<double> direction{1, 0, 0};
-    /** v(t) (FunctionParser in t). Units: m/s. */
+    /** v(x, t) (FunctionParser in x, y(, z), t). Units: m/s. */
     std::string velocity = "0";
     std::string constants;
 
@@ -215,6 +215,8 @@ namespace fmpm
   {
     std::vector<types::boundary_id> fixed;
     std::vector<types::boundary_id> roller;
+    /** Nodes where this φ(x, t) is positive hold v = 0 (empty: none). */
+    std::string fixed_region;
     /** constrained, lumped, velocity, unlumped 1, unlumped 2, collection
      * full, collection partial (seed 000 §2.4). */
     std::string                       method = "constrained";

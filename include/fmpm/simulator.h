@@ -794,7 +794,9 @@ namespace fmpm
     std::vector<std::pair<double, std::string>> grid_pvd_records;
     double                                      wall_start         = 0;
     double                                      last_progress_wall = -1e30;
-    unsigned long long                          particle_steps     = 0;
+    /** The share of the wall time the timer sections cover (summary). */
+    double             timer_coverage = 0;
+    unsigned long long particle_steps = 0;
     /** Mesh adaptations during the run, and Σ over steps of the number of
      * active cells (for the mean cell count in summary.json). */
     unsigned int       mesh_adaptations = 0;

@@ -14,6 +14,7 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <string>
@@ -37,6 +38,13 @@ namespace fmpm
    * Reactions: the total force each boundary exerts on the material, from
    * f^(BC) of stage F (for the velocity method f^(b) = m̃ a^(b), whose sum
    * over nodes is Σ m_j a_j^(b) because the columns of m̃ sum to m).
+   *
+   * A wall's velocity v_w(x, t) is evaluated as rarely as it can change:
+   * once at set-up when it is a constant, once per time when it depends on
+   * t only, and per node (at its position) when it depends on x. The nodes
+   * of a wall given by a region are found once (and after a mesh change)
+   * unless the region depends on t; those of a box wall whenever the box
+   * moves.
    */
   template <int dim>
   class VelocityConditions
@@ -61,7 +69,7 @@ namespace fmpm
       Tensor<1, dim> normal;
       /** Index of the reaction label (boundary id or box wall). */
       unsigned int source;
-      /** Moving wall whose v(t) this is, or -1 for v = 0. */
+      /** Moving wall whose v(x, t) this is, or -1 for v = 0. */
       int wall;
     };
 
@@ -84,35 +92,72 @@ namespace fmpm
     initialize(const Parameters &parameters, MPI_Comm mpi_communicator);
 
     /**
-     * @brief Build the node conditions (at set-up, after a mesh change, and
-     * every step when box walls move). Throws if a boundary id is unknown.
+     * @brief Find the nodes' positions and boundary normals and build the
+     * node conditions (at set-up and after a mesh change or a
+     * repartition). Throws if a boundary id is unknown.
      */
     void
     setup_nodes(const DoFHandler<dim>             &dof_handler,
                 const Utilities::MPI::Partitioner &partitioner);
 
-    /** @brief The time at which setup_nodes() evaluates region walls. */
+    /** @brief The time at which the node conditions evaluate the regions. */
     void
     set_time(const double t)
     {
       current_time = t;
     }
 
+    /**
+     * @brief Whether the condition nodes change during a run: a box wall
+     * that moves, or a region that depends on t.
+     */
+    bool
+    nodes_move() const
+    {
+      return moving_nodes;
+    }
+
+    /**
+     * @brief Rebuild the node conditions at time @p t from the positions
+     * and normals setup_nodes() found (box walls and regions in t).
+     */
+    void
+    move_nodes(const double t);
+
     /** @brief Move the box walls over [t, t + Δt] (midpoint velocity). */
     void
     advance_walls(const double t, const double dt);
 
+    /** @brief Whether a wall is given by a box or a region. */
     bool
     has_moving_boxes() const;
 
-    /** @brief Work the moving walls did over [t, t + Δt] with @p reactions
-     * (per label): Σ_w (R · n̂_w) v_w(t + Δt/2) Δt. */
+    /**
+     * @brief Work the moving walls did over [t, t + Δt] with @p reactions
+     * (per label): Σ_w (R · n̂_w) v_w(t + Δt/2) Δt, and for a velocity
+     * v_w(x, t) Σ_b Δp_b v_b(t + Δt/2) over the wall's node conditions b
+     * with their stage-F impulses Δp_b (collective). Clears those
+     * impulses.
+     */
     double
     wall_work(const std::vector<Tensor<1, dim>> &reactions,
               const double                       t,
               const double                       dt) const;
 
-    /** @brief The largest |v_w(t)| of the moving walls (0 without). */
+    /**
+     * @brief Add @p amount to the stage-F impulse along n̂ of node
+     * condition @p b (the velocity method's reactions; impose_on_momenta()
+     * adds its own).
+     */
+    void
+    add_condition_impulse(const unsigned int b, const double amount) const
+    {
+      if (!condition_impulse.empty())
+        condition_impulse[b] += amount;
+    }
+
+    /** @brief The largest |v_w(x, t)| of the moving walls (0 without;
+     * collective when a velocity depends on x). */
     double
     fastest_wall_speed(const double t) const;
 
@@ -193,9 +238,20 @@ namespace fmpm
       return conditions;
     }
 
-    /** @brief v_b(t) of a condition. */
+    /** @brief v_b(t) of a condition, an element of node_conditions(). */
     double
-    value(const NodeCondition &condition, const double t) const;
+    value(const NodeCondition &condition, const double t) const
+    {
+      Assert(&condition >= conditions.data() &&
+               &condition < conditions.data() + conditions.size(),
+             ExcMessage("Not one of node_conditions()."));
+      return values_at(t)[&condition - conditions.data()];
+    }
+
+    /** @brief v_b(t) of every node condition, in their order (cached for
+     * the last few times). */
+    const std::vector<double> &
+    values_at(const double t) const;
 
     /** @brief Whether x is inside box wall @p w now. */
     bool
@@ -228,21 +284,55 @@ namespace fmpm
     add_node_condition(std::vector<std::vector<NodeCondition>> &per_node,
                        const NodeCondition                     &candidate);
 
+    /** @brief Build the node conditions from node_position and
+     * boundary_normals at current_time. */
+    void
+    build_conditions();
+
+    /** v_w(x_b, t) of wall @p w at node condition @p c. */
+    double
+    wall_value(const unsigned int   w,
+               const NodeCondition &c,
+               const double         t) const;
+
     MPI_Comm                          mpi_communicator;
     Method                            method = Method::constrained;
     std::vector<types::boundary_id>   fixed, roller;
     std::vector<MovingWallParameters> walls;
-    std::vector<std::unique_ptr<FunctionParser<1>>> wall_velocity;
+    /** v_w(x, t) of each wall. */
+    std::vector<std::unique_ptr<FunctionParser<dim>>> wall_velocity;
+    /** What v_w depends on, and v_w when it is a constant. */
+    std::vector<bool>   velocity_in_x, velocity_in_t;
+    std::vector<double> constant_velocity;
+    bool                any_velocity_in_x = false;
     /** φ(x, t) of region walls (nullptr for the others). */
     std::vector<std::unique_ptr<FunctionParser<dim>>> wall_region;
-    double                                            current_time = 0;
+    /** The region of 'Fixed region' (nullptr without). */
+    std::unique_ptr<FunctionParser<dim>> fixed_region;
+    unsigned int                         fixed_region_label = 0;
+    /** Box walls that move or regions in t. */
+    bool   moving_nodes = false;
+    double current_time = 0;
     /** Displacement s(t) of each wall along its direction. */
     std::vector<double>        wall_displacement;
     std::vector<std::string>   source_labels;
     std::vector<NodeCondition> conditions;
+    /** v_b(t) of every condition at a few recent times. */
+    mutable std::array<double, 3>              cached_time;
+    mutable std::array<std::vector<double>, 3> cached_values;
+    mutable unsigned int                       next_cache_slot = 0;
+    mutable unsigned int                       last_cache_slot = 0;
+    /** Stage-F impulse of each condition in this step (only with a
+     * velocity that depends on x). */
+    mutable std::vector<double> condition_impulse;
     /** Owned node positions by local index (only with walls given by a
-     * region or box). */
-    std::vector<Point<dim>>            node_position;
+     * region or box, a velocity in x, or a fixed region). */
+    std::vector<Point<dim>> node_position;
+    /** (boundary id, owned node) and the sum of its outward unit face
+     * normals, in that order. */
+    std::vector<
+      std::pair<std::pair<types::boundary_id, unsigned int>, Tensor<1, dim>>>
+                                       boundary_normals;
     const DoFHandler<dim>             *dof_handler_pointer = nullptr;
     const Utilities::MPI::Partitioner *partitioner_pointer = nullptr;
 

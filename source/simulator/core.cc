@@ -293,7 +293,8 @@ namespace fmpm
   void
   Simulator<dim>::run()
   {
-    const bool is_root =
+    TimerOutput::Scope start_timer(computing_timer, "run start");
+    const bool         is_root =
       Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
     if (is_root)
       std::filesystem::create_directories(parameters.output.directory);
@@ -356,6 +357,7 @@ namespace fmpm
         tout << "resumed from " << resumed_checkpoint << " at step "
              << control.step_number() << std::endl;
       }
+    start_timer.stop();
 
     try
       {
@@ -364,6 +366,7 @@ namespace fmpm
           history.restore(restored_history_rows);
         else
           {
+            TimerOutput::Scope diameter_timer(computing_timer, "run start");
             initial_total_energy   = statistics.total_energy();
             initial_kinetic_energy = statistics.kinetic_energy;
             initial_strain_energy  = statistics.strain_energy;
@@ -399,6 +402,7 @@ namespace fmpm
               std::max({statistics.kinetic_energy + statistics.strain_energy,
                         statistics.mass * std::sqrt(g) * diameter,
                         1e-300});
+            diameter_timer.stop();
             output_results(statistics);
           }
         print_progress(statistics, true);
@@ -407,12 +411,14 @@ namespace fmpm
           {
             do_time_step();
 
-            const bool output_now = control.output_due_now();
-            const bool progress_now =
+            TimerOutput::Scope schedule_timer(computing_timer, "step end");
+            const bool         output_now = control.output_due_now();
+            const bool         progress_now =
               Utilities::MPI::broadcast(mpi_communicator,
                                         MPI_Wtime() - last_progress_wall >
                                           parameters.output.progress_seconds,
                                         0);
+            schedule_timer.stop();
             if (output_now || progress_now || control.reached_end_time())
               {
                 statistics = compute_statistics();
@@ -462,6 +468,9 @@ namespace fmpm
                                           "stopped: step limit",
                       nullptr,
                       statistics);
+        pcout << "      timer sections cover " << std::fixed
+              << std::setprecision(1) << 100 * timer_coverage
+              << " % of the wall time" << std::defaultfloat << std::endl;
       }
     catch (const SimulationFailure &failure)
       {
@@ -675,6 +684,7 @@ namespace fmpm
   GlobalStatistics<dim>
   Simulator<dim>::compute_statistics() const
   {
+    TimerOutput::Scope timer(computing_timer, "statistics");
     using Index = PropertyIndex<dim>;
     GlobalStatistics<dim> s;
     Tensor<1, dim>        gravity;
@@ -811,7 +821,8 @@ namespace fmpm
   void
   Simulator<dim>::check_energy(const GlobalStatistics<dim> &statistics)
   {
-    const double E = statistics.total_energy();
+    TimerOutput::Scope timer(computing_timer, "statistics");
+    const double       E = statistics.total_energy();
     // Energies are measured from the initial state; gravity's potential
     // energy makes the reference the initial total, which may be of any
     // sign, so the bound is on the growth relative to the initial kinetic +

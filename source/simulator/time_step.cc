@@ -62,6 +62,7 @@ namespace fmpm
         parameters.refinement.interval > 0 && control.step_number() > 0 &&
         control.step_number() % parameters.refinement.interval == 0)
       adapt_mesh();
+    TimerOutput::Scope timer(computing_timer, "step set-up");
     control.set_time_step(compute_time_step());
     const double t  = control.time();
     const double dt = control.time_step();
@@ -75,14 +76,16 @@ namespace fmpm
     for (auto &traction : traction_functions)
       traction->set_time(t + 0.5 * dt);
     field_computed.fill(false);
-    if (velocity_conditions.has_moving_boxes())
-      {
-        velocity_conditions.set_time(t);
-        velocity_conditions.setup_nodes(dof_handler,
-                                        *lumped_mass.get_partitioner());
-      }
     for (auto &impulse : step_impulse)
       impulse = Tensor<1, dim>();
+    timer.stop();
+    // Box walls that move and regions in t: their nodes at t.
+    if (velocity_conditions.nodes_move())
+      {
+        TimerOutput::Scope conditions_timer(computing_timer,
+                                            "velocity conditions");
+        velocity_conditions.move_nodes(t);
+      }
     compute_supports(/*extrapolate=*/true);
   }
 
@@ -99,8 +102,11 @@ namespace fmpm
     //    26, §3.2).
     const double t = control.time();
     particles_to_grid(!parameters.method.strain_update_scheme.update_first);
-    momentum_time = t;
-    impose_velocity_conditions(momentum, t, nullptr);
+    {
+      TimerOutput::Scope timer(computing_timer, "grid solve");
+      momentum_time = t;
+      impose_velocity_conditions(momentum, t, nullptr);
+    }
     if (contact)
       contact->correct_extrapolated_momenta(t, Contact::Stage::extrapolated);
   }
@@ -179,6 +185,7 @@ namespace fmpm
     if (parameters.output.write_grid_acceleration &&
         grid_output_follows_step(dt))
       compute_field(acceleration);
+    TimerOutput::Scope timer(computing_timer, "grid solve");
     // How well v⁺ satisfies the conditions (summary.json).
     if (field_computed[updated_velocity])
       {
@@ -199,11 +206,12 @@ namespace fmpm
     if (reactions)
       for (unsigned int c = 0; c < velocity_corrections[1].size(); ++c)
         {
-          const auto &condition = velocity_conditions.node_conditions()[c];
-          step_impulse[condition.source] +=
+          const auto  &condition = velocity_conditions.node_conditions()[c];
+          const double impulse =
             lumped_mass.local_element(condition.local_index) *
-            (velocity_corrections[1][c] - velocity_corrections[0][c]) *
-            condition.normal;
+            (velocity_corrections[1][c] - velocity_corrections[0][c]);
+          step_impulse[condition.source] += impulse * condition.normal;
+          velocity_conditions.add_condition_impulse(c, impulse);
         }
   }
 
@@ -217,6 +225,7 @@ namespace fmpm
     update_particles();
     if (parameters.output.track_dissipation)
       {
+        TimerOutput::Scope timer(computing_timer, "particle update");
         dissipated_energy +=
           Utilities::MPI::sum(local_dissipation, mpi_communicator);
         local_dissipation = 0;
@@ -235,9 +244,12 @@ namespace fmpm
     const double t_end = control.time() + control.time_step();
     Assert(re_extrapolates_in_particle_update(), ExcInternalError());
     finish_re_extrapolation();
-    momentum_time = t_end;
-    impose_velocity_conditions(momentum, t_end, nullptr);
-    field_computed[velocity] = field_computed[lumped_velocity] = false;
+    {
+      TimerOutput::Scope timer(computing_timer, "grid solve");
+      momentum_time = t_end;
+      impose_velocity_conditions(momentum, t_end, nullptr);
+      field_computed[velocity] = field_computed[lumped_velocity] = false;
+    }
     if (contact)
       contact->correct_extrapolated_momenta(t_end,
                                             Contact::Stage::re_extrapolated);
@@ -267,7 +279,8 @@ namespace fmpm
   void
   Simulator<dim>::finish_step()
   {
-    const double dt = control.time_step();
+    TimerOutput::Scope timer(computing_timer, "step end");
+    const double       dt = control.time_step();
     // Reaction forces: the impulse each boundary gave in this step over Δt.
     if (!step_impulse.empty())
       {

@@ -9,6 +9,8 @@
 #include <fmpm/simulator.h>
 
 #include <cmath>
+#include <fstream>
+#include <limits>
 #include <map>
 
 #include "scene_helpers.h"
@@ -239,7 +241,7 @@ end
   const double rho = 100, g = 10, H = 1, W = 0.25;
   const double base_stress = rho * g * H;
   double       max_error = 0, max_speed = 0;
-  const auto &points = simulator->get_material_points();
+  const auto  &points = simulator->get_material_points();
   for (unsigned int k = 0; k < points.n_points(); ++k)
     {
       const auto   p     = points.record(k);
@@ -439,5 +441,324 @@ TEST(BoundaryConditions, RegionWallEqualsBoundaryIdWall)
                   histories[1][i].reactions[3][0],
                   1e-10 + 1e-10 * std::abs(histories[0][i].reactions[0][0]));
     }
+  EXPECT_GT(histories[0].back().strain_energy, 0);
+}
+
+
+
+namespace
+{
+  /** summary.json value of @p key (a number) in @p directory. */
+  double
+  summary_number(const std::string &directory, const std::string &key)
+  {
+    std::ifstream     in(directory + "/summary.json");
+    const std::string text((std::istreambuf_iterator<char>(in)),
+                           std::istreambuf_iterator<char>());
+    const auto        at = text.find("\"" + key + "\": ");
+    if (at == std::string::npos)
+      return std::numeric_limits<double>::quiet_NaN();
+    return std::stod(text.substr(at + key.size() + 4));
+  }
+
+  /** A unit square of neo-Hookean material filling the mesh; every
+   * boundary node moves with v = (rate y, 0): homogeneous simple shear. */
+  const std::string simple_shear_scene = R"(
+set Dimension = 2
+set Number of moving walls = 2
+subsection Mesh
+  set Lower corner = 0, 0
+  set Upper corner = 1, 1
+  set Subdivisions = 8, 8
+end
+subsection Boundary conditions
+  subsection Moving wall 0
+    set Boundary ids       = 0, 1, 2, 3
+    set Direction          = 1, 0
+    set Velocity           = rate*y
+    set Function constants = rate=0.2
+  end
+  subsection Moving wall 1
+    set Boundary ids = 0, 1, 2, 3
+    set Direction    = 0, 1
+    set Velocity     = 0
+  end
+end
+subsection Time
+  set End time       = 0.1
+  set Courant number = 0.5
+end
+subsection Material 0
+  set Model name = neo hookean
+  set Density    = 1000
+  subsection Neo hookean
+    set Bulk modulus  = 1e6
+    set Shear modulus = 5e5
+  end
+end
+subsection Body 0
+  set Center             = 0.5, 0.5
+  set Half lengths       = 0.5, 0.5
+  set Initial velocity   = rate*y; 0
+  set Function constants = rate=0.2
+end
+)";
+} // namespace
+
+
+
+// A wall velocity v(x, t) that varies along the wall: every boundary node
+// of a block moves with v = (γ̇ y, 0), a homogeneous simple shear. The
+// grid velocity stays linear, L = γ̇ e_x ⊗ e_y is uniform and nilpotent,
+// so F = I + γ e_x ⊗ e_y exactly (γ = γ̇ t) and the neo-Hookean stress
+// ([NHS2020-contact] Eq. 18, J = 1) is σ_xy = G γ, σ_xx = 2Gγ²/3,
+// σ_yy = −Gγ²/3 (plane strain, tr b = 3 + γ²) at every point; the strain
+// energy is Gγ²/2 per unit volume and all of it is the walls' work (the
+// kinetic energy does not change). A velocity taken at x = 0 (v = 0)
+// gives no stress; a work from the walls' total reactions times one
+// velocity gives W = 0.
+TEST(BoundaryConditions, WallVelocityInXShearsABlockExactly)
+{
+  const double G = 5e5, rate = 0.2, t_end = 0.1, gamma = rate * t_end;
+  for (const std::string method : {"constrained", "velocity"})
+    {
+      const std::string directory = "output-simple-shear-" + method;
+      ParameterHandler  prm;
+      auto              simulator = make_simulator<2>({},
+                                         simple_shear_scene + quiet(directory) +
+                                           method_overrides("lumped", method),
+                                         prm);
+      simulator->run();
+      const auto &points    = simulator->get_material_points();
+      double      max_shear = 0, max_normal = 0, max_velocity = 0;
+      for (unsigned int k = 0; k < points.n_points(); ++k)
+        {
+          const auto p = points.record(k);
+          using Index  = fmpm::PropertyIndex<2>;
+          // xx, yy, zz, xy
+          max_shear =
+            std::max(max_shear, std::abs(p[Index::stress + 3] - G * gamma));
+          max_normal = std::max(
+            {max_normal,
+             std::abs(p[Index::stress + 0] - 2 * G * gamma * gamma / 3),
+             std::abs(p[Index::stress + 1] + G * gamma * gamma / 3)});
+          const auto v = fmpm::get_vector<2>(p, Index::velocity);
+          max_velocity =
+            std::max({max_velocity,
+                      std::abs(v[0] - rate * points.position[k][1]),
+                      std::abs(v[1])});
+        }
+      EXPECT_LT(max_shear, 1e-9 * G * gamma) << method;
+      EXPECT_LT(max_normal, 1e-7 * G * gamma * gamma) << method;
+      EXPECT_LT(max_velocity, 1e-12) << method;
+
+      // Every wall node holds its own velocity.
+      const auto &conditions = simulator->get_velocity_conditions();
+      EXPECT_LT(condition_error(*simulator, t_end), 1e-12) << method;
+      unsigned int n_moving = 0;
+      for (const auto &c : conditions.node_conditions())
+        if (c.wall == 0)
+          ++n_moving;
+      EXPECT_EQ(n_moving, 32u) << method; // the 32 boundary nodes
+
+      const auto  &last   = simulator->get_history().back();
+      const double energy = G * gamma * gamma / 2;
+      EXPECT_NEAR(last.strain_energy, energy, 1e-9 * energy) << method;
+      EXPECT_NEAR(summary_number(directory, "external_work"),
+                  energy,
+                  1e-6 * energy)
+        << method;
+      EXPECT_LT(std::abs(summary_number(directory, "energy_error")), 1e-9)
+        << method;
+    }
+}
+
+
+
+// The values of a wall velocity in x at the condition nodes are v(x_j, t),
+// node by node; one in t only is the same at every node.
+TEST(BoundaryConditions, WallVelocityIsEvaluatedAtEachNode)
+{
+  ParameterHandler prm;
+  auto             simulator = make_simulator<2>(
+    {},
+    simple_shear_scene + quiet("output-wall-values") +
+      "subsection Boundary conditions\n subsection Moving wall 1\n  set "
+                  "Velocity = 3*t\n end\nend\n",
+    prm);
+  const auto &conditions  = simulator->get_velocity_conditions();
+  const auto &dof_handler = simulator->get_dof_handler();
+  // Owned node positions by local index (the owned range comes first).
+  std::map<unsigned int, Point<2>> position;
+  const IndexSet                  &owned = dof_handler.locally_owned_dofs();
+  for (const auto &cell : dof_handler.active_cell_iterators())
+    for (const unsigned int v : cell->vertex_indices())
+      {
+        const auto dof = cell->vertex_dof_index(v, 0);
+        if (owned.is_element(dof))
+          position[owned.index_within_set(dof)] = cell->vertex(v);
+      }
+  const double t   = 0.25;
+  unsigned int n_x = 0, n_y = 0;
+  for (const auto &c : conditions.node_conditions())
+    {
+      const Point<2> &x = position.at(c.local_index);
+      if (c.wall == 0)
+        {
+          EXPECT_DOUBLE_EQ(conditions.value(c, t), 0.2 * x[1]);
+          ++n_x;
+        }
+      else
+        {
+          EXPECT_DOUBLE_EQ(conditions.value(c, t), 3 * t);
+          ++n_y;
+        }
+    }
+  EXPECT_EQ(n_x, 32u);
+  EXPECT_EQ(n_y, 32u);
+}
+
+
+
+// A box wall moves as a whole: a velocity in x is refused, naming the
+// entry.
+TEST(BoundaryConditions, BoxWallVelocityInXIsRefused)
+{
+  const std::string scene = R"(
+set Dimension = 2
+set Number of moving walls = 1
+subsection Boundary conditions
+  subsection Moving wall 0
+    set Box lower corner = 0, 0
+    set Box upper corner = 0.1, 1
+    set Velocity = 0.1*y
+  end
+end
+)";
+  ParameterHandler  prm;
+  try
+    {
+      make_simulator<2>({}, scene + quiet("output-box-in-x"), prm);
+      ADD_FAILURE() << "a box wall with a velocity in y was accepted";
+    }
+  catch (const std::exception &e)
+    {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("Moving wall 0/Velocity = <0.1*y>"),
+                std::string::npos)
+        << message;
+      EXPECT_NE(message.find("t only"), std::string::npos) << message;
+    }
+}
+
+
+
+// The nodes of a wall given by a region are found once unless the region
+// names t (a constant named t0 is not t); those of a box whenever it
+// moves.
+TEST(BoundaryConditions, WallNodesMoveOnlyWhenTheyCan)
+{
+  const std::vector<std::pair<std::string, bool>> walls = {
+    {"set Region = x - 0.999", false},
+    {"set Region = x - 0.999*t0\n set Function constants = t0=1", false},
+    {"set Region = x - 0.999 + 0*t", true},
+    {"set Box lower corner = 0.9, 0\n set Box upper corner = 1.1, 1\n "
+     "set Velocity = 0",
+     false},
+    {"set Box lower corner = 0.9, 0\n set Box upper corner = 1.1, 1\n "
+     "set Velocity = -1e-3",
+     true}};
+  for (const auto &[wall, moves] : walls)
+    {
+      ParameterHandler prm;
+      auto             simulator = make_simulator<2>(
+        {parameter_dir + "piston.prm"},
+        quiet("output-wall-nodes") +
+          "subsection Boundary conditions\n subsection Moving wall 0\n  "
+                      "set Boundary ids =\n  set Velocity = 0\n  " +
+          wall + "\n end\nend\n",
+        prm);
+      EXPECT_EQ(simulator->get_velocity_conditions().nodes_move(), moves)
+        << wall;
+    }
+}
+
+
+
+// Clamping a region inside the mesh: 'Fixed region' equals two moving
+// walls with that region and velocity 0 along x and along y (the recipe
+// in the README): the same history and the same total
+// reaction. A column under gravity hangs from a clamped band across its
+// middle: the band's nodes keep v = 0, and the reaction carries the
+// column's weight once it has settled (the mean over the run is within a
+// few % of M g).
+TEST(BoundaryConditions, FixedRegionEqualsTwoZeroWalls)
+{
+  const std::string scene  = R"(
+set Dimension = 2
+subsection Mesh
+  set Lower corner = 0, 0
+  set Upper corner = 1, 2
+  set Subdivisions = 4, 8
+end
+subsection Body force
+  set Gravity = 0, -10
+end
+subsection Time
+  set End time       = 0.5
+  set Courant number = 0.5
+end
+subsection Material 0
+  set Density = 100
+  subsection Linear elastic
+    set Young's modulus = 1e6
+  end
+end
+subsection Body 0
+  set Center       = 0.5, 1
+  set Half lengths = 0.25, 0.75
+end
+subsection Particle update
+  set Model name = pic
+end
+)";
+  const std::string region = "0.01 - abs(y - 1)";
+  const std::string one_entry =
+    "subsection Boundary conditions\n set Fixed region = " + region + "\nend\n";
+  const std::string two_walls =
+    "set Number of moving walls = 2\nsubsection Boundary conditions\n"
+    " subsection Moving wall 0\n  set Region = " +
+    region +
+    "\n  set Direction = 1, 0\n end\n subsection Moving wall 1\n"
+    "  set Region = " +
+    region + "\n  set Direction = 0, 1\n end\nend\n";
+  std::vector<std::vector<fmpm::HistoryRow<2>>> histories;
+  for (const auto &clamp : {one_entry, two_walls})
+    {
+      ParameterHandler prm;
+      auto             simulator =
+        make_simulator<2>({},
+                          scene + quiet("output-fixed-region") + clamp,
+                          prm);
+      simulator->run();
+      EXPECT_LT(condition_error(*simulator, 0.5), 1e-14);
+      EXPECT_EQ(simulator->get_velocity_conditions().node_conditions().size(),
+                10u); // 5 nodes on y = 1, two components each
+      histories.push_back(simulator->get_history());
+    }
+  // Labels: "fixed_region"; "wall0", "wall1".
+  ASSERT_EQ(histories[0].size(), histories[1].size());
+  const double weight        = 100 * 0.5 * 1.5 * 10;
+  double       mean_reaction = 0;
+  for (unsigned int i = 0; i < histories[0].size(); ++i)
+    {
+      const auto &a = histories[0][i], &b = histories[1][i];
+      EXPECT_EQ(a.strain_energy, b.strain_energy);
+      EXPECT_EQ(a.kinetic_energy, b.kinetic_energy);
+      EXPECT_EQ(a.reactions[0][0], b.reactions[0][0]);
+      EXPECT_EQ(a.reactions[0][1], b.reactions[1][1]);
+      mean_reaction += a.reactions[0][1] / histories[0].size();
+    }
+  EXPECT_NEAR(mean_reaction, weight, 0.05 * weight);
   EXPECT_GT(histories[0].back().strain_energy, 0);
 }
