@@ -9,15 +9,14 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
 
-#include <boost/property_tree/json_parser.hpp>
-#include <boost/property_tree/ptree.hpp>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
+#include <boost/property_tree/json_parser.hpp>
+#include <boost/property_tree/ptree.hpp>
 #include <unistd.h>
 
 namespace
@@ -205,8 +204,8 @@ namespace
             std::string key;
             for (const auto &name : path)
               key += name + separator;
-            key += dealii::Utilities::trim(
-              trimmed.substr(4, trimmed.find('=') - 4));
+            key +=
+              dealii::Utilities::trim(trimmed.substr(4, trimmed.find('=') - 4));
             const auto pattern = tree.get_optional<std::string>(
               Tree::path_type(key + separator + "pattern_description",
                               separator));
@@ -216,8 +215,9 @@ namespace
                 if (allowed.size() > 1 && allowed.front() == '[' &&
                     allowed.back() == ']')
                   allowed = allowed.substr(1, allowed.size() - 2);
-                out << line.substr(0, line.find("set ")) << "# Allowed: "
-                    << dealii::Utilities::trim(allowed) << '\n';
+                out << line.substr(0, line.find("set "))
+                    << "# Allowed: " << dealii::Utilities::trim(allowed)
+                    << '\n';
               }
           }
         out << line << '\n';

@@ -89,7 +89,6 @@
 // strain energy after step 100 (compare with fmpm's history.csv).
 
 #include <algorithm>
-#include <type_traits>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -98,6 +97,7 @@
 #include <cstring>
 #include <ctime>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #ifdef HK_LIBMVEC
@@ -152,8 +152,8 @@ namespace
   template <typename T>
   struct Buffer
   {
-    T *p = nullptr;
-    Buffer() = default;
+    T *p                   = nullptr;
+    Buffer()               = default;
     Buffer(const Buffer &) = delete;
     Buffer &
     operator=(const Buffer &) = delete;
@@ -166,7 +166,7 @@ namespace
     {
       std::free(p);
       const std::size_t bytes = ((n * sizeof(T) + 63) / 64) * 64 + 64;
-      p = static_cast<T *>(std::aligned_alloc(64, bytes));
+      p                       = static_cast<T *>(std::aligned_alloc(64, bytes));
       std::memset(static_cast<void *>(p), 0, bytes); // pages touched
     }
   };
@@ -281,8 +281,7 @@ namespace
   inline bool
   inside_disk(const double x, const double y)
   {
-    return std::pow((x - 0.5) / 0.45, 2) + std::pow((y - 0.5) / 0.45, 2) <=
-           1.0;
+    return std::pow((x - 0.5) / 0.45, 2) + std::pow((y - 0.5) / 0.45, 2) <= 1.0;
   }
 
   template <typename F>
@@ -299,10 +298,11 @@ namespace
             for (int a = 0; a < 2; ++a)
               {
                 // Q1 map: sum of S_i(xi) times the vertices.
-                const double s0 = (1 - q[a]) * (1 - q[b]), s1 = q[a] * (1 - q[b]),
-                             s2 = (1 - q[a]) * q[b], s3 = q[a] * q[b];
-                const double x = s0 * x0 + s1 * x1 + s2 * x0 + s3 * x1;
-                const double y = s0 * y0 + s1 * y0 + s2 * y1 + s3 * y1;
+                const double s0 = (1 - q[a]) * (1 - q[b]),
+                             s1 = q[a] * (1 - q[b]), s2 = (1 - q[a]) * q[b],
+                             s3 = q[a] * q[b];
+                const double x  = s0 * x0 + s1 * x1 + s2 * x0 + s3 * x1;
+                const double y  = s0 * y0 + s1 * y0 + s2 * y1 + s3 * y1;
                 if (inside_disk(x, y))
                   on_point(j * n_cells_x + i, x, y, q[a], q[b]);
               }
@@ -313,8 +313,7 @@ namespace
   count_initial_points()
   {
     std::size_t n = 0;
-    for_each_initial_point(
-      [&](int, double, double, double, double) { ++n; });
+    for_each_initial_point([&](int, double, double, double, double) { ++n; });
     return n;
   }
 
@@ -323,30 +322,31 @@ namespace
   {
     std::fill(s.count.begin(), s.count.end(), 0);
     std::size_t k = 0;
-    for_each_initial_point(
-      [&](const int c, const double x, const double y, const double xi,
-          const double eta) {
-        s.col[c_x][k]      = x;
-        s.col[c_y][k]      = y;
-        s.col[c_xi][k]     = xi;
-        s.col[c_eta][k]    = eta;
-        s.col[c_volume][k] = 0.25 * h * h;
-        s.col[c_vx][k]     = 10 * (y - 0.5);
-        s.col[c_vy][k]     = -10 * (x - 0.5);
-        s.col[c_fxx][k]    = 1;
-        s.col[c_fxy][k]    = 0;
-        s.col[c_fyx][k]    = 0;
-        s.col[c_fyy][k]    = 1;
-        s.col[c_sxx][k] = s.col[c_syy][k] = s.col[c_szz][k] =
-          s.col[c_sxy][k]                 = 0;
-        s.col[c_w][k]                     = 0;
-        s.col[c_x0][k]                    = x;
-        s.col[c_y0][k]                    = y;
-        s.id[k]                           = k;
-        s.cell[k]                         = c;
-        ++s.count[c];
-        ++k;
-      });
+    for_each_initial_point([&](const int    c,
+                               const double x,
+                               const double y,
+                               const double xi,
+                               const double eta) {
+      s.col[c_x][k]      = x;
+      s.col[c_y][k]      = y;
+      s.col[c_xi][k]     = xi;
+      s.col[c_eta][k]    = eta;
+      s.col[c_volume][k] = 0.25 * h * h;
+      s.col[c_vx][k]     = 10 * (y - 0.5);
+      s.col[c_vy][k]     = -10 * (x - 0.5);
+      s.col[c_fxx][k]    = 1;
+      s.col[c_fxy][k]    = 0;
+      s.col[c_fyx][k]    = 0;
+      s.col[c_fyy][k]    = 1;
+      s.col[c_sxx][k] = s.col[c_syy][k] = s.col[c_szz][k] = s.col[c_sxy][k] = 0;
+      s.col[c_w][k]                                                         = 0;
+      s.col[c_x0][k]                                                        = x;
+      s.col[c_y0][k]                                                        = y;
+      s.id[k]                                                               = k;
+      s.cell[k]                                                             = c;
+      ++s.count[c];
+      ++k;
+    });
     s.n = k;
     // fmpm's JxW of the midpoint rule: the cell's area / 4.
     s.initial_volume = 0.25 * h * h;
@@ -443,9 +443,12 @@ namespace
   // p+ = p + f dt, conditions, f = (p+ - p)(1/dt), v+ = p+/m, a = f/m, in
   // v_grid.
   inline void
-  grid_node_update(const NodeMass &node, NodeVelocity &v, const double dt,
-                   const double inv_dt, const double mass_floor,
-                   const bool fixed)
+  grid_node_update(const NodeMass &node,
+                   NodeVelocity   &v,
+                   const double    dt,
+                   const double    inv_dt,
+                   const double    mass_floor,
+                   const bool      fixed)
   {
     const double m   = node.m;
     const bool   ok  = m > mass_floor;
@@ -491,21 +494,27 @@ namespace
   };
 
   inline Kinematics
-  kinematics(const double Lxx, const double Lxy, const double Lyx,
-             const double Lyy, const double dt, const double Fxx,
-             const double Fxy, const double Fyx, const double Fyy)
+  kinematics(const double Lxx,
+             const double Lxy,
+             const double Lyx,
+             const double Lyy,
+             const double dt,
+             const double Fxx,
+             const double Fxy,
+             const double Fyx,
+             const double Fyy)
   {
     const double hxx = 0.5 * (Lxx * dt), hxy = 0.5 * (Lxy * dt),
                  hyx = 0.5 * (Lyx * dt), hyy = 0.5 * (Lyy * dt);
     const double A00 = 1.0 - hxx, A01 = 0.0 - hxy, A10 = 0.0 - hyx,
                  A11 = 1.0 - hyy;
     const double B00 = 1.0 + hxx, B01 = 0.0 + hxy, B10 = 0.0 + hyx,
-                 B11 = 1.0 + hyy;
+                 B11                 = 1.0 + hyy;
     const double inverse_determinant = 1.0 / (A00 * A11 - A10 * A01);
-    const double R00 = A11 * inverse_determinant,
-                 R01 = -A01 * inverse_determinant,
-                 R10 = -A10 * inverse_determinant,
-                 R11 = A00 * inverse_determinant;
+    const double R00                 = A11 * inverse_determinant,
+                 R01                 = -A01 * inverse_determinant,
+                 R10                 = -A10 * inverse_determinant,
+                 R11                 = A00 * inverse_determinant;
     const double d00 = R00 * B00 + R01 * B10, d01 = R00 * B01 + R01 * B11,
                  d10 = R10 * B00 + R11 * B10, d11 = R10 * B01 + R11 * B11;
     Kinematics k;
@@ -524,15 +533,19 @@ namespace
   };
 
   inline Stress
-  neo_hookean(const double Fxx, const double Fxy, const double Fyx,
-              const double Fyy, const double J, const double log_J,
+  neo_hookean(const double Fxx,
+              const double Fxy,
+              const double Fyx,
+              const double Fyy,
+              const double J,
+              const double log_J,
               const double J_m23)
   {
-    const double b_xx   = J_m23 * (Fxx * Fxx + Fxy * Fxy);
-    const double b_yy   = J_m23 * (Fyx * Fyx + Fyy * Fyy);
-    const double b_xy   = J_m23 * (Fxx * Fyx + Fxy * Fyy);
-    const double b_zz   = J_m23;
-    const double I1_bar = b_xx + b_yy + b_zz;
+    const double b_xx          = J_m23 * (Fxx * Fxx + Fxy * Fxy);
+    const double b_yy          = J_m23 * (Fyx * Fyx + Fyy * Fyy);
+    const double b_xy          = J_m23 * (Fxx * Fyx + Fxy * Fyy);
+    const double b_zz          = J_m23;
+    const double I1_bar        = b_xx + b_yy + b_zz;
     const double pressure_part = 0.5 * K * (J * J - 1) - G * I1_bar / 3.0;
     Stress       s;
     s.sxx = (G * b_xx + pressure_part) / J;
@@ -555,16 +568,20 @@ namespace
     explicit CellVelocityGradient(const NodeVelocity *n0)
     {
       const NodeVelocity *n2 = n0 + n_nodes_x;
-      x10 = inv_h * (n0[1].vx - n0[0].vx);
-      x20 = inv_h * (n2[0].vx - n0[0].vx);
+      x10                    = inv_h * (n0[1].vx - n0[0].vx);
+      x20                    = inv_h * (n2[0].vx - n0[0].vx);
       cx  = inv_h * ((n2[1].vx - n2[0].vx) - (n0[1].vx - n0[0].vx));
       y10 = inv_h * (n0[1].vy - n0[0].vy);
       y20 = inv_h * (n2[0].vy - n0[0].vy);
       cy  = inv_h * ((n2[1].vy - n2[0].vy) - (n0[1].vy - n0[0].vy));
     }
     inline void
-    at(const double xi, const double eta, double &Lxx, double &Lxy,
-       double &Lyx, double &Lyy) const
+    at(const double xi,
+       const double eta,
+       double      &Lxx,
+       double      &Lxy,
+       double      &Lyx,
+       double      &Lyy) const
     {
       Lxx = x10 + eta * cx;
       Lxy = x20 + xi * cx;
@@ -586,8 +603,12 @@ namespace
     double tx = 0, eta_tx = 0, txy = 0, xi_txy = 0, eta_txy = 0, ty = 0,
            xi_ty = 0;
     inline void
-    add(const double xi, const double eta, const double V, const double sxx,
-        const double syy, const double sxy)
+    add(const double xi,
+        const double eta,
+        const double V,
+        const double sxx,
+        const double syy,
+        const double sxy)
     {
       const double Vh = V * inv_h;
       const double x = Vh * sxx, xy = Vh * sxy, y = Vh * syy;
@@ -602,8 +623,8 @@ namespace
     inline void
     scatter(NodeVelocity *n0) const
     {
-      const double A = tx - eta_tx, B = txy - xi_txy, C = eta_tx, D = xi_txy;
-      const double E = txy - eta_txy, F = ty - xi_ty, G_ = eta_txy, H = xi_ty;
+      const double  A = tx - eta_tx, B = txy - xi_txy, C = eta_tx, D = xi_txy;
+      const double  E = txy - eta_txy, F = ty - xi_ty, G_ = eta_txy, H = xi_ty;
       NodeVelocity *n2 = n0 + n_nodes_x;
       n0[0].fx += A + B, n0[0].fy += E + F;
       n0[1].fx += D - A, n0[1].fy += H - E;
@@ -629,8 +650,8 @@ namespace
     double *__restrict V_col   = s.col[c_volume];
     const double   V0          = s.initial_volume;
     double         J_max = 0, J_min = std::numeric_limits<double>::max();
-    bool           finite      = true;
-    const uint32_t n_occupied  = s.occupied_cell.size();
+    bool           finite     = true;
+    const uint32_t n_occupied = s.occupied_cell.size();
     for (uint32_t o = 0; o < n_occupied; ++o)
       {
         NodeVelocity *const        n0 = grid + first_node(s.occupied_cell[o]);
@@ -641,8 +662,15 @@ namespace
             const double xi = xi_col[k], eta = eta_col[k];
             double       Lxx, Lxy, Lyx, Lyy;
             v.at(xi, eta, Lxx, Lxy, Lyx, Lyy);
-            const Kinematics F = kinematics(Lxx, Lxy, Lyx, Lyy, dt, Fxx_col[k],
-                                            Fxy_col[k], Fyx_col[k], Fyy_col[k]);
+            const Kinematics F     = kinematics(Lxx,
+                                            Lxy,
+                                            Lyx,
+                                            Lyy,
+                                            dt,
+                                            Fxx_col[k],
+                                            Fxy_col[k],
+                                            Fyx_col[k],
+                                            Fyy_col[k]);
             const double     log_J = std::log(F.J);
             const double     J_m23 = std::exp(-2.0 / 3.0 * log_J);
             const Stress     sigma =
@@ -691,11 +719,16 @@ namespace
   // full batches have).
   template <typename Count>
   inline void
-  batch_kinematics(const Count n, const double dt,
-                   const double *__restrict Lxx, const double *__restrict Lxy,
-                   const double *__restrict Lyx, const double *__restrict Lyy,
-                   double *__restrict Fxx, double *__restrict Fxy,
-                   double *__restrict Fyx, double *__restrict Fyy,
+  batch_kinematics(const Count  n,
+                   const double dt,
+                   const double *__restrict Lxx,
+                   const double *__restrict Lxy,
+                   const double *__restrict Lyx,
+                   const double *__restrict Lyy,
+                   double *__restrict Fxx,
+                   double *__restrict Fxy,
+                   double *__restrict Fyx,
+                   double *__restrict Fyy,
                    double *__restrict J)
   {
     for (uint32_t q = 0; q < n; ++q)
@@ -712,8 +745,10 @@ namespace
 
   template <typename Count>
   inline void
-  batch_log_exp(const Count n, const double *__restrict J,
-                double *__restrict log_J, double *__restrict J_m23)
+  batch_log_exp(const Count n,
+                const double *__restrict J,
+                double *__restrict log_J,
+                double *__restrict J_m23)
   {
     uint32_t q = 0;
 #ifdef HK_LIBMVEC
@@ -722,16 +757,18 @@ namespace
       {
         const __m512d l = _ZGVeN8v_log(_mm512_load_pd(J + q));
         _mm512_store_pd(log_J + q, l);
-        _mm512_store_pd(J_m23 + q, _ZGVeN8v_exp(
-                                     _mm512_mul_pd(_mm512_set1_pd(-2.0 / 3.0), l)));
+        _mm512_store_pd(J_m23 + q,
+                        _ZGVeN8v_exp(
+                          _mm512_mul_pd(_mm512_set1_pd(-2.0 / 3.0), l)));
       }
 #  elif defined(__AVX2__)
     for (; q + 4 <= n; q += 4)
       {
         const __m256d l = _ZGVdN4v_log(_mm256_load_pd(J + q));
         _mm256_store_pd(log_J + q, l);
-        _mm256_store_pd(J_m23 + q, _ZGVdN4v_exp(
-                                     _mm256_mul_pd(_mm256_set1_pd(-2.0 / 3.0), l)));
+        _mm256_store_pd(J_m23 + q,
+                        _ZGVdN4v_exp(
+                          _mm256_mul_pd(_mm256_set1_pd(-2.0 / 3.0), l)));
       }
 #  else
     for (; q + 2 <= n; q += 2)
@@ -752,13 +789,21 @@ namespace
 
   template <typename Count>
   inline void
-  batch_stress(const Count n, const double V0, const double *__restrict Fxx,
-               const double *__restrict Fxy, const double *__restrict Fyx,
-               const double *__restrict Fyy, const double *__restrict J,
-               const double *__restrict log_J, const double *__restrict J_m23,
-               double *__restrict sxx, double *__restrict syy,
-               double *__restrict szz, double *__restrict sxy,
-               double *__restrict W, double *__restrict V)
+  batch_stress(const Count  n,
+               const double V0,
+               const double *__restrict Fxx,
+               const double *__restrict Fxy,
+               const double *__restrict Fyx,
+               const double *__restrict Fyy,
+               const double *__restrict J,
+               const double *__restrict log_J,
+               const double *__restrict J_m23,
+               double *__restrict sxx,
+               double *__restrict syy,
+               double *__restrict szz,
+               double *__restrict sxy,
+               double *__restrict W,
+               double *__restrict V)
   {
     for (uint32_t q = 0; q < n; ++q)
       {
@@ -775,22 +820,46 @@ namespace
 
   template <typename Count>
   inline void
-  constitutive_batch(Store &s, const uint32_t k0, const Count n,
-                     const double dt, BatchScratch &b, double &J_max,
-                     double &J_min, bool &finite)
+  constitutive_batch(Store         &s,
+                     const uint32_t k0,
+                     const Count    n,
+                     const double   dt,
+                     BatchScratch  &b,
+                     double        &J_max,
+                     double        &J_min,
+                     bool          &finite)
   {
-    batch_kinematics(n, dt, b.Lxx, b.Lxy, b.Lyx, b.Lyy, s.col[c_fxx] + k0,
-                     s.col[c_fxy] + k0, s.col[c_fyx] + k0, s.col[c_fyy] + k0,
+    batch_kinematics(n,
+                     dt,
+                     b.Lxx,
+                     b.Lxy,
+                     b.Lyx,
+                     b.Lyy,
+                     s.col[c_fxx] + k0,
+                     s.col[c_fxy] + k0,
+                     s.col[c_fyx] + k0,
+                     s.col[c_fyy] + k0,
                      b.J);
     batch_log_exp(n, b.J, b.log_J, b.J_m23);
-    batch_stress(n, s.initial_volume, s.col[c_fxx] + k0, s.col[c_fxy] + k0,
-                 s.col[c_fyx] + k0, s.col[c_fyy] + k0, b.J, b.log_J, b.J_m23,
-                 s.col[c_sxx] + k0, s.col[c_syy] + k0, s.col[c_szz] + k0,
-                 s.col[c_sxy] + k0, s.col[c_w] + k0, s.col[c_volume] + k0);
+    batch_stress(n,
+                 s.initial_volume,
+                 s.col[c_fxx] + k0,
+                 s.col[c_fxy] + k0,
+                 s.col[c_fyx] + k0,
+                 s.col[c_fyy] + k0,
+                 b.J,
+                 b.log_J,
+                 b.J_m23,
+                 s.col[c_sxx] + k0,
+                 s.col[c_syy] + k0,
+                 s.col[c_szz] + k0,
+                 s.col[c_sxy] + k0,
+                 s.col[c_w] + k0,
+                 s.col[c_volume] + k0);
     // J range and finite W (four independent chains).
     const double *J = b.J, *W = s.col[c_w] + k0;
     double        hi[4] = {J_max, J_max, J_max, J_max},
-           lo[4]        = {J_min, J_min, J_min, J_min}, bad[4] = {0, 0, 0, 0};
+           lo[4] = {J_min, J_min, J_min, J_min}, bad[4] = {0, 0, 0, 0};
     uint32_t q = 0;
     for (; q + 4 <= n; q += 4)
       for (int l = 0; l < 4; ++l)
@@ -811,37 +880,48 @@ namespace
   }
 
   StressResult
-  stress_update_staged(Store &s, NodeVelocity *__restrict grid,
-                       const double dt, BatchScratch &b)
+  stress_update_staged(Store &s,
+                       NodeVelocity *__restrict grid,
+                       const double  dt,
+                       BatchScratch &b)
   {
     const double *__restrict xi_col  = s.col[c_xi];
     const double *__restrict eta_col = s.col[c_eta];
-    double J_max = 0, J_min = std::numeric_limits<double>::max();
-    bool   finite = true;
-    uint32_t o    = 0; // the occupied cell holding the batch's first point
+    double   J_max = 0, J_min = std::numeric_limits<double>::max();
+    bool     finite = true;
+    uint32_t o      = 0; // the occupied cell holding the batch's first point
     for (uint32_t k0 = 0; k0 < s.n; k0 += batch_size)
       {
         const uint32_t k1 = std::min<uint32_t>(k0 + batch_size, s.n);
         // 1. L per cell (the part of it in the batch).
-        for (uint32_t c = o; c < s.occupied_cell.size() &&
-                             s.occupied_begin[c] < k1;
+        for (uint32_t c = o;
+             c < s.occupied_cell.size() && s.occupied_begin[c] < k1;
              ++c)
           {
             const CellVelocityGradient v(grid + first_node(s.occupied_cell[c]));
-            const uint32_t kb = std::max(s.occupied_begin[c], k0),
+            const uint32_t             kb = std::max(s.occupied_begin[c], k0),
                            ke = std::min(s.occupied_begin[c + 1], k1);
             for (uint32_t k = kb; k < ke; ++k)
               {
                 const uint32_t q = k - k0;
-                v.at(xi_col[k], eta_col[k], b.Lxx[q], b.Lxy[q], b.Lyx[q],
+                v.at(xi_col[k],
+                     eta_col[k],
+                     b.Lxx[q],
+                     b.Lxy[q],
+                     b.Lyx[q],
                      b.Lyy[q]);
               }
           }
         // 2. The constitutive update over the batch.
         if (k1 - k0 == batch_size)
-          constitutive_batch(s, k0,
-                             std::integral_constant<uint32_t, batch_size>(), dt,
-                             b, J_max, J_min, finite);
+          constitutive_batch(s,
+                             k0,
+                             std::integral_constant<uint32_t, batch_size>(),
+                             dt,
+                             b,
+                             J_max,
+                             J_min,
+                             finite);
         else
           constitutive_batch(s, k0, k1 - k0, dt, b, J_max, J_min, finite);
         // 3. The forces per cell.
@@ -856,7 +936,11 @@ namespace
                            ke      = std::min(s.occupied_begin[o + 1], k1);
             CellForces f;
             for (uint32_t k = kb; k < ke; ++k)
-              f.add(xi_col[k], eta_col[k], V_col[k], sxx_col[k], syy_col[k],
+              f.add(xi_col[k],
+                    eta_col[k],
+                    V_col[k],
+                    sxx_col[k],
+                    syy_col[k],
                     sxy_col[k]);
             f.scatter(n0);
             if (s.occupied_begin[o + 1] > k1)
@@ -890,8 +974,12 @@ namespace
   // The cell that holds (x, y), across the faces crossed from cell c
   // (fmpm walks from neighbour to neighbour the same way), and xi there.
   inline bool
-  find_cell(const double x, const double y, const uint32_t c, uint32_t &cell,
-            double &xi, double &eta)
+  find_cell(const double   x,
+            const double   y,
+            const uint32_t c,
+            uint32_t      &cell,
+            double        &xi,
+            double        &eta)
   {
     int j = c / n_cells_x, i = c - j * n_cells_x;
     for (int hop = 0; hop < 4; ++hop)
@@ -925,8 +1013,10 @@ namespace
   };
 
   UpdateResult
-  particle_update(Store &s, const NodeVelocity *__restrict grid,
-                  const double dt, Leavers &leavers)
+  particle_update(Store &s,
+                  const NodeVelocity *__restrict grid,
+                  const double dt,
+                  Leavers     &leavers)
   {
     double *__restrict x_col   = s.col[c_x];
     double *__restrict y_col   = s.col[c_y];
@@ -934,9 +1024,9 @@ namespace
     double *__restrict eta_col = s.col[c_eta];
     double *__restrict vx_col  = s.col[c_vx];
     double *__restrict vy_col  = s.col[c_vy];
-    double   max_V2            = 0;
-    uint32_t n_left            = 0;
-    bool     found             = true;
+    double         max_V2      = 0;
+    uint32_t       n_left      = 0;
+    bool           found       = true;
     const uint32_t n_occupied  = s.occupied_cell.size();
     for (uint32_t o = 0; o < n_occupied; ++o)
       {
@@ -990,7 +1080,10 @@ namespace
               {
                 // (xi in the store stays the old cell's until the re-bin.)
                 leavers.index[n_left] = k;
-                found = found & find_cell(x, y, c, leavers.cell[n_left],
+                found                 = found & find_cell(x,
+                                          y,
+                                          c,
+                                          leavers.cell[n_left],
                                           leavers.xi[n_left],
                                           leavers.eta[n_left]);
                 ++n_left;
@@ -1043,8 +1136,11 @@ namespace
 
   template <typename T>
   inline void
-  apply_copy(T *&a, T *&work, const T *__restrict new_values,
-             const uint32_t *__restrict left, const std::vector<Run> &runs,
+  apply_copy(T *&a,
+             T *&work,
+             const T *__restrict new_values,
+             const uint32_t *__restrict left,
+             const std::vector<Run>     &runs,
              const std::vector<Arrival> &arrivals)
   {
     T *__restrict out      = work;
@@ -1089,7 +1185,7 @@ namespace
         r.order_scratch[low[new_cell[l] & 255]++] = l;
       for (uint32_t l = 0; l < n_left; ++l)
         {
-          const uint32_t slot               = r.order_scratch[l];
+          const uint32_t slot                  = r.order_scratch[l];
           r.order[high[new_cell[slot] >> 8]++] = slot;
         }
     }
@@ -1115,7 +1211,7 @@ namespace
     {
       uint32_t  sum = 0, n_occupied = 0;
       uint32_t *nb = r.new_begin.data(), *oc = r.new_occupied_cell.data(),
-               *ob = r.new_occupied_begin.data();
+               *ob          = r.new_occupied_begin.data();
       const uint32_t *count = s.count.data();
       for (uint32_t c = 0; c < uint32_t(n_cells); ++c)
         {
@@ -1136,19 +1232,20 @@ namespace
     r.runs.clear();
     r.arrivals.clear();
     Run  open{0, 0, 0};
-    auto stay = [&](const uint32_t src, const uint32_t dst, const uint32_t len) {
-      if (len == 0)
-        return;
-      if (open.len != 0 && open.src + open.len == src &&
-          open.dst + open.len == dst)
-        open.len += len;
-      else
-        {
-          if (open.len != 0)
-            r.runs.push_back(open);
-          open = {src, dst, len};
-        }
-    };
+    auto stay =
+      [&](const uint32_t src, const uint32_t dst, const uint32_t len) {
+        if (len == 0)
+          return;
+        if (open.len != 0 && open.src + open.len == src &&
+            open.dst + open.len == dst)
+          open.len += len;
+        else
+          {
+            if (open.len != 0)
+              r.runs.push_back(open);
+            open = {src, dst, len};
+          }
+      };
     {
       const uint32_t *old_begin = s.begin.data();
       const uint32_t *new_begin = r.new_begin.data();
@@ -1158,8 +1255,9 @@ namespace
         {
           const uint32_t cd = d < n_left ? s.cell[left[d]] : UINT32_MAX;
           const uint32_t ca = a < n_left ? new_cell[r.order[a]] : UINT32_MAX;
-          const uint32_t c = std::min(cd, ca);
-          stay(old_begin[next_cell], new_begin[next_cell],
+          const uint32_t c  = std::min(cd, ca);
+          stay(old_begin[next_cell],
+               new_begin[next_cell],
                old_begin[c] - old_begin[next_cell]);
           uint32_t       k = old_begin[c], dst = new_begin[c];
           const uint32_t k_end = old_begin[c + 1];
@@ -1173,8 +1271,7 @@ namespace
               const bool arrival = a < n_left && new_cell[r.order[a]] == c;
               if (k == k_end && !arrival)
                 break;
-              if (arrival &&
-                  (k == k_end || s.id[left[r.order[a]]] < s.id[k]))
+              if (arrival && (k == k_end || s.id[left[r.order[a]]] < s.id[k]))
                 {
                   r.arrivals.push_back({dst, r.order[a]});
                   ++dst, ++a;
@@ -1187,7 +1284,8 @@ namespace
             }
           next_cell = c + 1;
         }
-      stay(old_begin[next_cell], new_begin[next_cell],
+      stay(old_begin[next_cell],
+           new_begin[next_cell],
            uint32_t(s.n) - old_begin[next_cell]);
       if (open.len != 0)
         r.runs.push_back(open);
@@ -1236,28 +1334,29 @@ namespace
         // Column by column: the records of the points that left (with their
         // new cell and xi) to a buffer, the moves, the buffered records to
         // their places.
-        auto move_column = [&](auto *const column, const auto *new_values,
-                               auto &buffer) {
-          using T = std::remove_reference_t<decltype(*column)>;
-          buffer.resize(n_left);
-          if (new_values)
-            std::copy(new_values, new_values + n_left, buffer.begin());
-          else
-            for (uint32_t l = 0; l < n_left; ++l)
-              buffer[l] = column[left[l]];
-          const uint32_t *const pair_dst = r.pair_dst.data();
-          const uint32_t *const pair_src = r.pair_src.data();
-          uint32_t              p        = 0;
-          for (const RebinScratch::Segment &segment : r.segments)
-            {
-              for (; p < segment.pairs_end; ++p)
-                column[pair_dst[p]] = column[pair_src[p]];
-              std::memmove(column + segment.run.dst, column + segment.run.src,
-                           segment.run.len * sizeof(T));
-            }
-          for (const Arrival &arrival : r.arrivals)
-            column[arrival.dst] = buffer[arrival.slot];
-        };
+        auto move_column =
+          [&](auto *const column, const auto *new_values, auto &buffer) {
+            using T = std::remove_reference_t<decltype(*column)>;
+            buffer.resize(n_left);
+            if (new_values)
+              std::copy(new_values, new_values + n_left, buffer.begin());
+            else
+              for (uint32_t l = 0; l < n_left; ++l)
+                buffer[l] = column[left[l]];
+            const uint32_t *const pair_dst = r.pair_dst.data();
+            const uint32_t *const pair_src = r.pair_src.data();
+            uint32_t              p        = 0;
+            for (const RebinScratch::Segment &segment : r.segments)
+              {
+                for (; p < segment.pairs_end; ++p)
+                  column[pair_dst[p]] = column[pair_src[p]];
+                std::memmove(column + segment.run.dst,
+                             column + segment.run.src,
+                             segment.run.len * sizeof(T));
+              }
+            for (const Arrival &arrival : r.arrivals)
+              column[arrival.dst] = buffer[arrival.slot];
+          };
         for (int c = 0; c < n_double_columns; ++c)
           move_column(s.col[c],
                       c == c_xi  ? r.leavers.xi.data() :
@@ -1272,13 +1371,20 @@ namespace
         r.n_moved_sum += s.n;
         r.n_moved_runs_sum += r.runs.size();
         for (int c = 0; c < n_double_columns; ++c)
-          apply_copy(s.col[c], s.work_col[c],
+          apply_copy(s.col[c],
+                     s.work_col[c],
                      c == c_xi  ? r.leavers.xi.data() :
                      c == c_eta ? r.leavers.eta.data() :
                                   static_cast<const double *>(nullptr),
-                     left, r.runs, r.arrivals);
-        apply_copy(s.id, s.work_id, static_cast<const uint64_t *>(nullptr),
-                   left, r.runs, r.arrivals);
+                     left,
+                     r.runs,
+                     r.arrivals);
+        apply_copy(s.id,
+                   s.work_id,
+                   static_cast<const uint64_t *>(nullptr),
+                   left,
+                   r.runs,
+                   r.arrivals);
         apply_copy(s.cell, s.work_cell, new_cell, left, r.runs, r.arrivals);
       }
     // 5. The cell structure.
@@ -1346,16 +1452,21 @@ namespace
   };
 
   RunResult
-  run(Store &s, NodeMass *mass_grid, NodeVelocity *v_grid, RebinScratch &r,
-      BatchScratch &batch, const Config &config)
+  run(Store        &s,
+      NodeMass     *mass_grid,
+      NodeVelocity *v_grid,
+      RebinScratch &r,
+      BatchScratch &batch,
+      const Config &config)
   {
     initialize(s);
     RunResult result;
     // Initial signal speed: c(J = V/V0 = 1) + |V|max; h_min of the mesh.
     double max_V2 = 0;
     for (uint32_t k = 0; k < s.n; ++k)
-      max_V2 = std::max(max_V2, s.col[c_vx][k] * s.col[c_vx][k] +
-                                  s.col[c_vy][k] * s.col[c_vy][k]);
+      max_V2 = std::max(max_V2,
+                        s.col[c_vx][k] * s.col[c_vx][k] +
+                          s.col[c_vy][k] * s.col[c_vy][k]);
     double h_min = std::numeric_limits<double>::max();
     for (int i = 0; i < n_cells_x; ++i)
       h_min = std::min(h_min, (i + 1) * h - i * h);
@@ -1391,8 +1502,10 @@ namespace
         result.phase[p_rebin] += t6 - t5;
         if (stress.failed || !update.ok)
           {
-            std::printf("step %d failed (stress %d, update %d)\n", step + 1,
-                        int(stress.failed), int(!update.ok));
+            std::printf("step %d failed (stress %d, update %d)\n",
+                        step + 1,
+                        int(stress.failed),
+                        int(!update.ok));
             result.ok = false;
             break;
           }
@@ -1405,7 +1518,7 @@ namespace
       }
     result.seconds     = now() - start;
     result.cpu_seconds = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
-    result.t       = t;
+    result.t           = t;
     for (uint32_t k = 0; k < s.n; ++k)
       {
         const double vx = s.col[c_vx][k], vy = s.col[c_vy][k];
@@ -1455,7 +1568,11 @@ main(int argc, char **argv)
                  store.col[c_vy][k] * store.col[c_vy][k]);
   std::printf("hand kernel 2D: %zu points, %d cells, %d nodes, mass %.12g, "
               "initial kinetic energy %.12g\n",
-              store.n, n_cells, n_nodes, store.mass * store.n, kinetic0);
+              store.n,
+              n_cells,
+              n_nodes,
+              store.mass * store.n,
+              kinetic0);
 #ifdef HK_LIBMVEC
   std::printf("(staged stress update with libmvec's vector log/exp)\n");
 #endif
@@ -1473,19 +1590,23 @@ main(int argc, char **argv)
   const double point_steps = double(store.n) * n_steps;
   for (int c = 0; c < n_configs; ++c)
     {
-      const std::vector<RunResult> &rs = results[c];
-      double best = 1e300, worst = 0, best_cpu = 0;
+      const std::vector<RunResult> &rs   = results[c];
+      double                        best = 1e300, worst = 0, best_cpu = 0;
       for (const RunResult &x : rs)
         {
           if (x.seconds < best)
             best = x.seconds, best_cpu = x.cpu_seconds;
           worst = std::max(worst, x.seconds);
         }
-      std::printf("\n=== %s (%d runs of %d steps)\n", configs[c].name, n_runs,
+      std::printf("\n=== %s (%d runs of %d steps)\n",
+                  configs[c].name,
+                  n_runs,
                   n_steps);
       std::printf("    particle-steps per second: best %.3e, worst %.3e "
                   "(best run: CPU time / wall time %.3f)\n",
-                  point_steps / best, point_steps / worst, best_cpu / best);
+                  point_steps / best,
+                  point_steps / worst,
+                  best_cpu / best);
       std::printf("    ns per point-step            best    worst\n");
       double sum_best = 0;
       for (int p = 0; p < n_phases; ++p)
@@ -1494,22 +1615,31 @@ main(int argc, char **argv)
           for (const RunResult &x : rs)
             lo = std::min(lo, x.phase[p]), hi = std::max(hi, x.phase[p]);
           sum_best += lo;
-          std::printf("      %-28s %6.2f  %6.2f\n", phase_names[p],
-                      1e9 * lo / point_steps, 1e9 * hi / point_steps);
+          std::printf("      %-28s %6.2f  %6.2f\n",
+                      phase_names[p],
+                      1e9 * lo / point_steps,
+                      1e9 * hi / point_steps);
         }
       std::printf("      %-28s %6.2f  (whole step, best run: %.2f)\n",
-                  "sum of the best phases", 1e9 * sum_best / point_steps,
+                  "sum of the best phases",
+                  1e9 * sum_best / point_steps,
                   1e9 * best / point_steps);
       const RebinScratch &sc = scratches[c];
       std::printf("    re-bin: %.0f points left their cell per step, %.0f runs "
                   "(%.0f copied), %.0f points moved (%.1f %%)\n",
-                  sc.n_left_sum / sc.n_calls, sc.n_runs_sum / sc.n_calls,
-                  sc.n_moved_runs_sum / sc.n_calls, sc.n_moved_sum / sc.n_calls,
+                  sc.n_left_sum / sc.n_calls,
+                  sc.n_runs_sum / sc.n_calls,
+                  sc.n_moved_runs_sum / sc.n_calls,
+                  sc.n_moved_sum / sc.n_calls,
                   100. * sc.n_moved_sum / sc.n_calls / store.n);
       const RunResult &x = rs.back();
       std::printf("    after step %d: t = %.12g, dt = %.12g, kinetic energy "
                   "%.12g, strain energy %.12g, total %.12g\n",
-                  n_steps, x.t, x.dt, x.kinetic, x.strain,
+                  n_steps,
+                  x.t,
+                  x.dt,
+                  x.kinetic,
+                  x.strain,
                   x.kinetic + x.strain);
     }
   return 0;

@@ -13,13 +13,11 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <filesystem>
-#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -234,8 +232,9 @@ namespace
     Sources sources;
     try
       {
-        sources = fmpm::load_scene_sources(
-          {(folder / "scene.prm").string(), (folder / "comments.prm").string()});
+        sources =
+          fmpm::load_scene_sources({(folder / "scene.prm").string(),
+                                    (folder / "comments.prm").string()});
       }
     catch (...)
       {

@@ -2,10 +2,10 @@
 // Copyright (C) 2026 by the fmpm authors
 
 // Checks the mass matrices' stability_limit(), the measured critical Courant
-// numbers that cap the automatic time step's: none for the lumped mass matrix with every
-// update and strain update (so lumped-mass runs keep their time steps);
-// FMPM(k)'s limit falls with k to the full matrix's and never rises; lumped
-// strain velocities are at least as stable as full-mass ones; FLIP-type
+// numbers that cap the automatic time step's: none for the lumped mass matrix
+// with every update and strain update (so lumped-mass runs keep their time
+// steps); FMPM(k)'s limit falls with k to the full matrix's and never rises;
+// lumped strain velocities are at least as stable as full-mass ones; FLIP-type
 // updates get at most the leapfrog limit; FLIP with the full matrix and the
 // consistent matrix carry a warning naming the alternative; Time/Courant
 // number limit is checked.
