@@ -5,7 +5,7 @@
 # nu = 0.33 (K = 980.39 MPa, G = 375.94 MPa, U(J) = (K/2)((J^2-1)/2 - ln J)), rho = 1.5 g/cm^3,
 # plane strain, 44 x 24 mm grid of 0.5 mm cells, 2x2 points per cell, lCPDI, USL-, Courant 0.2,
 # frictionless contact with logistic-regression normals, to 0.245 ms.
-# Needs NairnMPM built by ../shared/peers/build_nairn.sh (binary in ~/.nairn/bin or $NAIRN_DIR/bin).
+# Needs a NairnMPM binary: in ~/.nairn/bin, or in $NAIRN_DIR/bin.
 # Prints the points, steps, wall time and the energy lost, 1 - (KE + SE)_end / (KE + SE)_0.
 # usage: nairn_disk_impact.sh VARIANT [THREADS]    VARIANT = FLIP | FMPM<k> | XPIC<k>
 # env: CELL (mm, default 0.5)
