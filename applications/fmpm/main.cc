@@ -21,28 +21,6 @@
 
 namespace
 {
-  /**
-   * A run started without mpirun is an Open MPI singleton: by default its
-   * MPI_Init starts a runtime daemon (orted) and probes the UCX network
-   * layer, about 0.35 s before the first line of a serial run. One process
-   * needs neither: ask for an isolated singleton that talks to itself only
-   * (settings the user made win; other MPI libraries ignore these names).
-   */
-  void
-  prefer_quick_singleton_start()
-  {
-    for (const char *launched_by : {"OMPI_COMM_WORLD_SIZE",
-                                    "PMIX_RANK",
-                                    "PMI_RANK",
-                                    "PMI_SIZE",
-                                    "SLURM_PROCID"})
-      if (std::getenv(launched_by) != nullptr)
-        return;
-    setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
-    setenv("OMPI_MCA_pml", "ob1", 0);
-    setenv("OMPI_MCA_btl", "self", 0);
-  }
-
   const char *usage =
     "Usage: fmpm [options] [scene.prm ...]\n"
     "\n"
@@ -274,7 +252,6 @@ int
 main(int argc, char **argv)
 {
   using namespace dealii;
-  prefer_quick_singleton_start();
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const bool is_root = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 
