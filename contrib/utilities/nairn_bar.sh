@@ -13,19 +13,12 @@
 # units mm-g-ms. Exact: mean velocity (2/pi) cos(w t), w = pi c / 2L; KE + SE = E_0.
 set -euo pipefail
 var=${1:?variant}; np=${2:-1}
-bin=${NAIRN:-${NAIRN_DIR:-$HOME/.nairn}/bin/NairnMPM}
-[[ -x $bin ]] || { echo "NairnMPM not found at $bin: build it from github.com/nairnj/nairn-mpm-fea and set NAIRN"; exit 1; }
+here=$(cd "$(dirname "$0")" && pwd); source "$here/nairn_common.sh"
+nairn_binary; nairn_task "$var" > /dev/null
 CELL=${CELL:-2}; SHAPE=${SHAPE:-uGIMP}; MPMMETHOD=${MPMMETHOD:-2}; CFL=${CFL:-0.5}; NPER=${NPER:-2}
 skip=""; [[ ${SKIPPOST:-0} == 1 ]] && skip="<SkipPostExtrapolation/>"
-case $var in
-  FLIP) task="" ;;
-  PIC) task='<Schedule name="PeriodicXPIC"><Parameter name="FMPMOrder">1</Parameter><Parameter name="periodicSteps">1</Parameter></Schedule>' ;;
-  XPIC*) task="<Schedule name=\"PeriodicXPIC\"><Parameter name=\"XPICOrder\">${var#XPIC}</Parameter><Parameter name=\"periodicSteps\">1</Parameter></Schedule>" ;;
-  FMPM*) task="<Schedule name=\"PeriodicXPIC\"><Parameter name=\"FMPMOrder\">${var#FMPM}</Parameter><Parameter name=\"periodicSteps\">1</Parameter></Schedule>" ;;
-  *) echo "unknown variant $var"; exit 2 ;;
-esac
 m() { awk "BEGIN{print $*}"; }
-d=$(mktemp -d -t nairnbar.XXXXXX); cd "$d"
+nairn_workdir nairnbar
 L=400; H=20; tmax=$(m "1.6*$NPER")
 cat > in.xml <<X
 <?xml version='1.0'?>
@@ -59,24 +52,15 @@ cat > in.xml <<X
   <GridBCs>
     <BCLine x1="0" x2="0" y1="-$(m "4*$CELL")" y2="$(m "$H+4*$CELL")" tolerance="$(m "$CELL/4")"><DisBC dir="1" style="1" vel="0"/></BCLine>
   </GridBCs>
-$( [[ -n $task ]] && echo "  <CustomTasks>$task</CustomTasks>" )
+$(nairn_custom_tasks "$var")
 </JANFEAInput>
 X
-cp "$(dirname "$bin")/NairnMPM.dtd" .
-start=$(date +%s.%N)
-"$bin" -np "$np" in.xml > output.txt 2>&1 || { echo "NairnMPM failed: $(tail -3 output.txt | tr '\n' ' ')"; exit 1; }
-wall=$(python3 -c "import time; print(time.time() - $start)")
-python3 - "$var" "$np" "$wall" <<'PY'
-import glob, math, re, sys
+nairn_run "$np"
+PYTHONPATH="$here" python3 - "$var" "$np" "$nairn_wall" <<'PY'
+import math, sys
+import nairn_results
 var, np_, wall = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
-out = open('output.txt').read()
-steps = int(re.search(r'Calculation Steps:\s*(\d+)', out).group(1))
-npts = int(re.search(r'Number of Material Points:\s*(\d+)', out).group(1))
-g = glob.glob('Results_*/*.global')[0]
-lines = open(g).readlines()
-names = re.findall(r'"([^"]+)"', lines[0] + lines[1])
-rows = [list(map(float, l.split())) for l in lines if l.strip() and not l.startswith('#')]
-col = {n: i + 1 for i, n in enumerate(names)}
+steps, npts, rows, col = nairn_results.load()
 w = math.pi * 1000 / 800
 err = max(abs(r[col['velx mat 1']] - 2 / math.pi * math.cos(w * r[0])) for r in rows)
 e = lambda r: r[col['Kinetic Energy']] + r[col['Strain Energy']]

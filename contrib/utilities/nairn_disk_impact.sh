@@ -5,22 +5,16 @@
 # nu = 0.33 (K = 980.39 MPa, G = 375.94 MPa, U(J) = (K/2)((J^2-1)/2 - ln J)), rho = 1.5 g/cm^3,
 # plane strain, 44 x 24 mm grid of 0.5 mm cells, 2x2 points per cell, lCPDI, USL-, Courant 0.2,
 # frictionless contact with logistic-regression normals, to 0.245 ms.
-# Needs a NairnMPM binary: in ~/.nairn/bin, or in $NAIRN_DIR/bin.
+# Needs a NairnMPM binary (see nairn_common.sh).
 # Prints the points, steps, wall time and the energy lost, 1 - (KE + SE)_end / (KE + SE)_0.
 # usage: nairn_disk_impact.sh VARIANT [THREADS]    VARIANT = FLIP | FMPM<k> | XPIC<k>
 # env: CELL (mm, default 0.5)
 set -euo pipefail
 var=${1:?variant}; np=${2:-1}
-bin=${NAIRN:-${NAIRN_DIR:-$HOME/.nairn}/bin/NairnMPM}
-[[ -x $bin ]] || { echo "NairnMPM not built: get a git copy of nairnj/nairn-mpm-fea, then build_nairn.sh GIT_DIR"; exit 1; }
+here=$(cd "$(dirname "$0")" && pwd); source "$here/nairn_common.sh"
+nairn_binary; nairn_task "$var" > /dev/null
 CELL=${CELL:-0.5}
-case $var in
-  FLIP) task="" ;;
-  XPIC*) task="<Schedule name=\"PeriodicXPIC\"><Parameter name=\"XPICOrder\">${var#XPIC}</Parameter><Parameter name=\"periodicSteps\">1</Parameter></Schedule>" ;;
-  FMPM*) task="<Schedule name=\"PeriodicXPIC\"><Parameter name=\"FMPMOrder\">${var#FMPM}</Parameter><Parameter name=\"periodicSteps\">1</Parameter></Schedule>" ;;
-  *) echo "unknown variant $var"; exit 2 ;;
-esac
-d=$(mktemp -d -t ndisk.XXXXXX); cd "$d"
+nairn_workdir ndisk
 material() {
   echo "  <Material Type=\"28\" Name=\"$1\"><rho>0.0015</rho><K>980.392156862745</K><G>375.939849624060</G><UJOption>2</UJOption></Material>"
 }
@@ -55,24 +49,15 @@ cat > in.xml <<X
   </MaterialPoints>
 $(material disk0)
 $(material disk1)
-$( [[ -n $task ]] && echo "  <CustomTasks>$task</CustomTasks>" )
+$(nairn_custom_tasks "$var")
 </JANFEAInput>
 X
-cp "$(dirname "$bin")/NairnMPM.dtd" .
-start=$(date +%s.%N)
-"$bin" -np "$np" in.xml > output.txt 2>&1 || { echo "NairnMPM failed: $(tail -3 output.txt | tr '\n' ' ')"; exit 1; }
-wall=$(python3 -c "import time; print(time.time() - $start)")
-python3 - "$var" "$np" "$wall" <<'PY'
-import glob, re, sys
+nairn_run "$np"
+PYTHONPATH="$here" python3 - "$var" "$np" "$nairn_wall" <<'PY'
+import sys
+import nairn_results
 var, np_, wall = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
-out = open('output.txt').read()
-steps = int(re.search(r'Calculation Steps:\s*(\d+)', out).group(1))
-npts = int(re.search(r'Number of Material Points:\s*(\d+)', out).group(1))
-g = glob.glob('Results_*/*.global')[0]
-lines = open(g).readlines()
-names = re.findall(r'"([^"]+)"', lines[0] + lines[1])
-rows = [list(map(float, l.split())) for l in lines if l.strip() and not l.startswith('#')]
-col = {n: i + 1 for i, n in enumerate(names)}
+steps, npts, rows, col = nairn_results.load()
 e = lambda r: r[col['Kinetic Energy']] + r[col['Strain Energy']]
 print(f'NairnMPM disk impact {var} threads={np_} points={npts} steps={steps} wall_s={wall:.2f} '
       f'energy_lost={100 * (1 - e(rows[-1]) / e(rows[0])):.2f}%')

@@ -4,21 +4,16 @@
 # disk R = 300 mm at (500,500), omega = 2 rad/s, K = 400 Pa, G = 200 Pa, rho = 1 kg/m^3,
 # 24 x 24 cells on 1000 mm, 2x2 points per cell, plane strain, to 1 s.
 # Used for doc/studies/stability.md, "High orders and the shape function".
-# Needs NairnMPM (github.com/nairnj/nairn-mpm-fea; binary in ~/.nairn/bin or $NAIRN_DIR/bin, as
-# for contrib/utilities/nairn_bar.sh).
+# Needs NairnMPM (see nairn_common.sh).
 # Prints the steps, E_end/E_0 and the largest E/E_0 (NairnMPM does not stop when the energy grows).
 # usage: nairn_rotation.sh VARIANT CFL   VARIANT = FLIP | XPIC<k> | FMPM<k>
 # env: SHAPE (Dirac = classic, uGIMP, lCPDI), MPMMETHOD (2 USAVG, 3 USL), SKIPPOST (1: USAVG-/USL-)
 set -euo pipefail
-var=$1; CFL=$2; SHAPE=${SHAPE:-Dirac}; MPMMETHOD=${MPMMETHOD:-2}
+var=${1:?variant}; CFL=${2:?CFL}; SHAPE=${SHAPE:-Dirac}; MPMMETHOD=${MPMMETHOD:-2}
+here=$(cd "$(dirname "$0")" && pwd); source "$here/nairn_common.sh"
+nairn_binary; nairn_task "$var" > /dev/null
 skip=""; [[ ${SKIPPOST:-0} == 1 ]] && skip="<SkipPostExtrapolation/>"
-case $var in
-  FLIP) task="" ;;
-  XPIC*) task="<Schedule name=\"PeriodicXPIC\"><Parameter name=\"XPICOrder\">${var#XPIC}</Parameter><Parameter name=\"periodicSteps\">1</Parameter></Schedule>" ;;
-  FMPM*) task="<Schedule name=\"PeriodicXPIC\"><Parameter name=\"FMPMOrder\">${var#FMPM}</Parameter><Parameter name=\"periodicSteps\">1</Parameter></Schedule>" ;;
-  *) echo "unknown variant $var"; exit 2 ;;
-esac
-d=$(mktemp -d -t nrot.XXXXXX); cd "$d"
+nairn_workdir nrot
 cat > in.xml <<X
 <?xml version='1.0'?>
 <!DOCTYPE JANFEAInput SYSTEM "NairnMPM.dtd">
@@ -47,23 +42,17 @@ cat > in.xml <<X
     <Body matname="disk" thick="1"><vel0X>-0.002*(y-500)</vel0X><vel0Y>0.002*(x-500)</vel0Y><Oval xmin="200" xmax="800" ymin="200" ymax="800"/></Body>
   </MaterialPoints>
   <Material Type="1" Name="disk"><rho>1e-6</rho><E>5.142857142857e-4</E><nu>0.285714285714</nu><alpha>0</alpha></Material>
-$( [[ -n $task ]] && echo "  <CustomTasks>$task</CustomTasks>" )
+$(nairn_custom_tasks "$var")
 </JANFEAInput>
 X
-cp ${NAIRN_DIR:-$HOME/.nairn}/bin/NairnMPM.dtd . 2>/dev/null || true
 mkdir -p Results
-start=$(date +%s.%N)
-${NAIRN_DIR:-$HOME/.nairn}/bin/NairnMPM -np 1 in.xml > out.mpm 2>&1 || true
-end=$(date +%s.%N)
-g=$(ls Results/*global* 2>/dev/null | head -1 || true)
-echo "$var CFL=$CFL wall=$(awk "BEGIN{print $end-$start}") dir=$d"
-grep -i -E "error|exception|terminated|unstable|left the grid" out.mpm | head -3 || true
-grep -E "Calculation Steps" out.mpm
-python3 - <<'PY'
-import glob,re
-g=glob.glob('Results/*.global')[0]
-lines=open(g).readlines()
-rows=[list(map(float,l.split())) for l in lines if l.strip() and not l.startswith('#')]
-e=lambda r:r[1]+r[2]
+nairn_run 1 keep-going
+echo "$var CFL=$CFL wall=$nairn_wall dir=$PWD"
+grep -i -E "error|exception|terminated|unstable|left the grid" output.txt | head -3 || true
+grep -E "Calculation Steps" output.txt
+PYTHONPATH="$here" python3 - <<'PY'
+import nairn_results
+steps, points, rows, col = nairn_results.load()
+e = lambda r: r[col['Kinetic Energy']] + r[col['Strain Energy']]
 print(f"t_end={rows[-1][0]} E_end/E_0={e(rows[-1])/e(rows[0]):.4f} maxE/E0={max(e(r) for r in rows)/e(rows[0]):.4f}")
 PY
