@@ -97,7 +97,6 @@ namespace fmpm
       return kinetic_energy + strain_energy + potential_energy;
     }
   };
-
   /**
    * @brief Orchestrates an MPM run: owns the background mesh, the DoFs, the
    * material points, the grid vectors and one object per plugin system.
@@ -295,9 +294,7 @@ namespace fmpm
                                                    &cell,
       const typename Triangulation<dim>::CellStatus status) const;
 
-    // --- the time step (simulator/core.cc, transfer.cc) ---
-    double
-    compute_time_step() const;
+    // --- the time step (simulator/time_step.cc, core.cc) ---
     double
     compute_max_signal_speed() const;
 
@@ -754,11 +751,8 @@ namespace fmpm
     /** Time, step, Δt and the output and checkpoint schedules. */
     SimulationControl control;
 
-    /** The method's stability factor of the automatic time step (set-up,
-     * from Time/Stability factor or stability_limit()). */
-    StabilityLimit stability;
-    double         mass_floor_value  = 0;
-    double         minimum_cell_size = 0;
+    double mass_floor_value  = 0;
+    double minimum_cell_size = 0;
     /** Largest wave speed + point speed over all points. Units: m/s. */
     double max_signal_speed = 0;
     /** First numerical failure this rank saw in the current step. */

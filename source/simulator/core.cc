@@ -268,28 +268,6 @@ namespace fmpm
 
 
   template <int dim>
-  double
-  Simulator<dim>::compute_time_step() const
-  {
-    double dt = parameters.time.time_step;
-    if (dt == 0)
-      dt = std::min(parameters.time.courant_number, stability.max_courant) *
-           minimum_cell_size / max_signal_speed;
-    // Do not step past the end time, nor past the next output time with
-    // Output/Exact output times (avoid a tiny step by splitting the rest
-    // evenly when it is less than two steps).
-    const double rest = std::min(parameters.time.end_time - control.time(),
-                                 control.time_to_next_output());
-    if (rest < dt * (1 + 1e-12))
-      dt = rest;
-    else if (rest < 2 * dt)
-      dt = rest / 2;
-    return dt;
-  }
-
-
-
-  template <int dim>
   void
   Simulator<dim>::run()
   {
@@ -319,32 +297,27 @@ namespace fmpm
     for (unsigned int s = 0; s < step_stages.size(); ++s)
       pcout << (s == 0 ? " " : ", ") << step_stages[s].name;
     pcout << std::endl;
-    if (parameters.time.time_step == 0)
-      {
-        pcout << "      time step: Courant number "
-              << format_number(parameters.time.courant_number);
-        if (parameters.time.courant_number > stability.max_courant)
-          pcout << " capped at the method's limit "
-                << format_number(stability.max_courant, 3) << " ("
-                << stability.basis << ")";
-        pcout << std::endl;
-      }
+    TimeStepRule &rule = control.time_step_rule();
+    if (!rule.description().empty())
+      pcout << "      " << rule.description() << std::endl;
     // Bodies that fill every cell of the mesh (a confined bar) have no free
     // surface to warn about.
-    if (stability.warning_only_with_free_surfaces)
+    if (rule.method_warning_needs_free_surfaces())
       {
         const bool every_cell_filled =
           points.n_cells() == triangulation.n_locally_owned_active_cells();
-        // Keep what check_scene() added (" Also: ...").
-        const auto also = stability.warning.find(" Also: ");
         if (Utilities::MPI::min(every_cell_filled ? 1 : 0, mpi_communicator) ==
             1)
-          stability.warning =
-            also == std::string::npos ? "" : stability.warning.substr(also + 7);
+          rule.no_free_surfaces();
       }
-
-    if (!stability.warning.empty() && is_root && !parameters.test_mode)
-      std::cerr << "fmpm: warning: " << stability.warning << std::endl;
+    const std::vector<std::string> warnings = rule.warnings();
+    if (!warnings.empty() && is_root && !parameters.test_mode)
+      {
+        std::cerr << "fmpm: warning: " << warnings[0];
+        for (unsigned int w = 1; w < warnings.size(); ++w)
+          std::cerr << " Also: " << warnings[w];
+        std::cerr << std::endl;
+      }
 
     install_signal_handlers();
     control.checkpoint_written(MPI_Wtime());
@@ -490,12 +463,12 @@ namespace fmpm
                 << "mass matrix '" << parameters.method.mass_matrix
                 << "', which needs a smaller time step than the lumped one "
                 << "(this run's Courant number limit: "
-                << format_number(stability.max_courant, 3) << ", "
-                << stability.basis << "): lower Time/Courant number or "
+                << control.time_step_rule().limit_description()
+                << "): lower Time/Courant number or "
                 << "Time step, or set Time/Strain update mass matrix = "
                 << "lumped." << std::endl;
-        if (!stability.note.empty())
-          pcout << "    Note: " << stability.note << std::endl;
+        if (!control.time_step_rule().note().empty())
+          pcout << "    Note: " << control.time_step_rule().note() << std::endl;
         tout << "FAILED at step " << failure.step << ": " << failure.what()
              << std::endl;
         const GlobalStatistics<dim> statistics = compute_statistics();

@@ -63,7 +63,7 @@ namespace fmpm
         control.step_number() % parameters.refinement.interval == 0)
       adapt_mesh();
     TimerOutput::Scope timer(computing_timer, "step set-up");
-    control.set_time_step(compute_time_step());
+    control.calculate_time_step(max_signal_speed, minimum_cell_size);
     const double t  = control.time();
     const double dt = control.time_step();
     series_step     = mass_matrix->begin_step(control.step_number(), t, dt);
