@@ -255,6 +255,20 @@ namespace fmpm
       return dt;
     }
 
+    /** The largest wave speed + point speed over the points at the end
+     * of the last step (the signal speed of the next Δt). Units: m/s. */
+    double
+    signal_speed() const
+    {
+      return max_signal_speed;
+    }
+
+    void
+    set_signal_speed(const double speed)
+    {
+      max_signal_speed = speed;
+    }
+
     /** Set Δt for the step about to be taken. */
     void
     set_time_step(const double dt)
@@ -389,8 +403,8 @@ namespace fmpm
     void
     serialize(Archive &archive, const unsigned int)
     {
-      archive &current_time &current_time_step &step &next_output_time
-        &n_output;
+      archive &current_time &current_time_step &step &next_output_time &n_output
+        &max_signal_speed;
     }
 
   private:
@@ -411,6 +425,7 @@ namespace fmpm
 
     double       current_time      = 0;
     double       current_time_step = 0;
+    double       max_signal_speed  = 0;
     unsigned int step              = 0;
     double       next_output_time  = 0;
     unsigned int n_output          = 0;

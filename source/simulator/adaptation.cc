@@ -225,10 +225,10 @@ namespace fmpm
     particle_handler.unpack_after_coarsening_and_refinement();
     setup_after_mesh_change();
     points_from_handler();
-    ++mesh_adaptations;
+    ++counters.mesh_adaptations;
     // A fixed time step must stay stable on the new smallest cell.
     const std::string unstable =
-      control.time_step_rule().check_fixed_time_step(max_signal_speed,
+      control.time_step_rule().check_fixed_time_step(control.signal_speed(),
                                                      minimum_cell_size,
                                                      true);
     if (!unstable.empty())

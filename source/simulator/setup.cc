@@ -110,7 +110,7 @@ namespace fmpm
       }
     // A resumed run loads the refinement from its checkpoint onto the
     // coarse mesh.
-    if (!resume_from_checkpoint)
+    if (!checkpoint_state.resume)
       triangulation.refine_global(mesh.global_refinement);
   }
 
@@ -834,7 +834,7 @@ namespace fmpm
 
     // A fixed time step must be stable.
     const std::string unstable =
-      control.time_step_rule().check_fixed_time_step(max_signal_speed,
+      control.time_step_rule().check_fixed_time_step(control.signal_speed(),
                                                      minimum_cell_size,
                                                      false);
     AssertThrow(unstable.empty(), ExcMessage(unstable));
