@@ -13,7 +13,10 @@
 #include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
+#include <fmpm/postprocess/energy_balance.h>
+#include <fmpm/postprocess/global_statistics.h>
 #include <fmpm/postprocess/history.h>
+#include <fmpm/postprocess/interface.h>
 #include <fmpm/shape_function.h>
 #include <fmpm/simulation_control.h>
 #include <fmpm/simulator_access.h>
@@ -65,40 +68,6 @@ namespace fmpm
   };
 
   /**
-   * @brief Global quantities of the material points at one instant.
-   */
-  template <int dim>
-  struct GlobalStatistics
-  {
-    double         mass             = 0;
-    double         kinetic_energy   = 0;
-    double         strain_energy    = 0;
-    double         potential_energy = 0;
-    Tensor<1, dim> momentum;
-    /** Σ M |V − v_ref|² and Σ M |v_ref|² against the reference solution. */
-    double velocity_error_squared         = 0;
-    double velocity_reference_squared     = 0;
-    double displacement_error_squared     = 0;
-    double displacement_reference_squared = 0;
-    /** With 2+ materials, per material: mass, momentum (dim), volume, σV
-     * (xx, yy, xy in 2D; xx, yy, zz, xy, xz, yz in 3D), kinetic and strain
-     * energy (material_stride() values each). */
-    std::vector<double>           per_material;
-    static constexpr unsigned int n_stress = dim == 2 ? 3 : 6;
-    static constexpr unsigned int
-    material_stride()
-    {
-      return 1 + dim + 1 + n_stress + 2;
-    }
-
-    double
-    total_energy() const
-    {
-      return kinetic_energy + strain_energy + potential_energy;
-    }
-  };
-
-  /**
    * @brief Orchestrates an MPM run: owns the background mesh, the DoFs, the
    * material points, the grid vectors and one object per plugin system.
    *
@@ -141,7 +110,7 @@ namespace fmpm
     bool
     stopped_by_signal() const
     {
-      return stopped_on_signal;
+      return checkpoint_state.stopped_on_signal;
     }
 
     /** @brief The number of material points on all ranks. */
@@ -230,7 +199,7 @@ namespace fmpm
     unsigned int
     n_mesh_adaptations() const
     {
-      return mesh_adaptations;
+      return counters.mesh_adaptations;
     }
 
     /**
@@ -295,11 +264,34 @@ namespace fmpm
                                                    &cell,
       const typename Triangulation<dim>::CellStatus status) const;
 
-    // --- the time step (simulator/core.cc, transfer.cc) ---
-    double
-    compute_time_step() const;
+    // --- the run (simulator/core.cc) ---
+    /** history.csv opened, the run's header (method, stages, the time-step
+     * rule and its warnings), the signal handlers, where a resumed run
+     * starts. */
+    void
+    start_run();
+    /** The initial energies and the scale of the energy-growth bound. */
+    void
+    start_energy_balance(const GlobalStatistics<dim> &statistics);
+    /** After a step: the statistics, the energy check, the output and the
+     * progress line when due. */
+    void
+    postprocess_step();
+    /** Write the due checkpoint (and the summary first when a signal asked
+     * to stop); returns whether the run stops. */
+    bool
+    checkpoint_and_maybe_stop();
+    /** The last output, the closing lines, summary.json. */
+    void
+    finish_run();
+    /** The failure, its likely cause and remedy, summary.json. */
+    void
+    report_failure(const SimulationFailure &failure);
+    /** The largest wave speed + point speed over all points (collective). */
     double
     compute_max_signal_speed() const;
+
+    // --- the time step (simulator/time_step.cc) ---
 
     /**
      * @brief Whether the grid VTU is written after the step of length dt
@@ -498,20 +490,12 @@ namespace fmpm
     finish_re_extrapolation();
     void
     sort_particles_into_cells();
+
+    // --- diagnostics (simulator/statistics.cc) ---
+    /** Stop the run when the energy is not finite or grew past the
+     * energy balance's bound (Failure detection). */
     void
     check_energy(const GlobalStatistics<dim> &statistics);
-    /** The largest change of the kinetic, the strain or the potential
-     * energy from its initial value, at the outputs so far and in
-     * @p statistics. Units: J. */
-    double
-    energy_exchanged(const GlobalStatistics<dim> &statistics) const;
-    /** The energy balance (E - E0 - W) / scale of summary.json with scale
-     * the largest of KE0 + SE0, energy_exchanged() and Σ|dW| (README,
-     * Output files). */
-    double
-    energy_error(const GlobalStatistics<dim> &statistics) const;
-    double
-    energy_error_scale(const GlobalStatistics<dim> &statistics) const;
 
     /** Where the fastest material point is (id, body, position, speed), for
      * failure messages; collective. */
@@ -537,7 +521,7 @@ namespace fmpm
     local_checkpoint_request() const;
     /** Whether a checkpoint is due after this step (step interval, wall
      * time, or a signal on any rank: the request check_step_failures()
-     * reduced). Sets stop_requested when a signal arrived. */
+     * reduced). Sets checkpoint_state.stop_requested when a signal arrived. */
     bool
     checkpoint_due();
     /** Write <Output/Directory>/checkpoint/step-NNNNNN/ (through a
@@ -554,17 +538,22 @@ namespace fmpm
     serialize_scalar_state(Archive &archive);
 
     // --- output (simulator/output.cc) ---
-    /** Waits for the background writer of the last VTU output; rethrows
-     * its error. */
-    void
-    wait_for_output_writer();
-
     void
     output_results(const GlobalStatistics<dim> &statistics);
     void
     write_summary(const std::string           &status,
                   const SimulationFailure     *failure,
                   const GlobalStatistics<dim> &statistics);
+    /** summary.json's entries of the results: energies, errors, contact,
+     * conditions, the mass matrix's figures, the failure (rank 0). */
+    void
+    write_summary_results(
+      std::ostream                                      &out,
+      const GlobalStatistics<dim>                       &statistics,
+      const SimulationFailure                           *failure,
+      const double                                       condition_error,
+      const std::vector<std::pair<std::string, double>> &contact_figures,
+      const std::map<std::string, double> &mass_matrix_statistics) const;
     void
     print_progress(const GlobalStatistics<dim> &statistics, const bool force);
     /** history.csv columns of scenes with 2+ materials (per material, then
@@ -595,10 +584,6 @@ namespace fmpm
      * the mesh), the same on every rank. Collective. */
     std::vector<double>
     tracked_point_values() const;
-    /** particles_NNNNN.csv of output @p n_output (Output/Write particle
-     * csv). */
-    void
-    write_particle_csv() const;
 
     MPI_Comm            mpi_communicator;
     const Parameters    parameters;
@@ -699,9 +684,6 @@ namespace fmpm
     /** Largest |v⁺ · n̂ − v_b| on the condition nodes over the run (this
      * rank). Units: m/s. */
     double max_condition_error = 0;
-    /** Whether the run has warned that the checkerboard indicator passed
-     * its threshold. */
-    bool checkerboard_warned = false;
     /** Corrections Δv (of v) and Δv⁺ (of v⁺) per node condition. */
     std::array<std::vector<double>, 2> velocity_corrections;
     /** Cells around each vertex, for finding the new cell of a moved point. */
@@ -747,79 +729,62 @@ namespace fmpm
                                                     lumped_step_fields;
     }
 
+    /** history.csv: its rows, the tracked points of its columns. */
     History<dim> history;
-    /** Ids of the points of Output/Tracked points, in its order. */
-    std::vector<types::particle_index> tracked_point_ids;
 
     /** Time, step, Δt and the output and checkpoint schedules. */
     SimulationControl control;
 
-    /** The method's stability factor of the automatic time step (set-up,
-     * from Time/Stability factor or stability_limit()). */
-    StabilityLimit stability;
-    double         mass_floor_value  = 0;
-    double         minimum_cell_size = 0;
-    /** Largest wave speed + point speed over all points. Units: m/s. */
-    double max_signal_speed = 0;
+    double mass_floor_value  = 0;
+    double minimum_cell_size = 0;
     /** First numerical failure this rank saw in the current step. */
     std::string local_failure;
     /** Output stream for test mode (rank 0, only in test mode). */
     ConditionalOStream tout;
-    double             initial_total_energy  = 0;
     unsigned long long n_lost_points         = 0;
-    unsigned long long total_lost_points     = 0;
     double             local_max_wave_speed  = 0;
     double             local_max_point_speed = 0;
-    /** Scale of the energy-growth bound (initial kinetic + strain energy, or
-     * the work gravity can do across the mesh). Units: J. */
-    double initial_energy_scale = 0;
-    /** Kinetic and strain energy at the start, and the largest change of
-     * the kinetic, strain or potential energy from its initial value at
-     * the outputs so far (energy_exchanged()). Units: J. */
-    double initial_kinetic_energy = 0;
-    double initial_strain_energy  = 0;
-    double max_energy_exchanged   = 0;
-    /** Σ over outputs of the squared reference errors and norms. */
-    std::array<double, 4> error_sums{{0, 0, 0, 0}};
     /** Energy dissipated by the particle updates on this rank in the
-     * current step, and the global accumulated sum (seed 003 Eq. 1.46). */
+     * current step (seed 003 Eq. 1.46). */
     double                   local_dissipation = 0;
-    double                   dissipated_energy = 0;
     std::vector<std::string> lost_point_messages;
-    /** The VTU pieces of the last output, written in a background thread
-     * (no MPI there) while the run continues; waited for before the next
-     * output and at the end (wait_for_output_writer()). */
-    std::future<void>                           output_writer;
-    std::vector<std::pair<double, std::string>> particle_pvd_records;
-    std::vector<std::pair<double, std::string>> grid_pvd_records;
-    double                                      wall_start         = 0;
-    double                                      last_progress_wall = -1e30;
-    /** The share of the wall time the timer sections cover (summary). */
-    double             timer_coverage = 0;
-    unsigned long long particle_steps = 0;
-    /** Mesh adaptations during the run, and Σ over steps of the number of
-     * active cells (for the mean cell count in summary.json). */
-    unsigned int       mesh_adaptations = 0;
-    unsigned long long cell_steps       = 0;
-    unsigned long long max_cells        = 0;
+    /** The initial energies, the energy exchanged, the dissipated energy
+     * and the reference errors of the run. */
+    Postprocess::EnergyBalance<dim> energy_balance;
+    /** Steps, cells, adaptations, lost points and wall clocks (summary). */
+    Postprocess::RunCounters counters;
+    /** What the outputs write besides history.csv: VTU files, the
+     * points' csv files (set-up). */
+    Postprocess::Manager<dim> postprocessors;
 
-    /** Resume from a checkpoint (set-up and run() skip the initial state). */
-    const bool resume_from_checkpoint;
-    /** The checkpoint directory a resumed run read, and its history rows
-     * (written again when run() opens history.csv). */
-    std::string                  resumed_checkpoint;
-    std::vector<HistoryRow<dim>> restored_history_rows;
-    /** The newest complete checkpoint of this run (or the one it resumed
-     * from); summary.json names it. */
-    std::string latest_checkpoint;
-    /** The largest local_checkpoint_request() of the ranks in the last
-     * check_step_failures(). */
-    int checkpoint_request = 0;
-    /** A signal asked to checkpoint and stop; the run stopped so. */
-    bool stop_requested    = false;
-    bool stopped_on_signal = false;
+    /** Where the run resumed from, its checkpoints and the requests to
+     * write one (simulator/checkpoint_restart.cc). */
+    struct CheckpointState
+    {
+      explicit CheckpointState(const bool resume)
+        : resume(resume)
+      {}
+      /** Resume from a checkpoint (set-up and run() skip the initial
+       * state). */
+      const bool resume;
+      /** The checkpoint directory a resumed run read, and its history rows
+       * (written again when run() opens history.csv). */
+      std::string                  resumed_from;
+      std::vector<HistoryRow<dim>> restored_history_rows;
+      /** The newest complete checkpoint of this run (or the one it resumed
+       * from); summary.json names it. */
+      std::string latest;
+      /** The largest local_checkpoint_request() of the ranks in the last
+       * check_step_failures(). */
+      int request = 0;
+      /** A signal asked to checkpoint and stop; the run stopped so. */
+      bool stop_requested    = false;
+      bool stopped_on_signal = false;
+    };
+    CheckpointState checkpoint_state;
 
     friend class SimulatorAccess<dim>;
+    friend class Postprocess::Interface<dim>;
   };
 } // namespace fmpm
 

@@ -225,20 +225,14 @@ namespace fmpm
     particle_handler.unpack_after_coarsening_and_refinement();
     setup_after_mesh_change();
     points_from_handler();
-    ++mesh_adaptations;
+    ++counters.mesh_adaptations;
     // A fixed time step must stay stable on the new smallest cell.
-    const double stable = minimum_cell_size / max_signal_speed;
-    if (parameters.time.time_step > 0 && parameters.time.check_stability &&
-        parameters.time.time_step > stable)
-      throw SimulationFailure(
-        "Time/Time step = " + format_number(parameters.time.time_step) +
-          " s is above the stable limit h_min / (wave speed + point speed) "
-          "= " +
-          format_number(stable, 6) +
-          " s of the adapted mesh. Choose a smaller time step, a lower Mesh "
-          "refinement/Maximum level, or Time/Courant number.",
-        control.step_number(),
-        control.time());
+    const std::string unstable =
+      control.time_step_rule().check_fixed_time_step(control.signal_speed(),
+                                                     minimum_cell_size,
+                                                     true);
+    if (!unstable.empty())
+      throw SimulationFailure(unstable, control.step_number(), control.time());
     return true;
   }
 

@@ -71,7 +71,7 @@ namespace fmpm
 
     /** First line of every state file, and its format version. */
     const std::string  state_magic   = "fmpm checkpoint";
-    const unsigned int state_version = 2;
+    const unsigned int state_version = 3;
 
     namespace fs = std::filesystem;
 
@@ -119,6 +119,56 @@ namespace fmpm
     {
       return {mesh, mesh + ".info", mesh + "_fixed.data"};
     }
+
+    /** The newest complete checkpoint in @p directory and the bytes of its
+     * state file: rank 0 finds and reads them, the others get them (or the
+     * error) from it. Collective. */
+    std::pair<std::string, std::string>
+    newest_checkpoint(const fs::path &directory, const MPI_Comm comm)
+    {
+      const bool is_root = Utilities::MPI::this_mpi_process(comm) == 0;
+      // Rank 0 finds the newest complete checkpoint and reads its state; the
+      // others get the bytes (or the error) from it.
+      std::string error, state, checkpoint;
+      if (is_root)
+        {
+          const auto checkpoints = complete_checkpoints(directory);
+          if (checkpoints.empty())
+            error = "Cannot resume: there is no complete checkpoint in <" +
+                    directory.string() +
+                    "> (a directory step-NNNNNN written by a run of this "
+                    "scene with 'subsection Checkpoint / set Step interval' "
+                    "or 'Wall time interval', or stopped by SIGTERM/SIGINT).";
+          else
+            {
+              checkpoint = checkpoints.back().second.string();
+              std::vector<std::string> missing;
+              for (const auto &file : mesh_files(checkpoint + "/mesh"))
+                if (!fs::exists(file))
+                  missing.push_back(file);
+              const std::string state_file = checkpoint + "/state.bin";
+              std::ifstream     in(state_file, std::ios::binary);
+              if (!in)
+                missing.insert(missing.begin(), state_file);
+              if (!missing.empty())
+                {
+                  error = "Cannot resume from the checkpoint <" + checkpoint +
+                          ">: it is incomplete, missing";
+                  for (const auto &file : missing)
+                    error += " <" + file + ">";
+                  error += ". Delete it to resume from an older one.";
+                }
+              else
+                state.assign(std::istreambuf_iterator<char>(in),
+                             std::istreambuf_iterator<char>());
+            }
+        }
+      error = Utilities::MPI::broadcast(comm, error, 0);
+      AssertThrow(error.empty(), ExcMessage(error));
+      state      = Utilities::MPI::broadcast(comm, state, 0);
+      checkpoint = Utilities::MPI::broadcast(comm, checkpoint, 0);
+      return {checkpoint, state};
+    }
   } // namespace
 
 
@@ -129,19 +179,18 @@ namespace fmpm
   Simulator<dim>::serialize_scalar_state(Archive &archive)
   {
     // Everything run() changes besides the mesh, the points and the grid
-    // fields. The values are the same on every rank (sums and maxima were
-    // reduced), so rank 0's copy serves any number of ranks on resume.
-    archive &control &mass_floor_value &max_signal_speed &initial_total_energy
-      &initial_energy_scale &initial_kinetic_energy &initial_strain_energy
-        &max_energy_exchanged &external_work &external_work_scale &mesh_diameter
-          &max_condition_error &reaction_forces &total_lost_points
-            &dissipated_energy &particle_pvd_records &grid_pvd_records
-              &particle_steps &mesh_adaptations &cell_steps &max_cells;
+    // fields, by owner (the postprocessors' and the plugins' state go in
+    // their save() maps). The values are the same on every rank (sums and
+    // maxima were reduced), so rank 0's copy serves any number of ranks on
+    // resume.
+    archive &control &energy_balance &counters;
     if (contact)
       archive &*contact;
-    for (double &sum : error_sums)
-      archive &sum;
     velocity_conditions.serialize_state(archive);
+    // The centre-of-mass grid's mass floor, the loads' work and the
+    // conditions' reactions.
+    archive &mass_floor_value &external_work &external_work_scale &mesh_diameter
+      &max_condition_error &reaction_forces;
   }
 
 
@@ -187,10 +236,10 @@ namespace fmpm
   {
     // The maximum over the ranks came with the step's failure flags (no
     // reduction of its own): every rank checkpoints (and stops) together.
-    const int request  = checkpoint_request;
-    checkpoint_request = 0;
+    const int request        = checkpoint_state.request;
+    checkpoint_state.request = 0;
     if (request == 2)
-      stop_requested = true;
+      checkpoint_state.stop_requested = true;
     return request > 0 || control.checkpoint_step_due();
   }
 
@@ -227,6 +276,7 @@ namespace fmpm
     for (unsigned int m = 0; m < constitutive_models.size(); ++m)
       constitutive_models[m]->save(
         plugin_state[numbered_subsection("Material", m)]);
+    postprocessors.save(plugin_state["postprocess"]);
     if (is_root)
       {
         const fs::path state_file = temporary / "state.bin";
@@ -240,8 +290,8 @@ namespace fmpm
           unsigned int n_coarse_cells = triangulation.n_global_coarse_cells();
           unsigned int n_ranks =
             Utilities::MPI::n_mpi_processes(mpi_communicator);
-          double                       wall_seconds = MPI_Wtime() - wall_start;
-          std::vector<HistoryRow<dim>> rows         = history.rows();
+          double wall_seconds               = MPI_Wtime() - counters.wall_start;
+          std::vector<HistoryRow<dim>> rows = history.rows();
           archive &magic &version &dimension &n_properties &n_coarse_cells
             &n_ranks;
           serialize_scalar_state(archive);
@@ -333,7 +383,7 @@ namespace fmpm
       }
     const double wall_end = MPI_Wtime();
     control.checkpoint_written(wall_end);
-    latest_checkpoint = complete.string();
+    checkpoint_state.latest = complete.string();
     pcout << "*** Checkpoint " << complete.string() << " ("
           << std::setprecision(3) << bytes / 1e6 << " MB, "
           << wall_end - wall_begin << " s)" << std::endl;
@@ -345,54 +395,12 @@ namespace fmpm
   void
   Simulator<dim>::load_checkpoint()
   {
-    const bool is_root =
-      Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
-    const fs::path directory =
-      fs::path(parameters.output.directory) / "checkpoint";
-
-    // Rank 0 finds the newest complete checkpoint and reads its state; the
-    // others get the bytes (or the error) from it.
-    std::string error, state, checkpoint;
-    if (is_root)
-      {
-        const auto checkpoints = complete_checkpoints(directory);
-        if (checkpoints.empty())
-          error = "Cannot resume: there is no complete checkpoint in <" +
-                  directory.string() +
-                  "> (a directory step-NNNNNN written by a run of this "
-                  "scene with 'subsection Checkpoint / set Step interval' "
-                  "or 'Wall time interval', or stopped by SIGTERM/SIGINT).";
-        else
-          {
-            checkpoint = checkpoints.back().second.string();
-            std::vector<std::string> missing;
-            for (const auto &file : mesh_files(checkpoint + "/mesh"))
-              if (!fs::exists(file))
-                missing.push_back(file);
-            const std::string state_file = checkpoint + "/state.bin";
-            std::ifstream     in(state_file, std::ios::binary);
-            if (!in)
-              missing.insert(missing.begin(), state_file);
-            if (!missing.empty())
-              {
-                error = "Cannot resume from the checkpoint <" + checkpoint +
-                        ">: it is incomplete, missing";
-                for (const auto &file : missing)
-                  error += " <" + file + ">";
-                error += ". Delete it to resume from an older one.";
-              }
-            else
-              state.assign(std::istreambuf_iterator<char>(in),
-                           std::istreambuf_iterator<char>());
-          }
-      }
-    error = Utilities::MPI::broadcast(mpi_communicator, error, 0);
-    AssertThrow(error.empty(), ExcMessage(error));
-    state      = Utilities::MPI::broadcast(mpi_communicator, state, 0);
-    checkpoint = Utilities::MPI::broadcast(mpi_communicator, checkpoint, 0);
-    resumed_checkpoint           = checkpoint;
-    latest_checkpoint            = checkpoint;
-    const std::string state_file = checkpoint + "/state.bin";
+    const auto [checkpoint, state] =
+      newest_checkpoint(fs::path(parameters.output.directory) / "checkpoint",
+                        mpi_communicator);
+    checkpoint_state.resumed_from = checkpoint;
+    checkpoint_state.latest       = checkpoint;
+    const std::string state_file  = checkpoint + "/state.bin";
 
     // 1. The scalar state: check that it is fmpm's and fits this scene.
     std::map<std::string, std::map<std::string, std::string>> plugin_state;
@@ -427,7 +435,8 @@ namespace fmpm
             std::to_string(triangulation.n_global_coarse_cells()) + " and " +
             std::to_string(particle_properties.n_properties()) + "."));
         serialize_scalar_state(archive);
-        archive &wall_seconds &restored_history_rows &plugin_state;
+        archive &wall_seconds    &checkpoint_state
+          .restored_history_rows &plugin_state;
       }
     catch (const boost::archive::archive_exception &e)
       {
@@ -437,12 +446,16 @@ namespace fmpm
                                "). Delete its directory to resume from an "
                                "older checkpoint."));
       }
-    wall_start = MPI_Wtime() - wall_seconds;
+    counters.wall_start = MPI_Wtime() - wall_seconds;
     mass_matrix->load(plugin_state["mass matrix"]);
     particle_update->load(plugin_state["particle update"]);
     for (unsigned int m = 0; m < constitutive_models.size(); ++m)
       constitutive_models[m]->load(
         plugin_state[numbered_subsection("Material", m)]);
+    // (Visualization writes the PVD records as they were at the checkpoint:
+    // the outputs written after it by the run that stopped are written
+    // again.)
+    postprocessors.load(plugin_state["postprocess"]);
 
     // 2. The mesh, then (in the order they were attached) the partition
     //    weights, the points, the DoFs and the grid fields.
@@ -527,17 +540,6 @@ namespace fmpm
     // The node conditions at the restored wall positions and time.
     setup_boundary_conditions();
     connect_cell_weights();
-
-    // The PVD records end at the checkpoint (outputs written after it by
-    // the run that stopped are written again).
-    if (is_root && parameters.output.write_vtu)
-      {
-        std::ofstream particles_pvd(parameters.output.directory +
-                                    "/particles.pvd");
-        DataOutBase::write_pvd_record(particles_pvd, particle_pvd_records);
-        std::ofstream grid_pvd(parameters.output.directory + "/grid.pvd");
-        DataOutBase::write_pvd_record(grid_pvd, grid_pvd_records);
-      }
   }
 
   template class Simulator<2>;

@@ -54,283 +54,7 @@ namespace fmpm
       return out.str();
     }
 
-    /**
-     * Patches held for writing: the storage and the three queries of
-     * DataOutInterface that PointOutput and GridPatches share.
-     */
-    template <int patch_dim, int dim>
-    class StoredPatches : public DataOutInterface<patch_dim, dim>
-    {
-    protected:
-      using Range =
-        std::tuple<unsigned int,
-                   unsigned int,
-                   std::string,
-                   DataComponentInterpretation::DataComponentInterpretation>;
-
-      /** The next @p n_components names form the vector or tensor @p name. */
-      void
-      add_range(const unsigned int n_components,
-                const std::string &name,
-                const DataComponentInterpretation::DataComponentInterpretation
-                  interpretation)
-      {
-        ranges.emplace_back(names.size(),
-                            names.size() + n_components - 1,
-                            name,
-                            interpretation);
-      }
-
-      std::vector<DataOutBase::Patch<patch_dim, dim>> patches;
-      std::vector<std::string>                        names;
-      std::vector<Range>                              ranges;
-
-    private:
-      const std::vector<DataOutBase::Patch<patch_dim, dim>> &
-      get_patches() const override
-      {
-        return patches;
-      }
-
-      std::vector<std::string>
-      get_dataset_names() const override
-      {
-        return names;
-      }
-
-      std::vector<Range>
-      get_nonscalar_data_ranges() const override
-      {
-        return ranges;
-      }
-    };
-
-    /**
-     * The material points as VTU patches (one vertex each), in the order of
-     * the point store, so that a resumed run writes the same bytes as the
-     * uninterrupted one. The
-     * fields as ParaView reads them: id, the properties by name, vectors
-     * as vectors, the Cauchy stress and F as dim x dim tensors (in 2D also
-     * their zz components, plane strain).
-     */
-    template <int dim>
-    class PointOutput : public StoredPatches<0, dim>
-    {
-    public:
-      void
-      build_patches(const MaterialPoints<dim>      &points,
-                    const std::vector<std::string> &property_names,
-                    const std::vector<
-                      DataComponentInterpretation::DataComponentInterpretation>
-                      &interpretations)
-      {
-        // How each output field is read from the properties.
-        enum class Kind
-        {
-          copy,
-          stress_tensor,
-          stress_zz,
-          deformation_tensor,
-          deformation_zz
-        };
-        struct Field
-        {
-          Kind         kind;
-          unsigned int first; // property index
-        };
-        std::vector<Field> fields;
-        auto              &names   = this->names;
-        auto              &patches = this->patches;
-        names                      = {"id"};
-        for (unsigned int c = 0; c < property_names.size(); ++c)
-          {
-            const bool tensor = property_names[c] == "stress_0" ||
-                                property_names[c] == "deformation_gradient_0";
-            if (tensor)
-              {
-                const bool        stress = property_names[c] == "stress_0";
-                const std::string name =
-                  stress ? "stress" : "deformation_gradient";
-                this->add_range(
-                  dim * dim,
-                  name,
-                  DataComponentInterpretation::component_is_part_of_tensor);
-                for (unsigned int i = 0; i < dim * dim; ++i)
-                  {
-                    fields.push_back(
-                      {stress ? Kind::stress_tensor : Kind::deformation_tensor,
-                       c});
-                    names.push_back(name + "_" + std::to_string(i));
-                  }
-                if (dim == 2)
-                  {
-                    fields.push_back(
-                      {stress ? Kind::stress_zz : Kind::deformation_zz, c});
-                    names.push_back(name + "_zz");
-                  }
-                c += (stress ? 6 : 9) - 1;
-              }
-            else if (interpretations[c] ==
-                     DataComponentInterpretation::component_is_part_of_vector)
-              {
-                this->add_range(
-                  dim,
-                  property_names[c],
-                  DataComponentInterpretation::component_is_part_of_vector);
-                for (unsigned int d = 0; d < dim; ++d)
-                  {
-                    fields.push_back({Kind::copy, c + d});
-                    names.push_back(property_names[c]);
-                  }
-                c += dim - 1;
-              }
-            else
-              {
-                fields.push_back({Kind::copy, c});
-                names.push_back(property_names[c]);
-              }
-          }
-
-        for (unsigned int k = 0; k < points.n_points(); ++k)
-          {
-            DataOutBase::Patch<0, dim> patch;
-            patch.vertices[0]        = points.position[k];
-            patch.patch_index        = patches.size();
-            const PointRecord values = points.record(k);
-            patch.data.reinit(names.size(), 1);
-            patch.data(0, 0)          = points.id[k];
-            unsigned int tensor_entry = 0;
-            Tensor<2, 3> sigma;
-            for (unsigned int f = 0; f < fields.size(); ++f)
-              {
-                const Field &field = fields[f];
-                double       value = 0;
-                switch (field.kind)
-                  {
-                    case Kind::copy:
-                      value = values[field.first];
-                      break;
-                    case Kind::stress_tensor:
-                    case Kind::deformation_tensor:
-                      {
-                        const unsigned int i = tensor_entry / dim,
-                                           j = tensor_entry % dim;
-                        if (field.kind == Kind::stress_tensor &&
-                            tensor_entry == 0)
-                          sigma = get_symmetric_tensor3(values, field.first);
-                        tensor_entry = (tensor_entry + 1) % (dim * dim);
-                        value        = field.kind == Kind::deformation_tensor ?
-                                         values[field.first + 3 * i + j] :
-                                         sigma[i][j];
-                        break;
-                      }
-                    case Kind::stress_zz:
-                      value = values[field.first + 2];
-                      break;
-                    case Kind::deformation_zz:
-                      value = values[field.first + 8];
-                      break;
-                  }
-                patch.data(f + 1, 0) = value;
-              }
-            patches.push_back(std::move(patch));
-          }
-      }
-    };
-
-    /**
-     * The grid as VTU patches, one per locally owned cell with its vertex
-     * values (Q1 fields are their vertex values, so no FEValues are
-     * needed): scalar fields, and vectors given by their components.
-     */
-    template <int dim>
-    class GridPatches : public StoredPatches<dim, dim>
-    {
-    public:
-      /** A scalar nodal field. */
-      void
-      add_scalar(const GridScalar &field, const std::string &name)
-      {
-        fields.push_back(&field);
-        this->names.push_back(name);
-      }
-
-      /** A vector of nodal components, written as the vector @p name. */
-      void
-      add_vector(const GridVectorField &field, const std::string &name)
-      {
-        this->add_range(
-          dim, name, DataComponentInterpretation::component_is_part_of_vector);
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            fields.push_back(&field.block(d));
-            this->names.push_back(name);
-          }
-      }
-
-      /** One patch per locally owned cell; the last field is the rank. */
-      void
-      build_patches(const DoFHandler<dim> &dof_handler, const double rank)
-      {
-        auto &names   = this->names;
-        auto &patches = this->patches;
-        names.push_back("subdomain");
-        const unsigned int n_vertices = GeometryInfo<dim>::vertices_per_cell;
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          if (cell->is_locally_owned())
-            {
-              DataOutBase::Patch<dim, dim> patch;
-              patch.patch_index    = patches.size();
-              patch.n_subdivisions = 1;
-              patch.reference_cell = ReferenceCells::get_hypercube<dim>();
-              patch.data.reinit(names.size(), n_vertices);
-              for (unsigned int v = 0; v < n_vertices; ++v)
-                {
-                  patch.vertices[v] = cell->vertex(v);
-                  const types::global_dof_index node =
-                    cell->vertex_dof_index(v, 0);
-                  for (unsigned int f = 0; f < fields.size(); ++f)
-                    patch.data(f, v) = (*fields[f])(node);
-                  patch.data(fields.size(), v) = rank;
-                }
-              patches.push_back(std::move(patch));
-            }
-      }
-
-    private:
-      std::vector<const GridScalar *> fields;
-    };
-
-    /** The VTU flags of 'Output/Compression'. */
-    DataOutBase::VtkFlags
-    vtk_flags(const OutputParameters::Compression compression)
-    {
-      using Compression = OutputParameters::Compression;
-      DataOutBase::VtkFlags flags;
-      flags.print_date_and_time = false;
-      flags.compression_level =
-        compression == Compression::best_compression ?
-          DataOutBase::VtkFlags::best_compression :
-        compression == Compression::default_compression ?
-          DataOutBase::VtkFlags::default_compression :
-        compression == Compression::none ?
-          DataOutBase::VtkFlags::no_compression :
-          DataOutBase::VtkFlags::best_speed;
-      return flags;
-    }
   } // namespace
-
-
-
-  template <int dim>
-  void
-  Simulator<dim>::wait_for_output_writer()
-  {
-    if (!output_writer.valid())
-      return;
-    TimerOutput::Scope timer(computing_timer, "output: wait for the writer");
-    output_writer.get();
-  }
 
 
 
@@ -338,14 +62,10 @@ namespace fmpm
   void
   Simulator<dim>::output_results(const GlobalStatistics<dim> &statistics)
   {
-    TimerOutput::Scope      timer(computing_timer, "output");
-    const OutputParameters &output = parameters.output;
+    TimerOutput::Scope timer(computing_timer, "output");
 
     // Accumulate the time-averaged reference errors over outputs.
-    error_sums[0] += statistics.velocity_error_squared;
-    error_sums[1] += statistics.velocity_reference_squared;
-    error_sums[2] += statistics.displacement_error_squared;
-    error_sums[3] += statistics.displacement_reference_squared;
+    energy_balance.record_output(statistics);
 
     HistoryRow<dim> row;
     row.step              = control.step_number();
@@ -357,9 +77,8 @@ namespace fmpm
     row.total_energy      = statistics.total_energy();
     row.momentum          = statistics.momentum;
     row.mass              = statistics.mass;
-    row.dissipated_energy = dissipated_energy;
+    row.dissipated_energy = energy_balance.dissipated_energy;
     row.reactions         = reaction_forces;
-    max_energy_exchanged  = energy_exchanged(statistics);
     if (statistics.per_material.size() > 0)
       {
         // Per material: mass, centre-of-mass velocity, volume-averaged
@@ -399,9 +118,9 @@ namespace fmpm
     compute_checkerboard(row);
     history.add(row);
     if (row.checkerboard_j > Checkerboard::warning_threshold<dim> &&
-        !checkerboard_warned)
+        !history.checkerboard_warned)
       {
-        checkerboard_warned = true;
+        history.checkerboard_warned = true;
         if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0 &&
             !parameters.test_mode)
           std::cerr
@@ -428,93 +147,9 @@ namespace fmpm
       }
 
     control.output_written();
-
-    if (output.write_particle_csv)
-      write_particle_csv();
-
-    if (!output.write_vtu)
-      {
-        control.count_output();
-        return;
-      }
-    // The VTU pieces time themselves (no section inside another).
+    // The postprocessors time themselves (no section inside another).
     timer.stop();
-
-    wait_for_output_writer();
-    const std::string  directory = output.directory + "/";
-    const unsigned int rank =
-      Utilities::MPI::this_mpi_process(mpi_communicator);
-    const unsigned int n_ranks =
-      Utilities::MPI::n_mpi_processes(mpi_communicator);
-    // particles_NNNNN.R.vtu and grid_NNNNN.R.vtu (one piece per rank), the
-    // .pvtu records naming them.
-    const auto pieces = [&](const std::string &name) {
-      std::vector<std::string> result;
-      for (unsigned int r = 0; r < n_ranks; ++r)
-        result.push_back(name + "_" +
-                         Utilities::int_to_string(control.output_number(), 5) +
-                         "." + std::to_string(r) + ".vtu");
-      return result;
-    };
-    const auto record = [&](const std::string &name) {
-      return name + "_" + Utilities::int_to_string(control.output_number(), 5) +
-             ".pvtu";
-    };
-
-    auto points = std::make_shared<PointOutput<dim>>();
-    {
-      TimerOutput::Scope points_timer(computing_timer, "output: vtu points");
-      points->set_flags(vtk_flags(output.compression));
-      points->build_patches(this->points,
-                            particle_properties.component_names(),
-                            particle_properties.component_interpretations());
-    }
-    auto grid = std::make_shared<GridPatches<dim>>();
-    {
-      TimerOutput::Scope grid_timer(computing_timer, "output: vtu grid");
-      grid->set_flags(vtk_flags(output.compression));
-      grid->add_scalar(lumped_mass, "nodal_mass");
-      grid->add_vector(grid_fields[ParticleUpdate::updated_velocity],
-                       "velocity");
-      if (output.write_grid_acceleration &&
-          field_computed[ParticleUpdate::acceleration])
-        grid->add_vector(grid_fields[ParticleUpdate::acceleration],
-                         "acceleration");
-      if (contact_active())
-        {
-          grid->add_vector(contact->normal_field(), "contact_normal");
-          grid->add_scalar(contact->separation_field(), "contact_separation");
-        }
-      grid->build_patches(dof_handler, triangulation.locally_owned_subdomain());
-    }
-    TimerOutput::Scope records_timer(computing_timer, "output: vtu records");
-    particle_pvd_records.emplace_back(control.time(), record("particles"));
-    grid_pvd_records.emplace_back(control.time(), record("grid"));
-    if (rank == 0)
-      {
-        std::ofstream particles_pvtu(directory + record("particles"));
-        points->write_pvtu_record(particles_pvtu, pieces("particles"));
-        std::ofstream grid_pvtu(directory + record("grid"));
-        grid->write_pvtu_record(grid_pvtu, pieces("grid"));
-        std::ofstream particles_pvd(directory + "particles.pvd");
-        DataOutBase::write_pvd_record(particles_pvd, particle_pvd_records);
-        std::ofstream grid_pvd(directory + "grid.pvd");
-        DataOutBase::write_pvd_record(grid_pvd, grid_pvd_records);
-      }
-    // Compression and writing of this rank's pieces go on while the run
-    // continues (as ASPECT's 'Write in background thread').
-    const std::string point_file = directory + pieces("particles")[rank];
-    const std::string grid_file  = directory + pieces("grid")[rank];
-    output_writer =
-      std::async(std::launch::async, [points, grid, point_file, grid_file]() {
-        std::ofstream point_out(point_file);
-        points->write_vtu(point_out);
-        std::ofstream grid_out(grid_file);
-        grid->write_vtu(grid_out);
-        AssertThrow(point_out && grid_out,
-                    ExcMessage("Cannot write the VTU files <" + point_file +
-                               "> and <" + grid_file + ">."));
-      });
+    postprocessors.execute(statistics);
     control.count_output();
   }
 
@@ -526,9 +161,9 @@ namespace fmpm
                                  const bool)
   {
     TimerOutput::Scope timer(computing_timer, "progress");
-    const double       wall = MPI_Wtime() - wall_start;
-    last_progress_wall      = MPI_Wtime();
-    const double fraction   = control.time() / parameters.time.end_time;
+    const double       wall     = MPI_Wtime() - counters.wall_start;
+    counters.last_progress_wall = MPI_Wtime();
+    const double fraction       = control.time() / parameters.time.end_time;
     const double eta = fraction > 0 ? wall * (1 - fraction) / fraction : 0.0;
     pcout << std::defaultfloat << std::setprecision(5) << "*** Step "
           << std::setw(6) << control.step_number() << "  t = " << std::setw(11)
@@ -617,85 +252,6 @@ namespace fmpm
 
   template <int dim>
   void
-  Simulator<dim>::write_particle_csv() const
-  {
-    using Index = PropertyIndex<dim>;
-    // Optional per-point state of the constitutive models (0 otherwise).
-    const bool has_energy         = particle_properties.has("internal_energy");
-    const bool has_plastic_strain = particle_properties.has("plastic_strain");
-    const unsigned int energy_slot =
-      has_energy ? particle_properties.offset("internal_energy") : 0;
-    const unsigned int plastic_slot =
-      has_plastic_strain ? particle_properties.offset("plastic_strain") : 0;
-    // Stored stress order xx, yy, zz, xy, xz, yz; 2D writes xx, yy, xy.
-    const std::vector<unsigned int> stress_slots =
-      dim == 2 ? std::vector<unsigned int>{0, 1, 3} :
-                 std::vector<unsigned int>{0, 1, 2, 3, 4, 5};
-    const unsigned int n_columns = 2 + 2 * dim + stress_slots.size() + 4;
-
-    std::vector<std::pair<types::particle_index, std::vector<double>>> local;
-    local.reserve(points.n_points());
-    for (unsigned int k = 0; k < points.n_points(); ++k)
-      {
-        const PointRecord   p = points.record(k);
-        std::vector<double> row;
-        row.reserve(n_columns);
-        row.push_back(p[Index::body_id]);
-        row.push_back(p[Index::material_id]);
-        for (unsigned int d = 0; d < dim; ++d)
-          row.push_back(points.position[k][d]);
-        for (unsigned int d = 0; d < dim; ++d)
-          row.push_back(p[Index::velocity + d]);
-        for (const unsigned int c : stress_slots)
-          row.push_back(p[Index::stress + c]);
-        row.push_back(
-          -(p[Index::stress] + p[Index::stress + 1] + p[Index::stress + 2]) /
-          3.);
-        row.push_back(determinant(get_tensor3(p, Index::deformation_gradient)));
-        row.push_back(has_energy ? p[energy_slot] : 0.);
-        row.push_back(has_plastic_strain ? p[plastic_slot] : 0.);
-        local.emplace_back(points.id[k], std::move(row));
-      }
-    const auto all = Utilities::MPI::gather(mpi_communicator, local, 0);
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
-      return;
-    std::vector<std::pair<types::particle_index, std::vector<double>>> rows;
-    for (const auto &rank : all)
-      rows.insert(rows.end(), rank.begin(), rank.end());
-    std::sort(rows.begin(), rows.end(), [](const auto &a, const auto &b) {
-      return a.first < b.first;
-    });
-
-    const char        *axes = "xyz";
-    std::ostringstream name;
-    name << parameters.output.directory << "/particles_" << std::setw(5)
-         << std::setfill('0') << control.output_number() << ".csv";
-    std::ofstream out(name.str());
-    AssertThrow(out, ExcMessage("Cannot write <" + name.str() + ">."));
-    out << "id,body,material";
-    for (unsigned int d = 0; d < dim; ++d)
-      out << ',' << axes[d];
-    for (unsigned int d = 0; d < dim; ++d)
-      out << ",v" << axes[d];
-    for (const unsigned int c : stress_slots)
-      out << ",stress_" << axes[stress_component_i[c]]
-          << axes[stress_component_j[c]];
-    out << ",pressure,J,internal_energy,plastic_strain\n";
-    out << std::setprecision(12);
-    for (const auto &row : rows)
-      {
-        out << row.first << ',' << static_cast<int>(row.second[0]) << ','
-            << static_cast<int>(row.second[1]);
-        for (unsigned int c = 2; c < row.second.size(); ++c)
-          out << ',' << row.second[c];
-        out << '\n';
-      }
-  }
-
-
-
-  template <int dim>
-  void
   Simulator<dim>::write_summary(const std::string           &status,
                                 const SimulationFailure     *failure,
                                 const GlobalStatistics<dim> &statistics)
@@ -705,7 +261,7 @@ namespace fmpm
       mass_matrix->statistics();
     std::map<std::string, double> phases =
       computing_timer.get_summary_data(TimerOutput::total_wall_time);
-    const double wall = MPI_Wtime() - wall_start;
+    const double wall = MPI_Wtime() - counters.wall_start;
     // The share of the wall time inside the timer sections (they do not
     // nest, but for the point store's, which run within set-up, mesh
     // adaptation, checkpoints and the sort), on the slowest-covered rank.
@@ -713,7 +269,7 @@ namespace fmpm
     for (const auto &phase : phases)
       if (phase.first.rfind("point store", 0) != 0)
         covered += phase.second;
-    timer_coverage =
+    counters.timer_coverage =
       Utilities::MPI::min(wall > 0 ? covered / wall : 1., mpi_communicator);
     // Make the phase times the maximum over ranks.
     for (auto &phase : phases)
@@ -760,8 +316,9 @@ namespace fmpm
     std::ofstream out(parameters.output.directory + "/summary.json");
     out << "{\n";
     out << "  \"status\": " << quoted(status) << ",\n";
-    if (!latest_checkpoint.empty())
-      out << "  \"latest_checkpoint\": " << quoted(latest_checkpoint) << ",\n";
+    if (!checkpoint_state.latest.empty())
+      out << "  \"latest_checkpoint\": " << quoted(checkpoint_state.latest)
+          << ",\n";
     out << "  \"dimension\": " << dim << ",\n";
     out << "  \"n_mpi_ranks\": "
         << Utilities::MPI::n_mpi_processes(mpi_communicator) << ",\n";
@@ -780,13 +337,13 @@ namespace fmpm
           std::pow(2.0, dim * parameters.refinement.maximum_level);
         const double mean_cells =
           control.step_number() > 0 ?
-            static_cast<double>(cell_steps) / control.step_number() :
+            static_cast<double>(counters.cell_steps) / control.step_number() :
             static_cast<double>(triangulation.n_global_active_cells());
-        out << "  \"mesh_adaptations\": " << mesh_adaptations << ",\n";
+        out << "  \"mesh_adaptations\": " << counters.mesh_adaptations << ",\n";
         out << "  \"mean_cells\": " << number(mean_cells) << ",\n";
         out << "  \"max_cells\": "
             << std::max<unsigned long long>(
-                 max_cells, triangulation.n_global_active_cells())
+                 counters.max_cells, triangulation.n_global_active_cells())
             << ",\n";
         out << "  \"uniform_cells\": " << number(uniform_cells) << ",\n";
         out << "  \"cell_fraction\": " << number(mean_cells / uniform_cells)
@@ -810,27 +367,64 @@ namespace fmpm
     out << "  \"end_time\": " << number(control.time()) << ",\n";
     out << "  \"wall_seconds\": " << number(wall) << ",\n";
     out << "  \"particle_steps_per_second\": "
-        << number(wall > 0 ? particle_steps / wall : 0.) << ",\n";
+        << number(wall > 0 ? counters.particle_steps / wall : 0.) << ",\n";
     out << "  \"particle_update\": "
         << quoted(parameters.method.particle_update) << ",\n";
     out << "  \"mass_matrix\": " << quoted(parameters.method.mass_matrix)
         << ",\n";
     out << "  \"strain_update\": " << quoted(parameters.method.strain_update)
         << ",\n";
+    write_summary_results(out,
+                          statistics,
+                          failure,
+                          condition_error,
+                          contact_figures,
+                          mass_matrix_statistics);
+    out << "  \"phase_wall_seconds\": {";
+    bool first = true;
+    for (const auto &phase : phases)
+      {
+        out << (first ? "\n" : ",\n") << "    " << quoted(phase.first) << ": "
+            << number(phase.second);
+        first = false;
+      }
+    out << "\n  },\n";
+    // The share of the wall time the sections above cover.
+    out << "  \"timer_coverage\": " << number(counters.timer_coverage)
+        << "\n}\n";
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::write_summary_results(
+    std::ostream                                      &out,
+    const GlobalStatistics<dim>                       &statistics,
+    const SimulationFailure                           *failure,
+    const double                                       condition_error,
+    const std::vector<std::pair<std::string, double>> &contact_figures,
+    const std::map<std::string, double> &mass_matrix_statistics) const
+  {
     out << "  \"final_kinetic_energy\": " << number(statistics.kinetic_energy)
         << ",\n";
     out << "  \"final_strain_energy\": " << number(statistics.strain_energy)
         << ",\n";
     out << "  \"final_total_energy\": " << number(statistics.total_energy())
         << ",\n";
-    out << "  \"initial_total_energy\": " << number(initial_total_energy)
-        << ",\n";
+    out << "  \"initial_total_energy\": "
+        << number(energy_balance.initial_total_energy()) << ",\n";
     // The balance E - E0 - W, with W the work of walls and tractions, over
-    // the largest energy the run held or moved (energy_error_scale()).
-    out << "  \"energy_error\": " << number(energy_error(statistics)) << ",\n";
+    // the largest energy the run held or moved (EnergyBalance::error_scale()).
+    out << "  \"energy_error\": "
+        << number(energy_balance.error(statistics,
+                                       external_work,
+                                       external_work_scale))
+        << ",\n";
     out << "  \"energy_error_scale\": "
-        << number(energy_error_scale(statistics)) << ",\n";
-    out << "  \"lost_points\": " << total_lost_points << ",\n";
+        << number(energy_balance.error_scale(statistics, external_work_scale))
+        << ",\n";
+    out << "  \"lost_points\": " << counters.total_lost_points << ",\n";
     {
       // The largest checkerboard indicator of the outputs, and its time.
       double max_checkerboard = 0, max_checkerboard_time = 0;
@@ -867,34 +461,20 @@ namespace fmpm
       out << "  " << quoted(entry.first) << ": " << number(entry.second)
           << ",\n";
     if (parameters.output.track_dissipation)
-      out << "  \"dissipated_energy\": " << number(dissipated_energy) << ",\n";
+      out << "  \"dissipated_energy\": "
+          << number(energy_balance.dissipated_energy) << ",\n";
     if (parameters.reference.enable)
       {
         out << "  \"error_velocity_l2\": "
-            << number(
-                 std::sqrt(error_sums[0] / std::max(error_sums[1], 1e-300)))
-            << ",\n";
+            << number(energy_balance.velocity_error()) << ",\n";
         out << "  \"error_displacement_l2\": "
-            << number(
-                 std::sqrt(error_sums[2] / std::max(error_sums[3], 1e-300)))
-            << ",\n";
+            << number(energy_balance.displacement_error()) << ",\n";
       }
     if (failure != nullptr)
       {
         out << "  \"failure_step\": " << failure->step << ",\n";
         out << "  \"failure_time\": " << number(failure->time) << ",\n";
       }
-    out << "  \"phase_wall_seconds\": {";
-    bool first = true;
-    for (const auto &phase : phases)
-      {
-        out << (first ? "\n" : ",\n") << "    " << quoted(phase.first) << ": "
-            << number(phase.second);
-        first = false;
-      }
-    out << "\n  },\n";
-    // The share of the wall time the sections above cover.
-    out << "  \"timer_coverage\": " << number(timer_coverage) << "\n}\n";
   }
 
   template <int dim>
@@ -944,7 +524,7 @@ namespace fmpm
   Simulator<dim>::find_tracked_points()
   {
     using Index = PropertyIndex<dim>;
-    tracked_point_ids.clear();
+    history.tracked_point_ids.clear();
     const std::string &text  = parameters.output.tracked_points;
     const std::string  where = "Output/Tracked points = <" + text + ">: ";
     for (const auto &entry : Utilities::split_string_list(text, ';'))
@@ -984,7 +564,7 @@ namespace fmpm
                                    " (the scene has " +
                                    std::to_string(n_global_material_points) +
                                    " points)."));
-            tracked_point_ids.push_back(id);
+            history.tracked_point_ids.push_back(id);
             continue;
           }
         // The point whose initial position is nearest (the smallest id among
@@ -1034,7 +614,7 @@ namespace fmpm
                                "material point, id " +
                                std::to_string(nearest) + ", started " +
                                format_number(distance, 6) + " m from it)."));
-        tracked_point_ids.push_back(nearest);
+        history.tracked_point_ids.push_back(nearest);
       }
   }
 
@@ -1048,7 +628,7 @@ namespace fmpm
       dim == 2 ? std::vector<std::string>{"xx", "yy", "xy"} :
                  std::vector<std::string>{"xx", "yy", "zz", "xy", "xz", "yz"};
     std::vector<std::string> columns;
-    for (unsigned int n = 0; n < tracked_point_ids.size(); ++n)
+    for (unsigned int n = 0; n < history.tracked_point_ids.size(); ++n)
       {
         const std::string prefix = "track" + std::to_string(n + 1) + "_";
         for (const char quantity : {'u', 'v'})
@@ -1072,7 +652,7 @@ namespace fmpm
     // The stored stress slots of xx, yy, xy in 2D (xx, yy, zz, xy, xz, yz in
     // 3D), as in compute_statistics().
     constexpr unsigned int stress_slots[6] = {0, 1, 3, 2, 4, 5};
-    const unsigned int     n_tracked       = tracked_point_ids.size();
+    const unsigned int     n_tracked       = history.tracked_point_ids.size();
     // Each value from the one rank that owns the point, zeros from the
     // others (the sums are exact), and the count of owners.
     std::vector<double> values(n_tracked * (n_values + 1), 0.);
@@ -1080,7 +660,7 @@ namespace fmpm
       return values;
     for (unsigned int k = 0; k < points.n_points(); ++k)
       for (unsigned int n = 0; n < n_tracked; ++n)
-        if (points.id[k] == tracked_point_ids[n])
+        if (points.id[k] == history.tracked_point_ids[n])
           {
             const PointRecord    p = points.record(k);
             const Point<dim>     X(get_vector<dim>(p, Index::initial_position));

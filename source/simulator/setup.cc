@@ -110,7 +110,7 @@ namespace fmpm
       }
     // A resumed run loads the refinement from its checkpoint onto the
     // coarse mesh.
-    if (!resume_from_checkpoint)
+    if (!checkpoint_state.resume)
       triangulation.refine_global(mesh.global_refinement);
   }
 
@@ -699,17 +699,8 @@ namespace fmpm
         parameters.method.lumped_strain_velocities;
       method.position_update_psi = particle_update->position_update_psi();
       method.shape_function      = shape_function;
-      stability                  = mass_matrix->stability_limit(method);
-      if (parameters.time.courant_limit > 0)
-        {
-          stability.basis = "Time/Courant number limit (the method's: " +
-                            (std::isfinite(stability.max_courant) ?
-                               format_number(stability.max_courant, 3) + ", " +
-                                 stability.basis :
-                               std::string("none")) +
-                            ")";
-          stability.max_courant = parameters.time.courant_limit;
-        }
+      control.time_step_rule().set_method_limit(
+        mass_matrix->stability_limit(method));
     }
 
     // v⁺ always (grid output, conditions); grid damping needs S v, the
@@ -842,27 +833,11 @@ namespace fmpm
       }
 
     // A fixed time step must be stable.
-    const double stable = minimum_cell_size / max_signal_speed;
-    AssertThrow(
-      !parameters.time.check_stability || parameters.time.time_step <= stable,
-      ExcMessage(
-        "Time/Time step = " + format_number(parameters.time.time_step) +
-        " s is above the stable limit h_min / (wave speed "
-        "+ point speed) = " +
-        format_number(stable, 6) +
-        " s of this scene. Choose a smaller time step, or "
-        "set it to 0 and use Time/Courant number (or set Time/Check "
-        "stability limit = false for a stability study)."));
-    if (parameters.time.time_step > stability.max_courant * stable)
-      stability.warning +=
-        std::string(stability.warning.empty() ? "" : " Also: ") +
-        "Time/Time step = " + format_number(parameters.time.time_step) +
-        " s is above this method's stable limit, its critical Courant "
-        "number " +
-        format_number(stability.max_courant, 3) +
-        " x h_min / (wave speed + point speed) = " +
-        format_number(stability.max_courant * stable, 6) +
-        " s; set Time step = 0 to use Time/Courant number.";
+    const std::string unstable =
+      control.time_step_rule().check_fixed_time_step(control.signal_speed(),
+                                                     minimum_cell_size,
+                                                     false);
+    AssertThrow(unstable.empty(), ExcMessage(unstable));
   }
 
   template <int dim>

@@ -63,7 +63,7 @@ namespace fmpm
         control.step_number() % parameters.refinement.interval == 0)
       adapt_mesh();
     TimerOutput::Scope timer(computing_timer, "step set-up");
-    control.set_time_step(compute_time_step());
+    control.calculate_time_step(control.signal_speed(), minimum_cell_size);
     const double t  = control.time();
     const double dt = control.time_step();
     series_step     = mass_matrix->begin_step(control.step_number(), t, dt);
@@ -226,7 +226,7 @@ namespace fmpm
     if (parameters.output.track_dissipation)
       {
         TimerOutput::Scope timer(computing_timer, "particle update");
-        dissipated_energy +=
+        energy_balance.dissipated_energy +=
           Utilities::MPI::sum(local_dissipation, mpi_communicator);
         local_dissipation = 0;
       }
@@ -312,13 +312,13 @@ namespace fmpm
     velocity_conditions.advance_walls(control.time(), dt);
 
     control.advance();
-    particle_steps += n_global_material_points;
+    counters.particle_steps += n_global_material_points;
     if (parameters.refinement.adaptive())
       {
         const unsigned long long n_cells =
           triangulation.n_global_active_cells();
-        cell_steps += n_cells;
-        max_cells = std::max(max_cells, n_cells);
+        counters.cell_steps += n_cells;
+        counters.max_cells = std::max(counters.max_cells, n_cells);
       }
   }
 
@@ -344,8 +344,8 @@ namespace fmpm
     Utilities::MPI::max(make_array_view(flags),
                         mpi_communicator,
                         make_array_view(global_flags));
-    max_signal_speed   = global_flags[2] + global_flags[3];
-    checkpoint_request = static_cast<int>(global_flags[4]);
+    control.set_signal_speed(global_flags[2] + global_flags[3]);
+    checkpoint_state.request = static_cast<int>(global_flags[4]);
     if (global_flags[0] > 0)
       {
         const auto messages =
@@ -376,7 +376,7 @@ namespace fmpm
                                   control.time());
         pcout << "    " << n_lost << " material point(s) left the mesh and "
               << "were deleted; first: " << first << std::endl;
-        total_lost_points += n_lost;
+        counters.total_lost_points += n_lost;
         n_lost_points = 0;
         lost_point_messages.clear();
       }

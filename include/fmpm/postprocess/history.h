@@ -5,6 +5,7 @@
 #define fmpm_postprocess_history_h
 
 #include <deal.II/base/tensor.h>
+#include <deal.II/particles/property_pool.h>
 
 #include <fstream>
 #include <memory>
@@ -79,6 +80,13 @@ namespace fmpm
     {
       return all_rows;
     }
+
+    /** Ids of the points of Output/Tracked points, in its order (their
+     * columns trackN_ux, ...). */
+    std::vector<types::particle_index> tracked_point_ids;
+    /** Whether the run has warned that the checkerboard indicator passed
+     * its threshold. */
+    bool checkerboard_warned = false;
 
   private:
     std::vector<HistoryRow<dim>>   all_rows;

@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+#ifndef fmpm_postprocess_interface_h
+#define fmpm_postprocess_interface_h
+
+#include <fmpm/particle_update/interface.h>
+#include <fmpm/postprocess/global_statistics.h>
+#include <fmpm/simulator_access.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fmpm
+{
+  class SimulationControl;
+  namespace Contact
+  {
+    template <int dim>
+    class Manager;
+  }
+
+  /**
+   * @brief What a run writes at its outputs besides history.csv (ASPECT's
+   * postprocessors): the VTU files, the points' csv files.
+   */
+  namespace Postprocess
+  {
+    /**
+     * @brief A postprocessor: called at every output of the run with the
+     * statistics of that instant; keeps what it needs across a restart in
+     * save()/load().
+     */
+    template <int dim>
+    class Interface : public SimulatorAccess<dim>
+    {
+    public:
+      /** Write this output (collective; times itself). */
+      virtual void
+      execute(const GlobalStatistics<dim> &statistics) = 0;
+
+      /** Wait for work still in flight (a background writer); rethrows
+       * its error. */
+      virtual void
+      finish()
+      {}
+
+      /** Add what a checkpoint keeps to @p status_strings (rank 0's is
+       * written). */
+      virtual void
+      save(std::map<std::string, std::string> &) const
+      {}
+
+      /** Restore from the strings save() wrote. */
+      virtual void
+      load(const std::map<std::string, std::string> &)
+      {}
+
+    protected:
+      /** Time, step and the output schedule (output_number()). */
+      const SimulationControl &
+      get_simulation_control() const;
+      /** A grid field of the last step (zero-sized unless allocated). */
+      const GridVectorField &
+      get_grid_field(const ParticleUpdate::GridField field) const;
+      /** Whether @p field was computed in the last step. */
+      bool
+      grid_field_computed(const ParticleUpdate::GridField field) const;
+      /** Multimaterial contact, or nullptr without it. */
+      const Contact::Manager<dim> *
+      get_contact() const;
+    };
+
+
+
+    /**
+     * @brief The postprocessors of a run, executed in the order they were
+     * added (ASPECT's Postprocess::Manager).
+     */
+    template <int dim>
+    class Manager
+    {
+    public:
+      /** Connect @p postprocessor to @p simulator and keep it. */
+      void
+      add(std::unique_ptr<Interface<dim>> postprocessor,
+          const Simulator<dim>           &simulator)
+      {
+        postprocessor->initialize_simulator(simulator);
+        postprocessors.push_back(std::move(postprocessor));
+      }
+
+      /** Every postprocessor's output now. */
+      void
+      execute(const GlobalStatistics<dim> &statistics)
+      {
+        for (auto &postprocessor : postprocessors)
+          postprocessor->execute(statistics);
+      }
+
+      /** Wait for the postprocessors' work in flight. */
+      void
+      finish()
+      {
+        for (auto &postprocessor : postprocessors)
+          postprocessor->finish();
+      }
+
+      void
+      save(std::map<std::string, std::string> &status_strings) const
+      {
+        for (const auto &postprocessor : postprocessors)
+          postprocessor->save(status_strings);
+      }
+
+      void
+      load(const std::map<std::string, std::string> &status_strings)
+      {
+        for (auto &postprocessor : postprocessors)
+          postprocessor->load(status_strings);
+      }
+
+    private:
+      std::vector<std::unique_ptr<Interface<dim>>> postprocessors;
+    };
+  } // namespace Postprocess
+} // namespace fmpm
+
+#endif
