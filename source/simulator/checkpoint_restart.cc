@@ -133,7 +133,7 @@ namespace fmpm
     // reduced), so rank 0's copy serves any number of ranks on resume.
     archive &control &mass_floor_value &max_signal_speed &initial_total_energy
       &initial_energy_scale &initial_kinetic_energy &initial_strain_energy
-        &max_energy_exchanged &external_work &external_work_scale &mesh_diameter
+        &max_energy_exchanged &external_loads &mesh_diameter
           &max_condition_error &reaction_forces &total_lost_points
             &dissipated_energy &particle_pvd_records &grid_pvd_records
               &particle_steps &mesh_adaptations &cell_steps &max_cells;

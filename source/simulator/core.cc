@@ -175,6 +175,12 @@ namespace fmpm
                     << particle->get_location() << ") at time "
                     << control.time();
             lost_point_messages.push_back(message.str());
+            FailedPoint point;
+            point.cause = FailedPoint::Cause::left_mesh;
+            point.id    = particle->get_id();
+            for (unsigned int d = 0; d < dim; ++d)
+              point.position[d] = particle->get_location()[d];
+            lost_points.push_back(point);
           }
       });
   }
@@ -839,12 +845,12 @@ namespace fmpm
       throw SimulationFailure("total energy is not finite (NaN or Inf)",
                               control.step_number(),
                               control.time());
-    if (E - initial_total_energy - external_work >
+    if (E - initial_total_energy - external_loads.work() >
         (parameters.failure.energy_growth_limit - 1) * scale)
       {
         std::ostringstream message;
         message << "total energy grew from " << initial_total_energy << " to "
-                << E << " J (external work " << external_work
+                << E << " J (external work " << external_loads.work()
                 << " J), past Failure detection/Energy growth limit = "
                 << parameters.failure.energy_growth_limit << "; "
                 << fastest_point();
@@ -859,7 +865,7 @@ namespace fmpm
           " J is above Failure detection/Kinetic energy limit = " +
           format_number(kinetic_limit) + " J (total energy " +
           format_number(E, 6) + " J, external work " +
-          format_number(external_work, 6) + " J); " + fastest_point(),
+          format_number(external_loads.work(), 6) + " J); " + fastest_point(),
         control.step_number(),
         control.time());
   }
@@ -870,27 +876,15 @@ namespace fmpm
   std::string
   Simulator<dim>::failure_location_hint(const SimulationFailure &failure) const
   {
-    // The failure messages of one point start "material point <id> ".
-    const std::string message = failure.what();
-    const std::string prefix  = "material point ";
-    if (message.rfind(prefix, 0) != 0)
-      return "";
-    std::istringstream    id_text(message.substr(prefix.size()));
-    types::particle_index id = 0;
-    if (!(id_text >> id))
-      return "";
-
+    const FailedPoint &point = failure.point;
     // 1. A point that left the mesh of a box through a face with a velocity
     //    condition (boundary ids 2d, 2d + 1 of direction d).
-    const std::string left = "left the mesh at position (";
-    const auto        at   = message.find(left);
-    if (at != std::string::npos)
+    if (point.cause == FailedPoint::Cause::left_mesh)
       {
-        std::istringstream position_text(message.substr(at + left.size()));
-        Point<dim>         x;
+        Point<dim> x;
         for (unsigned int d = 0; d < dim; ++d)
-          position_text >> x[d];
-        if (!position_text || parameters.mesh.type != MeshParameters::Type::box)
+          x[d] = point.position[d];
+        if (parameters.mesh.type != MeshParameters::Type::box)
           return "";
         const auto                  &bc = parameters.boundary_conditions;
         std::set<types::boundary_id> held(bc.fixed.begin(), bc.fixed.end());
@@ -921,6 +915,10 @@ namespace fmpm
         return "";
       }
 
+    if (point.cause != FailedPoint::Cause::inverted &&
+        point.cause != FailedPoint::Cause::model_failure)
+      return "";
+
     // 2. An inverted or failed point: how full the nodes of its cell are.
     //    A node inside a body holds about ρ₀ times the measure of a cell
     //    (each of its 2^dim cells gives it 1/2^dim); a node at a free face
@@ -932,7 +930,7 @@ namespace fmpm
       for (unsigned int k = points.cell_point_begin[c];
            k < points.cell_point_begin[c + 1];
            ++k)
-        if (points.id[k] == id)
+        if (points.id[k] == point.id)
           {
             const PointRecord p   = points.record(k);
             const double density0 = p[Index::mass] / p[Index::initial_volume];
@@ -996,7 +994,7 @@ namespace fmpm
   {
     return std::max({initial_kinetic_energy + initial_strain_energy,
                      energy_exchanged(statistics),
-                     external_work_scale,
+                     external_loads.work_scale(),
                      std::numeric_limits<double>::min()});
   }
 
@@ -1006,7 +1004,8 @@ namespace fmpm
   double
   Simulator<dim>::energy_error(const GlobalStatistics<dim> &statistics) const
   {
-    return (statistics.total_energy() - initial_total_energy - external_work) /
+    return (statistics.total_energy() - initial_total_energy -
+            external_loads.work()) /
            energy_error_scale(statistics);
   }
 

@@ -860,8 +860,8 @@ namespace fmpm
         out << "  \"collection_fallbacks\": "
             << velocity_conditions.n_collection_fallbacks << ",\n";
       }
-    if (!traction_functions.empty() || !velocity_conditions.labels().empty())
-      out << "  \"external_work\": " << number(external_work) << ",\n";
+    if (external_loads.has_tractions() || !velocity_conditions.labels().empty())
+      out << "  \"external_work\": " << number(external_loads.work()) << ",\n";
     out << "  \"mass_matrix_order\": " << mass_matrix->order() << ",\n";
     for (const auto &entry : mass_matrix_statistics)
       out << "  " << quoted(entry.first) << ": " << number(entry.second)

@@ -3,17 +3,15 @@
 
 // The particle-grid passes of the time step: the support cache (S, G of
 // every point, once per step), extrapolations to the grid (Sᵀ, Gᵀ), the
-// particle update (S) and the strain update (G), and the re-sorting of
-// moved points into cells. Every pass loops over the support cache.
+// particle update (S) and the strain update (G, with the kinematics of
+// transfer/kinematics.h), and the re-sorting of moved points into cells
+// (PointSort). Every pass loops over the support cache.
 
-#include <fmpm/neighbour_exchange.h>
 #include <fmpm/simulator.h>
 #include <fmpm/transfer/kinematics.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <map>
 #include <numeric>
 #include <sstream>
 
@@ -137,96 +135,37 @@ namespace fmpm
 
 
   template <int dim>
-  Tensor<1, dim>
-  Simulator<dim>::body_acceleration_at(const Point<dim>     &x,
-                                       const Tensor<1, dim> &V,
-                                       const Tensor<1, dim> &gravity,
-                                       const Point<dim> &expression_point) const
+  template <typename... Text>
+  void
+  Simulator<dim>::report_point_failure(const unsigned int       k,
+                                       const FailedPoint::Cause cause,
+                                       const Text &...text)
   {
-    Tensor<1, dim> b = gravity;
-    if (body_acceleration)
-      for (unsigned int d = 0; d < dim; ++d)
-        b[d] += body_acceleration->value(expression_point, d);
-    if (angular_velocity)
+    if (!local_failure.empty())
+      return;
+    std::ostringstream message;
+    switch (cause)
       {
-        // Rotating frame (seed 001, computeParticleBodyForce):
-        // b = g − ω × (ω × r) − 2 ω × V − ω̇ × r.
-        Tensor<1, 3> omega, omega_dot, r, v;
-        const double t  = angular_velocity->get_time();
-        const double dt = 1e-6 * std::max(1.0, std::abs(t));
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            omega[d] = angular_velocity->value(Point<1>(), d);
-          }
-        auto &omega_function = *angular_velocity;
-        omega_function.set_time(t + dt);
-        for (unsigned int d = 0; d < 3; ++d)
-          omega_dot[d] = omega_function.value(Point<1>(), d);
-        omega_function.set_time(t - dt);
-        for (unsigned int d = 0; d < 3; ++d)
-          omega_dot[d] =
-            (omega_dot[d] - omega_function.value(Point<1>(), d)) / (2 * dt);
-        omega_function.set_time(t);
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            r[d] = x[d] - parameters.rotating_frame.center[d];
-            v[d] = V[d];
-          }
-        const Tensor<1, 3> a =
-          cross_product_3d(omega, cross_product_3d(omega, r)) +
-          2 * cross_product_3d(omega, v) + cross_product_3d(omega_dot, r);
-        for (unsigned int d = 0; d < dim; ++d)
-          b[d] -= a[d];
+        case FailedPoint::Cause::support_outside_patch:
+          message << "the domain of ";
+          break;
+        case FailedPoint::Cause::velocity_not_finite:
+          message << "velocity of ";
+          break;
+        case FailedPoint::Cause::stress_not_finite:
+          message << "stress of ";
+          break;
+        default:
+          break;
       }
-    return b;
-  }
-
-
-
-  template <int dim>
-  Tensor<1, dim>
-  Simulator<dim>::traction_force_of(const unsigned int k) const
-  {
-    Tensor<1, dim> F;
-    const int      index =
-      static_cast<int>(points.column(traction_index_slot)[k] + 0.5) - 1;
-    if (index < 0)
-      return F;
-    // F_p = t(t) A_p, the f_T term of Eq. 2.10 (at mid-step, like b).
-    const double area = points.column(traction_index_slot + 1)[k];
+    message << "material point " << points.id[k] << " at ("
+            << points.position[k] << ") ";
+    (message << ... << text);
+    local_failure            = message.str();
+    local_failed_point.cause = cause;
+    local_failed_point.id    = points.id[k];
     for (unsigned int d = 0; d < dim; ++d)
-      F[d] = traction_functions[index]->value(Point<1>(), d) * area;
-    return F;
-  }
-
-
-
-  template <int dim>
-  Tensor<1, dim>
-  Simulator<dim>::external_acceleration(const unsigned int    k,
-                                        const Tensor<1, dim> &gravity)
-  {
-    using Index            = PropertyIndex<dim>;
-    const PointRecord    p = points.record(k);
-    const Point<dim>    &x = points.position[k];
-    const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
-    Tensor<1, dim>       b =
-      parameters.body_acceleration_at_initial_position ?
-              body_acceleration_at(x,
-                             V,
-                             gravity,
-                             Point<dim>(
-                               get_vector<dim>(p, Index::initial_position))) :
-              body_acceleration_at(x, V, gravity, x);
-    if (!traction_functions.empty())
-      {
-        // The traction force as an acceleration, F_p / M_p (Eq. 2.10).
-        const Tensor<1, dim> F_p = traction_force_of(k);
-        b += F_p / p[Index::mass];
-        local_traction_power += F_p * V;
-        local_traction_magnitude += F_p.norm();
-      }
-    return b;
+      local_failed_point.position[d] = points.position[k][d];
   }
 
 
@@ -502,26 +441,21 @@ namespace fmpm
                   parameters.method.cpdi_critical_radius);
                 if (status != ShapeFunction::Status::ok)
                   {
-                    if (local_failure.empty())
-                      {
-                        std::ostringstream message;
-                        message
-                          << "the domain of material point " << points.id[k]
-                          << " at (" << location << ") "
-                          << (status == ShapeFunction::Status::outside_mesh ?
-                                "reaches outside the mesh by more than half a "
-                                "cell" :
-                                "reaches beyond the cells that share a vertex "
-                                "with its cell (one layer of neighbour or "
-                                "ghost cells)")
-                          << " (Shape function/Type = "
-                          << parameters.method.shape_function
-                          << "): use smaller points (more Points per cell), "
-                             "a coarser mesh there, classic shape "
-                             "functions, or for CPDI a Shape function/CPDI "
-                             "critical radius of at most 1";
-                        local_failure = message.str();
-                      }
+                    report_point_failure(
+                      k,
+                      FailedPoint::Cause::support_outside_patch,
+                      status == ShapeFunction::Status::outside_mesh ?
+                        "reaches outside the mesh by more than half a "
+                        "cell" :
+                        "reaches beyond the cells that share a vertex "
+                        "with its cell (one layer of neighbour or "
+                        "ghost cells)",
+                      " (Shape function/Type = ",
+                      parameters.method.shape_function,
+                      "): use smaller points (more Points per cell), "
+                      "a coarser mesh there, classic shape "
+                      "functions, or for CPDI a Shape function/CPDI "
+                      "critical radius of at most 1");
                     // Carry on with the classic weights; the step fails.
                     ShapeFunction::compute_support(ShapeFunction::Type::classic,
                                                    transfer,
@@ -631,11 +565,9 @@ namespace fmpm
           }
       }
 
-    const auto    &partitioner        = *lumped_mass.get_partitioner();
-    const bool     uniform_body_force = !has_point_body_force();
-    Tensor<1, dim> gravity;
-    for (unsigned int d = 0; d < dim; ++d)
-      gravity[d] = parameters.gravity[d];
+    const auto &partitioner        = *lumped_mass.get_partitioner();
+    const bool  uniform_body_force = !external_loads.has_point_body_force();
+    const Tensor<1, dim> gravity   = external_loads.gravity();
 
     // Raw views of the ghosted grid vectors (owned and ghost entries).
     double *const m = lumped_mass.begin();
@@ -721,8 +653,9 @@ namespace fmpm
                 if (with_forces)
                   {
                     const Tensor<1, dim> b =
-                      uniform_body_force ? gravity :
-                                           external_acceleration(k, gravity);
+                      uniform_body_force ?
+                        gravity :
+                        external_loads.acceleration(points, k);
                     double sigma[dim][dim];
                     stress_block<dim>(stress_column, k, sigma);
                     const double V = volume_column[k];
@@ -826,10 +759,10 @@ namespace fmpm
                 {
                   // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
                   // τ/ρ₀ M = σ V; F_p the traction force)
-                  const Tensor<1, dim> b = uniform_body_force ?
-                                             gravity :
-                                             external_acceleration(k, gravity);
-                  double               sigma[dim][dim];
+                  const Tensor<1, dim> b =
+                    uniform_body_force ? gravity :
+                                         external_loads.acceleration(points, k);
+                  double sigma[dim][dim];
                   stress_block<dim>(stress_column, k, sigma);
                   const double V = volume_column[k];
                   // (with contact f^α0 of the point's material, Eq. 29)
@@ -1022,7 +955,7 @@ namespace fmpm
     double       sigma[dim][dim];
     stress_block<dim>(columns.stress, k, sigma);
     const Tensor<1, dim> b =
-      uniform_body_force ? gravity : external_acceleration(k, gravity);
+      uniform_body_force ? gravity : external_loads.acceleration(points, k);
     if (b.norm_square() == 0)
       for (unsigned int j = 0; j < n_entries; ++j)
         for (unsigned int a = 0; a < dim; ++a)
@@ -1069,7 +1002,7 @@ namespace fmpm
     ParticleUpdate::Interface<dim> &update = active_update();
     ParticleUpdate::Batch<dim>      batch;
     batch.time_step = control.time_step();
-    points_that_left_their_cell.clear();
+    point_sort.clear();
     const bool   track_dissipation = parameters.output.track_dissipation;
     const double grid_damping      = parameters.method.grid_damping;
     const double particle_damping  = parameters.method.particle_damping;
@@ -1237,14 +1170,10 @@ namespace fmpm
             const unsigned int    k  = first_point + q;
             const Tensor<1, dim> &V  = batch.velocity[q];
             const double          V2 = V * V;
-            if (!std::isfinite(V2) && local_failure.empty())
-              {
-                std::ostringstream message;
-                message << "velocity of material point " << points.id[k]
-                        << " at (" << points.position[k]
-                        << ") is not finite (NaN or Inf)";
-                local_failure = message.str();
-              }
+            if (!std::isfinite(V2))
+              report_point_failure(k,
+                                   FailedPoint::Cause::velocity_not_finite,
+                                   "is not finite (NaN or Inf)");
             max_V2 = std::max(max_V2, V2);
             for (unsigned int d = 0; d < dim; ++d)
               velocity_column[d][k] = V[d];
@@ -1261,7 +1190,7 @@ namespace fmpm
             if (GridTransfer<dim>::is_inside(xi))
               points.reference_position[k] = xi;
             else
-              points_that_left_their_cell.push_back(k);
+              point_sort.left_cell(k);
           }
       }
     local_max_point_speed = std::sqrt(max_V2);
@@ -1314,18 +1243,15 @@ namespace fmpm
     const ForceColumns    force_columns(points);
     double               *f[dim];
     std::vector<double *> f_alpha;
-    Tensor<1, dim>        gravity;
-    const bool            uniform_body_force = !has_point_body_force();
+    const Tensor<1, dim>  gravity = external_loads.gravity();
+    const bool uniform_body_force = !external_loads.has_point_body_force();
     if (with_forces)
       {
         // (With contact f is set from the f^α0 after the sweep.)
         if (!contact)
           force = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          {
-            f[d]       = force.block(d).begin();
-            gravity[d] = parameters.gravity[d];
-          }
+          f[d] = force.block(d).begin();
         if (contact)
           for (auto &material_field : this->contact->material_fields())
             {
@@ -1539,27 +1465,19 @@ namespace fmpm
                     }
               }
             for (unsigned int q = 0; q < n_group; ++q)
-              if (!(J[q] > 0) && local_failure.empty())
-                {
-                  const unsigned int k = group_points[q];
-                  std::ostringstream message;
-                  message << "material point " << points.id[k] << " at ("
-                          << points.position[k]
-                          << ") has an inverted deformation gradient, J = "
-                          << J[q];
-                  local_failure = message.str();
-                }
+              if (!(J[q] > 0))
+                report_point_failure(group_points[q],
+                                     FailedPoint::Cause::inverted,
+                                     "has an inverted deformation gradient, "
+                                     "J = ",
+                                     J[q]);
 
             outputs.failed_point = -1;
             constitutive_models[m]->update_stress(inputs, outputs);
-            if (outputs.failed_point >= 0 && local_failure.empty())
-              {
-                const unsigned int k = group_points[outputs.failed_point];
-                std::ostringstream message;
-                message << "material point " << points.id[k] << " at ("
-                        << points.position[k] << ") " << outputs.failure;
-                local_failure = message.str();
-              }
+            if (outputs.failed_point >= 0)
+              report_point_failure(group_points[outputs.failed_point],
+                                   FailedPoint::Cause::model_failure,
+                                   outputs.failure);
 
             // F, σ, W and V = J V0 into the store (in 2D the plane-strain
             // zero entries are not stored; F_33 is unchanged).
@@ -1597,16 +1515,10 @@ namespace fmpm
                   J_of_group[q] = J[q] > 0 ? J[q] : 1;
                 }
             for (unsigned int q = 0; q < n_group; ++q)
-              if (!std::isfinite(outputs.strain_energy_density[q]) &&
-                  local_failure.empty())
-                {
-                  const unsigned int k = group_points[q];
-                  std::ostringstream message;
-                  message << "stress of material point " << points.id[k]
-                          << " at (" << points.position[k]
-                          << ") is not finite (NaN or Inf)";
-                  local_failure = message.str();
-                }
+              if (!std::isfinite(outputs.strain_energy_density[q]))
+                report_point_failure(group_points[q],
+                                     FailedPoint::Cause::stress_not_finite,
+                                     "is not finite (NaN or Inf)");
             if (constitutive_models[m]->computes_wave_speed())
               for (unsigned int q = 0; q < n_group; ++q)
                 wave_speed = std::max(wave_speed, outputs.wave_speed[q]);
@@ -1682,242 +1594,15 @@ namespace fmpm
   Simulator<dim>::sort_particles_into_cells()
   {
     TimerOutput::Scope timer(computing_timer, "sort points into cells");
-    // The particle update set the reference positions of the points that
-    // stayed in their cells. Each of the others gets the cell that now holds
-    // it, searched around its old cell: a locally owned cell takes it in the
-    // store, a ghost cell's owner receives it (one point-to-point exchange of
-    // only these points), and the store puts its points back in cell order.
-    // A point not found nearby or outside the mesh: deal.II's sort handles
-    // every point (and reports lost points).
-    // Mesh/Periodic directions: the box's length along each periodic axis.
-    // A point that crosses a periodic face enters through the opposite one:
-    // its position and initial position shift by the length (u = x − X
-    // and F are kept).
-    Tensor<1, dim> period;
-    for (unsigned int d = 0; d < dim; ++d)
-      if (parameters.mesh.periodic[d])
-        period[d] =
-          parameters.mesh.upper_corner[d] - parameters.mesh.lower_corner[d];
-    const auto shift_point = [this](const unsigned int    k,
-                                    const Tensor<1, dim> &shift) {
-      points.position[k] += shift;
-      for (unsigned int d = 0; d < dim; ++d)
-        points.column(PropertyIndex<dim>::initial_position + d)[k] += shift[d];
-    };
-    auto full_sort = [&]() {
-      points_that_left_their_cell.clear();
-      if (parameters.mesh.any_periodic())
-        for (unsigned int k = 0; k < points.n_points(); ++k)
-          {
-            Tensor<1, dim> shift;
-            for (unsigned int d = 0; d < dim; ++d)
-              if (period[d] > 0)
-                {
-                  const double x = points.position[k][d];
-                  if (x < parameters.mesh.lower_corner[d])
-                    shift[d] = period[d];
-                  else if (x >= parameters.mesh.upper_corner[d])
-                    shift[d] = -period[d];
-                }
-            if (shift.norm_square() > 0)
-              shift_point(k, shift);
-          }
-      points_to_handler();
-      particle_handler.sort_particles_into_subdomains_and_cells();
-      points_from_handler();
-    };
-    if (!parameters.fast_point_sorting)
-      {
-        full_sort();
-        return;
-      }
-    point_moves.clear();
-    std::uint64_t n_sent         = 0;
-    bool          need_full_sort = false;
-    Point<dim>    center;
-    for (unsigned int d = 0; d < dim; ++d)
-      center[d] = 0.5;
-    Assert(std::is_sorted(points_that_left_their_cell.begin(),
-                          points_that_left_their_cell.end()),
-           ExcInternalError());
-    unsigned int cell_with_points = 0;
-    for (const unsigned int k : points_that_left_their_cell)
-      {
-        // The points that left are listed in store order: the cell's place
-        // follows with a cursor.
-        while (points.cell_point_begin[cell_with_points + 1] <= k)
-          ++cell_with_points;
-        const auto       cell = points.cell_iterator(cell_with_points);
-        const Point<dim> x    = points.position[k];
-
-        // The new cell: across the face the point crossed, from neighbour
-        // to neighbour (a corner takes two steps); where that meets a
-        // boundary, a finer neighbour or an artificial cell, the cells
-        // around the old cell's vertices.
-        // Across a periodic face the walk goes on in the twin cell, with x
-        // shifted by the period (x_walk).
-        typename Triangulation<dim>::active_cell_iterator target;
-        Point<dim>                                        xi;
-        Point<dim>                                        x_walk = x;
-        {
-          auto       walk    = cell;
-          Point<dim> xi_walk = GridTransfer<dim>::reference_point(
-            transfer.cell_data(cell->active_cell_index()), x, center);
-          for (unsigned int hop = 0; hop <= dim; ++hop)
-            {
-              unsigned int face = numbers::invalid_unsigned_int;
-              for (unsigned int d = 0; d < dim; ++d)
-                if (xi_walk[d] < -1e-12 || xi_walk[d] > 1 + 1e-12)
-                  {
-                    face = 2 * d + (xi_walk[d] > 1 ? 1 : 0);
-                    break;
-                  }
-              if (face == numbers::invalid_unsigned_int)
-                {
-                  if (walk != cell)
-                    {
-                      target = walk;
-                      xi     = xi_walk;
-                    }
-                  break;
-                }
-              if (walk->at_boundary(face))
-                {
-                  if (!walk->has_periodic_neighbor(face) ||
-                      walk->periodic_neighbor(face)->has_children())
-                    break;
-                  x_walk[face / 2] +=
-                    (face % 2 == 1 ? -1. : 1.) * period[face / 2];
-                  walk = walk->periodic_neighbor(face);
-                }
-              else if (walk->neighbor(face)->has_children())
-                break;
-              else
-                walk = walk->neighbor(face);
-              if (walk->is_artificial())
-                break;
-              xi_walk = GridTransfer<dim>::reference_point(
-                transfer.cell_data(walk->active_cell_index()), x_walk, center);
-            }
-          if (target.state() == IteratorState::valid && x_walk != x)
-            shift_point(k, x_walk - x);
-        }
-        if (target.state() != IteratorState::valid)
-          for (const unsigned int v : cell->vertex_indices())
-            {
-              for (const auto &other : vertex_to_cells[cell->vertex_index(v)])
-                {
-                  const auto candidate = vertex_to_cells.iterator(other);
-                  if (candidate == cell || candidate->is_artificial())
-                    continue;
-                  xi = GridTransfer<dim>::reference_point(
-                    transfer.cell_data(candidate->active_cell_index()),
-                    x,
-                    center);
-                  if (GridTransfer<dim>::is_inside(xi))
-                    {
-                      target = candidate;
-                      break;
-                    }
-                }
-              if (target.state() == IteratorState::valid)
-                break;
-            }
-        if (target.state() == IteratorState::valid)
-          {
-            point_moves.push_back({k, target, xi});
-            if (!target->is_locally_owned())
-              ++n_sent;
-          }
-        else
-          need_full_sort = true;
-      }
-    // One reduction: does any rank need the full sort, how many points left
-    // their cells and how many their rank, on all ranks (the same decision
-    // on every rank).
-    const std::uint64_t local_counts[3] = {need_full_sort ? 1u : 0u,
-                                           points_that_left_their_cell.size(),
-                                           n_sent};
-    std::uint64_t global_counts[3] = {0, 0, 0};
-    Utilities::MPI::sum(make_array_view(local_counts),
-                        mpi_communicator,
-                        make_array_view(global_counts));
-    points_that_left_their_cell.clear();
-    if (global_counts[0] != 0)
-      {
-        full_sort();
-        return;
-      }
-    if (global_counts[1] == 0)
+    // The points that left their cells, to their new cells nearby (on this
+    // rank or their new owner's); else deal.II's sort of every point (a
+    // point not found nearby or outside the mesh: it reports lost points).
+    if (parameters.fast_point_sorting && point_sort.sort(points))
       return;
-
-    // Per receiving rank, per point: id, x, the new cell's CellId (binary),
-    // the properties.
-    const unsigned int n_properties = points.n_properties();
-    std::map<unsigned int, std::vector<double>> sent;
-    for (const PointMove &move : point_moves)
-      if (move.cell->is_locally_owned())
-        points.move(move.k, move.cell, move.xi);
-      else
-        {
-          std::vector<double> &buffer = sent[move.cell->subdomain_id()];
-          buffer.push_back(points.id[move.k]);
-          for (unsigned int d = 0; d < dim; ++d)
-            buffer.push_back(points.position[move.k][d]);
-          for (const unsigned int word :
-               move.cell->id().template to_binary<dim>())
-            buffer.push_back(word);
-          const std::size_t first = buffer.size();
-          buffer.resize(first + n_properties);
-          points.copy_record(move.k, buffer.data() + first);
-          points.remove(move.k);
-        }
-    // Only the points that change rank travel, to the owners of their new
-    // cells. A new cell is owned or a ghost cell, so each rank exchanges
-    // one message (empty if no point moves) with each owner of its ghost
-    // cells: a neighbour exchange without collectives. With one ghost layer
-    // the ghost owners are symmetric (a ghost cell touches an owned cell,
-    // so that cell is a ghost cell on the other rank). The full sort covers
-    // everything else.
-    if (global_counts[2] != 0)
-      {
-        const std::vector<unsigned int> neighbours(
-          triangulation.ghost_owners().begin(),
-          triangulation.ghost_owners().end());
-        const std::map<unsigned int, std::vector<double>> received =
-          neighbour_exchange(mpi_communicator,
-                             neighbours,
-                             neighbours,
-                             sent,
-                             MPITags::point_exchange);
-        const unsigned int record = 1 + dim + 4 + n_properties;
-        for (const auto &from_rank : received)
-          {
-            const std::vector<double> &buffer = from_rank.second;
-            AssertDimension(buffer.size() % record, 0);
-            for (std::size_t r = 0; r < buffer.size(); r += record)
-              {
-                const double *const entry = buffer.data() + r;
-                Point<dim>          x;
-                for (unsigned int d = 0; d < dim; ++d)
-                  x[d] = entry[1 + d];
-                CellId::binary_type binary;
-                for (unsigned int w = 0; w < 4; ++w)
-                  binary[w] = static_cast<unsigned int>(entry[1 + dim + w]);
-                const typename Triangulation<dim>::active_cell_iterator cell =
-                  triangulation.create_cell_iterator(CellId(binary));
-                Assert(cell->is_locally_owned(), ExcInternalError());
-                const Point<dim> xi = GridTransfer<dim>::reference_point(
-                  transfer.cell_data(cell->active_cell_index()), x, center);
-                points.add(static_cast<types::particle_index>(entry[0]),
-                           x,
-                           xi,
-                           cell,
-                           entry + 1 + dim + 4);
-              }
-          }
-      }
-    points.rebin();
+    point_sort.prepare_full_sort(points);
+    points_to_handler();
+    particle_handler.sort_particles_into_subdomains_and_cells();
+    points_from_handler();
   }
 
   template class Simulator<2>;
