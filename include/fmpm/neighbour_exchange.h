@@ -24,7 +24,7 @@ namespace fmpm
    */
   namespace MPITags
   {
-    /** Simulator::sort_particles_into_cells(): the points that change rank. */
+    /** PointSort::sort(): the points that change rank. */
     constexpr int point_exchange = 1100;
     /** Contact::Manager::gather_point_clouds(): points to the node owners. */
     constexpr int contact_point_clouds = 1101;

@@ -6,6 +6,7 @@
 
 #include <fmpm/constitutive_model/interface.h>
 #include <fmpm/contact/manager.h>
+#include <fmpm/external_loads.h>
 #include <fmpm/grid_transfer.h>
 #include <fmpm/grid_vectors.h>
 #include <fmpm/mass_matrix/interface.h>
@@ -13,6 +14,7 @@
 #include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
+#include <fmpm/points/point_sort.h>
 #include <fmpm/postprocess/energy_balance.h>
 #include <fmpm/postprocess/global_statistics.h>
 #include <fmpm/postprocess/history.h>
@@ -23,7 +25,6 @@
 #include <fmpm/support_cache.h>
 #include <fmpm/time_step_stability.h>
 #include <fmpm/velocity_conditions.h>
-#include <fmpm/vertex_cells.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/function.h>
@@ -50,21 +51,61 @@
 namespace fmpm
 {
   /**
+   * @brief The material point a failure is about, and what happened to it
+   * (Simulator::failure_location_hint() reads it).
+   */
+  struct FailedPoint
+  {
+    enum class Cause : unsigned int
+    {
+      /** no point (another failure) */
+      none,
+      /** it left the mesh */
+      left_mesh,
+      /** its domain reaches beyond the cells around its cell */
+      support_outside_patch,
+      /** its velocity is not finite */
+      velocity_not_finite,
+      /** J = det F ≤ 0 */
+      inverted,
+      /** its constitutive model failed */
+      model_failure,
+      /** its stress is not finite */
+      stress_not_finite
+    };
+    Cause                 cause = Cause::none;
+    types::particle_index id    = 0;
+    /** Its position (the first dim entries). */
+    double position[3] = {0, 0, 0};
+
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int)
+    {
+      archive &cause &id &position;
+    }
+  };
+
+  /**
    * @brief Thrown when the numerical solution fails (NaN, energy growth,
-   * inverted elements, points leaving the mesh). Carries the step and time.
+   * inverted elements, points leaving the mesh). Carries the step, the time
+   * and the point it is about.
    */
   class SimulationFailure : public std::runtime_error
   {
   public:
     SimulationFailure(const std::string &reason,
                       const unsigned int step,
-                      const double       time)
+                      const double       time,
+                      const FailedPoint &point = FailedPoint())
       : std::runtime_error(reason)
       , step(step)
       , time(time)
+      , point(point)
     {}
     unsigned int step;
     double       time;
+    FailedPoint  point;
   };
 
   /**
@@ -392,14 +433,6 @@ namespace fmpm
              !mass_matrix->needs_full_mass_matrix() &&
              !velocity_conditions.needs_full_mass_matrix();
     }
-    /** Whether a point's body force depends on the point (b(x, t), a
-     * rotating frame, tractions), not only on gravity. */
-    bool
-    has_point_body_force() const
-    {
-      return body_acceleration || angular_velocity ||
-             !traction_functions.empty();
-    }
     void
     particles_to_grid(const bool with_forces);
     /** The store columns the force of a point reads: M, V and σ. */
@@ -409,7 +442,8 @@ namespace fmpm
       const double *mass, *volume, *stress[6];
     };
     /** f += −V σ G + S M b for point @p k of the store with its support
-     * entries j < n_entries (Eq. 2.11; b with gravity @p gravity); with
+     * entries j < n_entries (Eq. 2.11; b = @p gravity unless the loads
+     * depend on the point); with
      * contact @p f is f^α0 of the point's material (seed 004 Eq. 29). */
     template <typename Count>
     void
@@ -422,21 +456,6 @@ namespace fmpm
                         const Tensor<1, dim>       &gravity,
                         const bool                  uniform_body_force,
                         double *const              *f);
-    /** Gravity, the scene's b(·, t) at @p expression_point (x, or X for
-     * manufactured solutions) and the rotating frame's terms at a point at
-     * x moving with V. */
-    Tensor<1, dim>
-    body_acceleration_at(const Point<dim>     &x,
-                         const Tensor<1, dim> &V,
-                         const Tensor<1, dim> &gravity,
-                         const Point<dim>     &expression_point) const;
-    /** Body acceleration plus traction force / mass of a point (and the
-     * tractions' power for the energy balance). */
-    Tensor<1, dim>
-    external_acceleration(const unsigned int k, const Tensor<1, dim> &gravity);
-    /** Traction force t(t) A_p of a point (zero if it has none). */
-    Tensor<1, dim>
-    traction_force_of(const unsigned int k) const;
     /** The grid operators the velocity-condition methods use. */
     typename VelocityConditions<dim>::Operators
     velocity_condition_operators() const;
@@ -502,11 +521,21 @@ namespace fmpm
     std::string
     fastest_point() const;
 
-    /** Where a failure of one material point happened and what that points
-     * to: a point that left the mesh through a boundary with a velocity
-     * condition, or an inverted/failed point at a free surface or corner
-     * of its body (judged by the nodal masses of its cell). Empty for other
-     * failures. Collective. */
+    /** The first failure of a material point on this rank in this step
+     * (later ones are not reported): point @p k of the store, what
+     * happened to it, and the message "<subject of the cause>material point
+     * <id> at (<x>) " followed by @p text. */
+    template <typename... Text>
+    void
+    report_point_failure(const unsigned int       k,
+                         const FailedPoint::Cause cause,
+                         const Text &...text);
+
+    /** Where a failure of one material point (SimulationFailure::point)
+     * happened and what that points to: a point that left the mesh through
+     * a boundary with a velocity condition, or an inverted/failed point at
+     * a free surface or corner of its body (judged by the nodal masses of
+     * its cell). Empty for other failures. Collective. */
     std::string
     failure_location_hint(const SimulationFailure &failure) const;
 
@@ -668,44 +697,22 @@ namespace fmpm
      * resulting reaction forces (global). */
     std::vector<Tensor<1, dim>> step_impulse;
     std::vector<Tensor<1, dim>> reaction_forces;
-    /** Traction load curves t(t), and the slots holding a point's traction
-     * (index + 1, 0 for none) and face area. */
-    std::vector<std::unique_ptr<FunctionParser<1>>> traction_functions;
-    unsigned int traction_index_slot = numbers::invalid_unsigned_int;
-    /** Angular velocity ω(t) of the rotating frame, or nullptr. */
-    std::unique_ptr<FunctionParser<1>> angular_velocity;
-    /** Work done on the material by moving walls and tractions since the
-     * start (energy balance), and Σ|dW|. Units: J. */
-    double external_work            = 0;
-    double external_work_scale      = 0;
-    double local_traction_power     = 0;
-    double local_traction_magnitude = 0;
-    double mesh_diameter            = 0;
+    /** Gravity, b(x, t), the rotating frame and the tractions, and the
+     * work of the walls and the tractions since the start. */
+    ExternalLoads<dim> external_loads;
+    double             mesh_diameter = 0;
     /** Largest |v⁺ · n̂ − v_b| on the condition nodes over the run (this
      * rank). Units: m/s. */
     double max_condition_error = 0;
     /** Corrections Δv (of v) and Δv⁺ (of v⁺) per node condition. */
     std::array<std::vector<double>, 2> velocity_corrections;
-    /** Cells around each vertex, for finding the new cell of a moved point. */
-    VertexCells<dim> vertex_to_cells;
-    /** Points (store places) whose new position left their cell in this
-     * step. */
-    std::vector<unsigned int> points_that_left_their_cell;
-    /** A point that left its cell for an owned cell or another rank's
-     * (work array of sort_particles_into_cells()). */
-    struct PointMove
-    {
-      unsigned int                                      k;
-      typename Triangulation<dim>::active_cell_iterator cell;
-      Point<dim>                                        xi;
-    };
-    std::vector<PointMove> point_moves;
+    /** The re-sorting of the points that left their cells (and the cells
+     * around each vertex). */
+    PointSort<dim> point_sort;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
-                                                constitutive_models;
-    std::unique_ptr<MassMatrix::Interface<dim>> mass_matrix;
-    /** The scene's extra body acceleration b(x, t), or nullptr. */
-    std::unique_ptr<Function<dim>>                  body_acceleration;
+                                                    constitutive_models;
+    std::unique_ptr<MassMatrix::Interface<dim>>     mass_matrix;
     std::unique_ptr<ParticleUpdate::Interface<dim>> particle_update;
     /** FLIP for the lumped steps of a periodic FMPM(k) (null otherwise),
      * and whether the current step uses the mass matrix's series. */
@@ -737,8 +744,10 @@ namespace fmpm
 
     double mass_floor_value  = 0;
     double minimum_cell_size = 0;
-    /** First numerical failure this rank saw in the current step. */
+    /** First numerical failure this rank saw in the current step, and the
+     * point it is about (report_point_failure()). */
     std::string local_failure;
+    FailedPoint local_failed_point;
     /** Output stream for test mode (rank 0, only in test mode). */
     ConditionalOStream tout;
     unsigned long long n_lost_points         = 0;
@@ -756,6 +765,8 @@ namespace fmpm
     /** What the outputs write besides history.csv: VTU files, the
      * points' csv files (set-up). */
     Postprocess::Manager<dim> postprocessors;
+    /** The points of lost_point_messages, in their order. */
+    std::vector<FailedPoint> lost_points;
 
     /** Where the run resumed from, its checkpoints and the requests to
      * write one (simulator/checkpoint_restart.cc). */

@@ -189,7 +189,7 @@ namespace fmpm
     velocity_conditions.serialize_state(archive);
     // The centre-of-mass grid's mass floor, the loads' work and the
     // conditions' reactions.
-    archive &mass_floor_value &external_work &external_work_scale &mesh_diameter
+    archive &mass_floor_value &external_loads &mesh_diameter
       &max_condition_error &reaction_forces;
   }
 

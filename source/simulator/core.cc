@@ -183,6 +183,12 @@ namespace fmpm
                     << particle->get_location() << ") at time "
                     << control.time();
             lost_point_messages.push_back(message.str());
+            FailedPoint point;
+            point.cause = FailedPoint::Cause::left_mesh;
+            point.id    = particle->get_id();
+            for (unsigned int d = 0; d < dim; ++d)
+              point.position[d] = particle->get_location()[d];
+            lost_points.push_back(point);
           }
       });
   }

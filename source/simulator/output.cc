@@ -418,11 +418,12 @@ namespace fmpm
     // the largest energy the run held or moved (EnergyBalance::error_scale()).
     out << "  \"energy_error\": "
         << number(energy_balance.error(statistics,
-                                       external_work,
-                                       external_work_scale))
+                                       external_loads.work(),
+                                       external_loads.work_scale()))
         << ",\n";
     out << "  \"energy_error_scale\": "
-        << number(energy_balance.error_scale(statistics, external_work_scale))
+        << number(energy_balance.error_scale(statistics,
+                                             external_loads.work_scale()))
         << ",\n";
     out << "  \"lost_points\": " << counters.total_lost_points << ",\n";
     {
@@ -454,8 +455,8 @@ namespace fmpm
         out << "  \"collection_fallbacks\": "
             << velocity_conditions.n_collection_fallbacks << ",\n";
       }
-    if (!traction_functions.empty() || !velocity_conditions.labels().empty())
-      out << "  \"external_work\": " << number(external_work) << ",\n";
+    if (external_loads.has_tractions() || !velocity_conditions.labels().empty())
+      out << "  \"external_work\": " << number(external_loads.work()) << ",\n";
     out << "  \"mass_matrix_order\": " << mass_matrix->order() << ",\n";
     for (const auto &entry : mass_matrix_statistics)
       out << "  " << quoted(entry.first) << ": " << number(entry.second)

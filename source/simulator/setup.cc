@@ -164,12 +164,23 @@ namespace fmpm
           allocate_grid_field(static_cast<ParticleUpdate::GridField>(f));
       }
 
-    vertex_to_cells.reinit(triangulation);
+    {
+      Point<dim>            lower_corner, upper_corner;
+      std::array<bool, dim> periodic;
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          lower_corner[d] = parameters.mesh.lower_corner[d];
+          upper_corner[d] = parameters.mesh.upper_corner[d];
+          periodic[d]     = parameters.mesh.periodic[d];
+        }
+      point_sort.reinit(
+        triangulation, transfer, lower_corner, upper_corner, periodic);
+    }
     transfer.reinit(dof_handler,
                     constraints,
                     *partitioner,
                     shape_function != ShapeFunction::Type::classic,
-                    &vertex_to_cells);
+                    &point_sort.vertex_cells());
     gimp_patches.clear();
     gimp_patch_of_cell.clear();
     cpdi_patches.clear();
@@ -565,35 +576,9 @@ namespace fmpm
     step_impulse.assign(velocity_conditions.labels().size(), Tensor<1, dim>());
     reaction_forces = step_impulse;
 
-    // Tractions: mark the points inside each box with the traction's index
-    // and their face area (product of the initial side lengths across the
-    // face normal).
-    if (traction_index_slot != numbers::invalid_unsigned_int)
-      for (unsigned int k = 0; k < points.n_points(); ++k)
-        {
-          const PointRecord p = points.record(k);
-          const Point<dim>  X(
-            get_vector<dim>(p, PropertyIndex<dim>::initial_position));
-          for (unsigned int n = 0;
-               n < parameters.boundary_conditions.tractions.size();
-               ++n)
-            {
-              const auto &traction =
-                parameters.boundary_conditions.tractions[n];
-              bool inside = true;
-              for (unsigned int d = 0; d < dim; ++d)
-                inside = inside && X[d] >= traction.box_lower[d] &&
-                         X[d] <= traction.box_upper[d];
-              if (!inside)
-                continue;
-              double area = 1;
-              for (unsigned int d = 0; d < dim; ++d)
-                if (d != traction.normal_axis)
-                  area *= 2 * p[PropertyIndex<dim>::initial_half_length + d];
-              p[traction_index_slot]     = n + 1;
-              p[traction_index_slot + 1] = area;
-            }
-        }
+    // Tractions: the points inside each box carry the traction's index and
+    // their face area.
+    external_loads.mark_traction_points(points);
   }
 
 
@@ -633,58 +618,8 @@ namespace fmpm
         ParticleUpdate::Registry<dim>::instance().create("flip", prm);
     prm.leave_subsection();
 
-    if (!parameters.body_acceleration.empty())
-      {
-        auto function = std::make_unique<FunctionParser<dim>>(dim);
-        parse_function(
-          *function,
-          "Body force/Acceleration",
-          parameters.body_acceleration,
-          to_function_expressions(parameters.body_acceleration),
-          FunctionParser<dim>::default_variable_names() + ",t",
-          parse_function_constants(parameters.body_acceleration_constants,
-                                   "Body force/Function constants"),
-          true,
-          std::to_string(dim) + " expressions in x, y" +
-            (dim == 3 ? ", z" : "") + ", t");
-        body_acceleration = std::move(function);
-      }
-
     velocity_conditions.initialize(parameters, mpi_communicator);
-    const auto &tractions = parameters.boundary_conditions.tractions;
-    if (!tractions.empty())
-      traction_index_slot = particle_properties.request("traction", 2);
-    for (unsigned int n = 0; n < tractions.size(); ++n)
-      {
-        const std::string where =
-          "Boundary conditions/" + numbered_subsection("Traction", n);
-        auto function = std::make_unique<FunctionParser<1>>(dim);
-        parse_function(*function,
-                       where + "/Traction",
-                       tractions[n].traction,
-                       to_function_expressions(tractions[n].traction),
-                       "x,t",
-                       parse_function_constants(tractions[n].constants,
-                                                where + "/Function constants"),
-                       true,
-                       std::to_string(dim) + " expressions in t");
-        traction_functions.push_back(std::move(function));
-      }
-    if (parameters.rotating_frame.enable)
-      {
-        angular_velocity = std::make_unique<FunctionParser<1>>(3);
-        parse_function(*angular_velocity,
-                       "Body force/Rotating frame/Angular velocity",
-                       parameters.rotating_frame.angular_velocity,
-                       to_function_expressions(
-                         parameters.rotating_frame.angular_velocity),
-                       "x,t",
-                       parse_function_constants(
-                         parameters.rotating_frame.constants,
-                         "Body force/Rotating frame/Function constants"),
-                       true,
-                       "3 expressions in t");
-      }
+    external_loads.initialize(parameters, particle_properties);
 
     // The method's measured critical Courant number caps the automatic time
     // step's (doc/studies/stability.md).

@@ -171,21 +171,21 @@ namespace fmpm
     // far is still small: that is a scale too.
     const double wall_speed =
       velocity_conditions.fastest_wall_speed(control.time());
-    const double scale =
-      std::max({energy_balance.error_scale(statistics, external_work_scale),
-                energy_balance.growth_scale(),
-                0.5 * statistics.mass * wall_speed * wall_speed});
+    const double scale = std::max(
+      {energy_balance.error_scale(statistics, external_loads.work_scale()),
+       energy_balance.growth_scale(),
+       0.5 * statistics.mass * wall_speed * wall_speed});
     if (!std::isfinite(E))
       throw SimulationFailure("total energy is not finite (NaN or Inf)",
                               control.step_number(),
                               control.time());
     const double E0 = energy_balance.initial_total_energy();
-    if (E - E0 - external_work >
+    if (E - E0 - external_loads.work() >
         (parameters.failure.energy_growth_limit - 1) * scale)
       {
         std::ostringstream message;
         message << "total energy grew from " << E0 << " to " << E
-                << " J (external work " << external_work
+                << " J (external work " << external_loads.work()
                 << " J), past Failure detection/Energy growth limit = "
                 << parameters.failure.energy_growth_limit << "; "
                 << fastest_point();
@@ -200,7 +200,7 @@ namespace fmpm
           " J is above Failure detection/Kinetic energy limit = " +
           format_number(kinetic_limit) + " J (total energy " +
           format_number(E, 6) + " J, external work " +
-          format_number(external_work, 6) + " J); " + fastest_point(),
+          format_number(external_loads.work(), 6) + " J); " + fastest_point(),
         control.step_number(),
         control.time());
   }
@@ -211,27 +211,15 @@ namespace fmpm
   std::string
   Simulator<dim>::failure_location_hint(const SimulationFailure &failure) const
   {
-    // The failure messages of one point start "material point <id> ".
-    const std::string message = failure.what();
-    const std::string prefix  = "material point ";
-    if (message.rfind(prefix, 0) != 0)
-      return "";
-    std::istringstream    id_text(message.substr(prefix.size()));
-    types::particle_index id = 0;
-    if (!(id_text >> id))
-      return "";
-
+    const FailedPoint &point = failure.point;
     // 1. A point that left the mesh of a box through a face with a velocity
     //    condition (boundary ids 2d, 2d + 1 of direction d).
-    const std::string left = "left the mesh at position (";
-    const auto        at   = message.find(left);
-    if (at != std::string::npos)
+    if (point.cause == FailedPoint::Cause::left_mesh)
       {
-        std::istringstream position_text(message.substr(at + left.size()));
-        Point<dim>         x;
+        Point<dim> x;
         for (unsigned int d = 0; d < dim; ++d)
-          position_text >> x[d];
-        if (!position_text || parameters.mesh.type != MeshParameters::Type::box)
+          x[d] = point.position[d];
+        if (parameters.mesh.type != MeshParameters::Type::box)
           return "";
         const auto                  &bc = parameters.boundary_conditions;
         std::set<types::boundary_id> held(bc.fixed.begin(), bc.fixed.end());
@@ -262,6 +250,10 @@ namespace fmpm
         return "";
       }
 
+    if (point.cause != FailedPoint::Cause::inverted &&
+        point.cause != FailedPoint::Cause::model_failure)
+      return "";
+
     // 2. An inverted or failed point: how full the nodes of its cell are.
     //    A node inside a body holds about ρ₀ times the measure of a cell
     //    (each of its 2^dim cells gives it 1/2^dim); a node at a free face
@@ -273,7 +265,7 @@ namespace fmpm
       for (unsigned int k = points.cell_point_begin[c];
            k < points.cell_point_begin[c + 1];
            ++k)
-        if (points.id[k] == id)
+        if (points.id[k] == point.id)
           {
             const PointRecord p   = points.record(k);
             const double density0 = p[Index::mass] / p[Index::initial_volume];

@@ -69,12 +69,7 @@ namespace fmpm
     series_step     = mass_matrix->begin_step(control.step_number(), t, dt);
     // b(x, t) at the middle of the step: second order in time (first order
     // at t^n, measured on the manufactured solution).
-    if (body_acceleration)
-      body_acceleration->set_time(t + 0.5 * dt);
-    if (angular_velocity)
-      angular_velocity->set_time(t + 0.5 * dt);
-    for (auto &traction : traction_functions)
-      traction->set_time(t + 0.5 * dt);
+    external_loads.begin_step(t + 0.5 * dt);
     field_computed.fill(false);
     for (auto &impulse : step_impulse)
       impulse = Tensor<1, dim>();
@@ -295,20 +290,12 @@ namespace fmpm
       }
     // External work: moving walls (reaction · n̂ v(t + Δt/2) Δt) and
     // tractions (Σ F_p · V_p Δt).
-    if (!traction_functions.empty() || !reaction_forces.empty())
-      {
-        std::vector<double> traction = {local_traction_power,
-                                        local_traction_magnitude};
-        Utilities::MPI::sum(traction, mpi_communicator, traction);
-        const double work =
-          velocity_conditions.wall_work(reaction_forces, control.time(), dt) +
-          traction[0] * dt;
-        local_traction_power = local_traction_magnitude = 0;
-        external_work += work;
-        // The work the tractions can do across the mesh bounds the growth.
-        external_work_scale = std::max(external_work_scale + std::abs(work),
-                                       traction[1] * mesh_diameter);
-      }
+    if (external_loads.has_tractions() || !reaction_forces.empty())
+      external_loads.add_step_work(
+        velocity_conditions.wall_work(reaction_forces, control.time(), dt),
+        dt,
+        mesh_diameter,
+        mpi_communicator);
     velocity_conditions.advance_walls(control.time(), dt);
 
     control.advance();
@@ -350,11 +337,14 @@ namespace fmpm
       {
         const auto messages =
           Utilities::MPI::all_gather(mpi_communicator, local_failure);
-        for (const auto &message : messages)
-          if (!message.empty())
-            throw SimulationFailure(message,
+        const auto failed_points =
+          Utilities::MPI::all_gather(mpi_communicator, local_failed_point);
+        for (unsigned int rank = 0; rank < messages.size(); ++rank)
+          if (!messages[rank].empty())
+            throw SimulationFailure(messages[rank],
                                     control.step_number(),
-                                    control.time());
+                                    control.time(),
+                                    failed_points[rank]);
       }
     if (global_flags[1] > 0)
       {
@@ -362,10 +352,16 @@ namespace fmpm
           Utilities::MPI::sum(n_lost_points, mpi_communicator);
         const auto messages =
           Utilities::MPI::all_gather(mpi_communicator, lost_point_messages);
+        const auto points_lost =
+          Utilities::MPI::all_gather(mpi_communicator, lost_points);
         std::string first;
-        for (const auto &rank_messages : messages)
-          if (!rank_messages.empty() && first.empty())
-            first = rank_messages.front();
+        FailedPoint first_point;
+        for (unsigned int rank = 0; rank < messages.size(); ++rank)
+          if (!messages[rank].empty() && first.empty())
+            {
+              first       = messages[rank].front();
+              first_point = points_lost[rank].front();
+            }
         if (parameters.failure.lost_points ==
             FailureParameters::LostPoints::stop)
           throw SimulationFailure(first + " (" + std::to_string(n_lost) +
@@ -373,12 +369,14 @@ namespace fmpm
                                     "detection/Points leaving the mesh = "
                                     "delete to remove them instead)",
                                   control.step_number(),
-                                  control.time());
+                                  control.time(),
+                                  first_point);
         pcout << "    " << n_lost << " material point(s) left the mesh and "
               << "were deleted; first: " << first << std::endl;
         counters.total_lost_points += n_lost;
         n_lost_points = 0;
         lost_point_messages.clear();
+        lost_points.clear();
       }
   }
 

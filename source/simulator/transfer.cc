@@ -3,16 +3,15 @@
 
 // The particle-grid passes of the time step: the support cache (S, G of
 // every point, once per step), extrapolations to the grid (Sᵀ, Gᵀ), the
-// particle update (S) and the strain update (G), and the re-sorting of
-// moved points into cells. Every pass loops over the support cache.
+// particle update (S) and the strain update (G, with the kinematics of
+// transfer/kinematics.h), and the re-sorting of moved points into cells
+// (PointSort). Every pass loops over the support cache.
 
-#include <fmpm/neighbour_exchange.h>
 #include <fmpm/simulator.h>
+#include <fmpm/transfer/kinematics.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <map>
 #include <numeric>
 #include <sstream>
 
@@ -127,561 +126,46 @@ namespace fmpm
             sigma[stress_component_j[c]][stress_component_i[c]] = stress[c][k];
     }
 
-    using BatchEntries =
-      double[9][ConstitutiveModel::StressUpdateInputs::capacity];
-
-    /**
-     * ΔF with F^{n+1} = ΔF F^n for the velocity gradients L (entry (a, b)
-     * of point q at L[3a + b][q]) over Δt, ΔF ≈ exp(L Δt) for L constant
-     * over the step (seed 001, computeDeformationGradientFromVelocity). The
-     * method is chosen once for the batch. In 2D (plane strain) L and ΔF
-     * live in the 2x2 block (ΔF_33 = 1): only that block is computed.
-     * First order is written entry by entry (one loop over the points that
-     * vectorizes); Cayley is cayley_update(), with F^{n+1} and J.
-     */
-    template <int n>
-    void
-    increments(const DeformationGradientUpdate update,
-               const MethodParameters         &method,
-               const BatchEntries             &L,
-               const double                    dt,
-               const unsigned int              n_points,
-               BatchEntries                   &dF)
-    {
-      if (update == DeformationGradientUpdate::first_order)
-        {
-          for (unsigned int a = 0; a < n; ++a)
-            for (unsigned int b = 0; b < n; ++b)
-              for (unsigned int q = 0; q < n_points; ++q)
-                dF[3 * a + b][q] = (a == b ? 1.0 : 0.0) + L[3 * a + b][q] * dt;
-          return;
-        }
-      Assert(update != DeformationGradientUpdate::cayley,
-             ExcMessage("Cayley: cayley_update()."));
-      const Tensor<2, n> I = unit_symmetric_tensor<n>();
-      for (unsigned int q = 0; q < n_points; ++q)
-        {
-          Tensor<2, n> L_dt;
-          for (unsigned int a = 0; a < n; ++a)
-            for (unsigned int b = 0; b < n; ++b)
-              L_dt[a][b] = L[3 * a + b][q] * dt;
-          Tensor<2, n> increment;
-          if (update == DeformationGradientUpdate::taylor)
-            {
-              Tensor<2, n> term = I;
-              increment         = I;
-              for (unsigned int k = 1; k <= method.taylor_terms; ++k)
-                {
-                  term = term * L_dt / static_cast<double>(k);
-                  increment += term;
-                }
-            }
-          else
-            {
-              // Subcycles: first-order substeps with |L Δt_sub| below the
-              // bound.
-              const unsigned int n_sub =
-                std::max(1u,
-                         static_cast<unsigned int>(std::ceil(
-                           L_dt.norm() / method.subcycle_strain_increment)));
-              const Tensor<2, n> step = I + L_dt / static_cast<double>(n_sub);
-              increment               = I;
-              for (unsigned int k = 0; k < n_sub; ++k)
-                increment = step * increment;
-            }
-          for (unsigned int a = 0; a < n; ++a)
-            for (unsigned int b = 0; b < n; ++b)
-              dF[3 * a + b][q] = increment[a][b];
-        }
-    }
-
-    /**
-     * The 2D Cayley update of @p n points: ΔF = (I − LΔt/2)⁻¹(I + LΔt/2)
-     * (seed 001; 2x2 inverse by cofactors), F^{n+1} = ΔF F^n on the 2x2
-     * block and
-     * J = F_xx^{n+1} (F_yy^{n+1} F_33) − F_xy^{n+1} (F_yx^{n+1} F_33). The
-     * restrict-qualified parameters and, for full batches, the constant
-     * count let GCC vectorize the loop at -O2.
-     */
-    template <typename Count>
-    inline void
-    plane_strain_cayley_update(const Count  n,
-                               const double dt,
-                               const double *__restrict L_xx,
-                               const double *__restrict L_xy,
-                               const double *__restrict L_yx,
-                               const double *__restrict L_yy,
-                               const double *__restrict F_xx_old,
-                               const double *__restrict F_xy_old,
-                               const double *__restrict F_yx_old,
-                               const double *__restrict F_yy_old,
-                               const double *__restrict F_zz,
-                               double *__restrict F_xx,
-                               double *__restrict F_xy,
-                               double *__restrict F_yx,
-                               double *__restrict F_yy,
-                               double *__restrict F_zz_new,
-                               double *__restrict J)
-    {
-      for (unsigned int q = 0; q < n; ++q)
-        {
-          // ΔF = (I − L Δt/2)⁻¹ (I + L Δt/2) = R B.
-          const double h_xx = 0.5 * (L_xx[q] * dt), h_xy = 0.5 * (L_xy[q] * dt),
-                       h_yx = 0.5 * (L_yx[q] * dt), h_yy = 0.5 * (L_yy[q] * dt);
-          const double A_xx = 1.0 - h_xx, A_xy = 0.0 - h_xy, A_yx = 0.0 - h_yx,
-                       A_yy = 1.0 - h_yy;
-          const double B_xx = 1.0 + h_xx, B_xy = 0.0 + h_xy, B_yx = 0.0 + h_yx,
-                       B_yy                = 1.0 + h_yy;
-          const double inverse_determinant = 1.0 / (A_xx * A_yy - A_yx * A_xy);
-          const double R_xx                = A_yy * inverse_determinant,
-                       R_xy                = -A_xy * inverse_determinant,
-                       R_yx                = -A_yx * inverse_determinant,
-                       R_yy                = A_xx * inverse_determinant;
-          const double dF_xx               = R_xx * B_xx + R_xy * B_yx,
-                       dF_xy               = R_xx * B_xy + R_xy * B_yy,
-                       dF_yx               = R_yx * B_xx + R_yy * B_yx,
-                       dF_yy               = R_yx * B_xy + R_yy * B_yy;
-          const double a = F_xx_old[q], b = F_xy_old[q], c = F_yx_old[q],
-                       e  = F_yy_old[q];
-          const double xx = dF_xx * a + dF_xy * c, xy = dF_xx * b + dF_xy * e,
-                       yx = dF_yx * a + dF_yy * c, yy = dF_yx * b + dF_yy * e;
-          F_xx[q]     = xx;
-          F_xy[q]     = xy;
-          F_yx[q]     = yx;
-          F_yy[q]     = yy;
-          F_zz_new[q] = F_zz[q];
-          J[q]        = xx * (yy * F_zz[q]) - xy * (yx * F_zz[q]);
-        }
-    }
-
-    /**
-     * The 3D Cayley update of @p n points: ΔF = (I − LΔt/2)⁻¹(I + LΔt/2)
-     * (3x3 inverse by cofactors), F^{n+1} = ΔF F^n and J = det F^{n+1}
-     * (deal.II's determinant()). @p L and @p F are batch entry blocks
-     * (entry c of point q at [c capacity + q]); @p F_old one array per
-     * entry. Restrict-qualified, with a constant
-     * count for full batches, so that GCC vectorizes it at -O2.
-     */
-    template <typename Count>
-    inline void
-    cayley_update_3d(const Count  n,
-                     const double dt,
-                     const double *__restrict L,
-                     const std::array<const double *, 9> &F_old,
-                     double *__restrict F,
-                     double *__restrict J)
-    {
-      constexpr unsigned int stride =
-        ConstitutiveModel::StressUpdateInputs::capacity;
-      const double *__restrict F0 = F_old[0];
-      const double *__restrict F1 = F_old[1];
-      const double *__restrict F2 = F_old[2];
-      const double *__restrict F3 = F_old[3];
-      const double *__restrict F4 = F_old[4];
-      const double *__restrict F5 = F_old[5];
-      const double *__restrict F6 = F_old[6];
-      const double *__restrict F7 = F_old[7];
-      const double *__restrict F8 = F_old[8];
-      for (unsigned int q = 0; q < n; ++q)
-        {
-          double A[3][3], B[3][3], R[3][3], dF[3][3];
-#pragma GCC unroll 9
-          for (unsigned int a = 0; a < 3; ++a)
-#pragma GCC unroll 3
-            for (unsigned int b = 0; b < 3; ++b)
-              {
-                const double half = 0.5 * (L[(3 * a + b) * stride + q] * dt);
-                const double I_ab = a == b ? 1.0 : 0.0;
-                A[a][b]           = I_ab - half;
-                B[a][b]           = I_ab + half;
-              }
-          R[0][0] = A[1][1] * A[2][2] - A[1][2] * A[2][1];
-          R[0][1] = A[0][2] * A[2][1] - A[0][1] * A[2][2];
-          R[0][2] = A[0][1] * A[1][2] - A[0][2] * A[1][1];
-          R[1][0] = A[1][2] * A[2][0] - A[1][0] * A[2][2];
-          R[1][1] = A[0][0] * A[2][2] - A[0][2] * A[2][0];
-          R[1][2] = A[0][2] * A[1][0] - A[0][0] * A[1][2];
-          R[2][0] = A[1][0] * A[2][1] - A[1][1] * A[2][0];
-          R[2][1] = A[0][1] * A[2][0] - A[0][0] * A[2][1];
-          R[2][2] = A[0][0] * A[1][1] - A[0][1] * A[1][0];
-          const double inverse_determinant =
-            1.0 / (A[0][0] * R[0][0] + A[0][1] * R[1][0] + A[0][2] * R[2][0]);
-#pragma GCC unroll 9
-          for (unsigned int a = 0; a < 3; ++a)
-#pragma GCC unroll 3
-            for (unsigned int b = 0; b < 3; ++b)
-              R[a][b] *= inverse_determinant;
-#pragma GCC unroll 9
-          for (unsigned int a = 0; a < 3; ++a)
-#pragma GCC unroll 3
-            for (unsigned int b = 0; b < 3; ++b)
-              {
-                double sum = R[a][0] * B[0][b];
-                sum += R[a][1] * B[1][b];
-                sum += R[a][2] * B[2][b];
-                dF[a][b] = sum;
-              }
-          const double old[9] = {
-            F0[q], F1[q], F2[q], F3[q], F4[q], F5[q], F6[q], F7[q], F8[q]};
-          double G[9];
-#pragma GCC unroll 9
-          for (unsigned int a = 0; a < 3; ++a)
-#pragma GCC unroll 3
-            for (unsigned int b = 0; b < 3; ++b)
-              G[3 * a + b] = dF[a][0] * old[b] + dF[a][1] * old[3 + b] +
-                             dF[a][2] * old[6 + b];
-#pragma GCC unroll 9
-          for (unsigned int c = 0; c < 9; ++c)
-            F[c * stride + q] = G[c];
-          const double C0 = G[4] * G[8] - G[5] * G[7];
-          const double C1 = G[5] * G[6] - G[3] * G[8];
-          const double C2 = G[3] * G[7] - G[4] * G[6];
-          J[q]            = G[0] * C0 + G[1] * C1 + G[2] * C2;
-        }
-    }
-
-    /**
-     * The Cayley update of a batch of @p n_points: ΔF, F^{n+1} = ΔF F^n and
-     * J into @p F and @p J from the velocity gradients @p L and F^n at
-     * @p F_old (one array per entry, the batch's points one after another),
-     * with a constant count for a full batch.
-     */
-    template <int dim>
-    inline void
-    cayley_update(const unsigned int                   n_points,
-                  const double                         dt,
-                  const BatchEntries                  &L,
-                  const std::array<const double *, 9> &F_old,
-                  BatchEntries                        &F,
-                  double                              *J)
-    {
-      auto update = [&](const auto count) {
-        if constexpr (dim == 2)
-          plane_strain_cayley_update(count,
-                                     dt,
-                                     L[0],
-                                     L[1],
-                                     L[3],
-                                     L[4],
-                                     F_old[0],
-                                     F_old[1],
-                                     F_old[3],
-                                     F_old[4],
-                                     F_old[8],
-                                     F[0],
-                                     F[1],
-                                     F[3],
-                                     F[4],
-                                     F[8],
-                                     J);
-        else
-          cayley_update_3d(count, dt, &L[0][0], F_old, &F[0][0], J);
-      };
-      constexpr unsigned int capacity =
-        ConstitutiveModel::StressUpdateInputs::capacity;
-      if (n_points == capacity)
-        update(std::integral_constant<unsigned int, capacity>());
-      else
-        update(n_points);
-    }
-
-    /**
-     * v_p = Σ_j S_pj v_j over one point's support entries [begin, end), and
-     * L_p = Σ_j v_j ⊗ G_pj (Eq. 2.7) below: each sum in its own scalar, so
-     * that the compiler keeps it in a register (an array or Tensor summand
-     * went through the stack on every entry).
-     */
-    template <int dim, typename Count>
-    inline void
-    interpolate(const unsigned int *const  node,
-                const double *const        S,
-                const unsigned int         begin,
-                const Count                end,
-                const double *const *const v,
-                Tensor<1, dim>            &value)
-    {
-      double x = 0, y = 0, z = 0;
-      for (unsigned int j = begin; j < end; ++j)
-        {
-          const double       s = S[j];
-          const unsigned int i = node[j];
-          x += s * v[0][i];
-          y += s * v[1][i];
-          if constexpr (dim == 3)
-            z += s * v[2][i];
-        }
-      value[0] = x;
-      value[1] = y;
-      if constexpr (dim == 3)
-        value[2] = z;
-    }
-
-    template <int dim, typename Count>
-    inline void
-    velocity_gradient(const unsigned int *const   node,
-                      const Tensor<1, dim> *const G,
-                      const unsigned int          begin,
-                      const Count                 end,
-                      const double *const *const  v,
-                      BatchEntries               &L,
-                      const unsigned int          q)
-    {
-      double xx = 0, xy = 0, xz = 0, yx = 0, yy = 0, yz = 0, zx = 0, zy = 0,
-             zz = 0;
-      for (unsigned int j = begin; j < end; ++j)
-        {
-          const unsigned int i  = node[j];
-          const double       vx = v[0][i], vy = v[1][i];
-          xx += vx * G[j][0];
-          xy += vx * G[j][1];
-          yx += vy * G[j][0];
-          yy += vy * G[j][1];
-          if constexpr (dim == 3)
-            {
-              const double vz = v[2][i];
-              xz += vx * G[j][2];
-              yz += vy * G[j][2];
-              zx += vz * G[j][0];
-              zy += vz * G[j][1];
-              zz += vz * G[j][2];
-            }
-        }
-      // (In 2D the other entries stay zero.)
-      L[0][q] = xx;
-      L[1][q] = xy;
-      L[3][q] = yx;
-      L[4][q] = yy;
-      if constexpr (dim == 3)
-        {
-          L[2][q] = xz;
-          L[5][q] = yz;
-          L[6][q] = zx;
-          L[7][q] = zy;
-          L[8][q] = zz;
-        }
-    }
 
     /** Points per batch of the strain update (constitutive model calls). */
     constexpr unsigned int stress_batch_size =
       ConstitutiveModel::StressUpdateInputs::capacity;
-
-    /**
-     * The per-material fields the contact normals and laws read of the
-     * points: g^α = Σ V G and Σ S M X (seed 004 Eq. 11), and for the
-     * interface laws u^α = Σ S M (x − X₀) and V^α = Σ S V. The first
-     * extrapolation and the re-extrapolation in the particle update add
-     * each point's share with the same operations.
-     */
-    template <int dim>
-    class ContactGeometry
-    {
-    public:
-      /** Zero the fields that @p normal_needs and @p interface_state ask
-       * for (the others are left alone and not added to). */
-      void
-      reset(std::vector<Contact::MaterialField<dim>> &fields,
-            const Contact::NormalNeeds               &normal_needs,
-            const bool                                interface_state,
-            const MaterialPoints<dim>                &material_points)
-      {
-        points      = &material_points;
-        using Index = PropertyIndex<dim>;
-        mass        = points->column(Index::mass);
-        volume      = points->column(Index::volume);
-        for (unsigned int d = 0; d < dim; ++d)
-          initial_position[d] = points->column(Index::initial_position + d);
-        gradient.clear();
-        position.clear();
-        displacement.clear();
-        nodal_volume.clear();
-        for (auto &field : fields)
-          {
-            if (normal_needs.volume_gradients)
-              field.volume_gradient = 0;
-            if (normal_needs.positions)
-              field.position_moment = 0;
-            if (interface_state)
-              {
-                field.displacement_moment = 0;
-                field.volume              = 0;
-                nodal_volume.push_back(field.volume.begin());
-              }
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                if (normal_needs.volume_gradients)
-                  gradient.push_back(field.volume_gradient.block(d).begin());
-                if (normal_needs.positions)
-                  position.push_back(field.position_moment.block(d).begin());
-                if (interface_state)
-                  displacement.push_back(
-                    field.displacement_moment.block(d).begin());
-              }
-          }
-      }
-
-      /** Add the ghosts of @p field's share of what reset() zeroed (after a
-       * sweep of add_point()). */
-      static void
-      compress(Contact::MaterialField<dim> &field,
-               const Contact::NormalNeeds  &normal_needs,
-               const bool                   interface_state)
-      {
-        if (normal_needs.volume_gradients)
-          field.volume_gradient.compress(VectorOperation::add);
-        if (normal_needs.positions)
-          field.position_moment.compress(VectorOperation::add);
-        if (interface_state)
-          {
-            field.displacement_moment.compress(VectorOperation::add);
-            field.volume.compress(VectorOperation::add);
-          }
-      }
-
-      /** Whether add_point() reads G. */
-      bool
-      needs_gradients() const
-      {
-        return !gradient.empty();
-      }
-
-      /** Point @p k of material @p alpha with its support (G only if
-       * needs_gradients()). */
-      template <typename Count>
-      DEAL_II_ALWAYS_INLINE void
-      add_point(const unsigned int          k,
-                const unsigned int          alpha,
-                const unsigned int *const   node,
-                const double *const         S,
-                const Tensor<1, dim> *const G,
-                const Count                 n_entries) const
-      {
-        const double      M = mass[k];
-        const double      V = volume[k];
-        const Point<dim> &X = points->position[k];
-        if (!gradient.empty())
-          for (unsigned int j = 0; j < n_entries; ++j)
-            for (unsigned int d = 0; d < dim; ++d)
-              gradient[alpha * dim + d][node[j]] += V * G[j][d];
-        if (!position.empty())
-          for (unsigned int j = 0; j < n_entries; ++j)
-            for (unsigned int d = 0; d < dim; ++d)
-              position[alpha * dim + d][node[j]] += M * S[j] * X[d];
-        if (!displacement.empty())
-          {
-            // u_p = x_p − X_p (the initial position).
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                const double u_d = X[d] - initial_position[d][k];
-                for (unsigned int j = 0; j < n_entries; ++j)
-                  displacement[alpha * dim + d][node[j]] += M * S[j] * u_d;
-              }
-            for (unsigned int j = 0; j < n_entries; ++j)
-              nodal_volume[alpha][node[j]] += S[j] * V;
-          }
-      }
-
-    private:
-      const MaterialPoints<dim> *points = nullptr;
-      const double              *mass = nullptr, *volume = nullptr;
-      const double              *initial_position[dim] = {};
-      /** [α dim + d] (nodal_volume: [α]); empty where nothing reads it. */
-      std::vector<double *> gradient, position, displacement, nodal_volume;
-    };
   } // namespace
 
 
 
   template <int dim>
-  Tensor<1, dim>
-  Simulator<dim>::body_acceleration_at(const Point<dim>     &x,
-                                       const Tensor<1, dim> &V,
-                                       const Tensor<1, dim> &gravity,
-                                       const Point<dim> &expression_point) const
+  template <typename... Text>
+  void
+  Simulator<dim>::report_point_failure(const unsigned int       k,
+                                       const FailedPoint::Cause cause,
+                                       const Text &...text)
   {
-    Tensor<1, dim> b = gravity;
-    if (body_acceleration)
-      for (unsigned int d = 0; d < dim; ++d)
-        b[d] += body_acceleration->value(expression_point, d);
-    if (angular_velocity)
+    if (!local_failure.empty())
+      return;
+    std::ostringstream message;
+    switch (cause)
       {
-        // Rotating frame (seed 001, computeParticleBodyForce):
-        // b = g − ω × (ω × r) − 2 ω × V − ω̇ × r.
-        Tensor<1, 3> omega, omega_dot, r, v;
-        const double t  = angular_velocity->get_time();
-        const double dt = 1e-6 * std::max(1.0, std::abs(t));
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            omega[d] = angular_velocity->value(Point<1>(), d);
-          }
-        auto &omega_function = *angular_velocity;
-        omega_function.set_time(t + dt);
-        for (unsigned int d = 0; d < 3; ++d)
-          omega_dot[d] = omega_function.value(Point<1>(), d);
-        omega_function.set_time(t - dt);
-        for (unsigned int d = 0; d < 3; ++d)
-          omega_dot[d] =
-            (omega_dot[d] - omega_function.value(Point<1>(), d)) / (2 * dt);
-        omega_function.set_time(t);
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            r[d] = x[d] - parameters.rotating_frame.center[d];
-            v[d] = V[d];
-          }
-        const Tensor<1, 3> a =
-          cross_product_3d(omega, cross_product_3d(omega, r)) +
-          2 * cross_product_3d(omega, v) + cross_product_3d(omega_dot, r);
-        for (unsigned int d = 0; d < dim; ++d)
-          b[d] -= a[d];
+        case FailedPoint::Cause::support_outside_patch:
+          message << "the domain of ";
+          break;
+        case FailedPoint::Cause::velocity_not_finite:
+          message << "velocity of ";
+          break;
+        case FailedPoint::Cause::stress_not_finite:
+          message << "stress of ";
+          break;
+        default:
+          break;
       }
-    return b;
-  }
-
-
-
-  template <int dim>
-  Tensor<1, dim>
-  Simulator<dim>::traction_force_of(const unsigned int k) const
-  {
-    Tensor<1, dim> F;
-    const int      index =
-      static_cast<int>(points.column(traction_index_slot)[k] + 0.5) - 1;
-    if (index < 0)
-      return F;
-    // F_p = t(t) A_p, the f_T term of Eq. 2.10 (at mid-step, like b).
-    const double area = points.column(traction_index_slot + 1)[k];
+    message << "material point " << points.id[k] << " at ("
+            << points.position[k] << ") ";
+    (message << ... << text);
+    local_failure            = message.str();
+    local_failed_point.cause = cause;
+    local_failed_point.id    = points.id[k];
     for (unsigned int d = 0; d < dim; ++d)
-      F[d] = traction_functions[index]->value(Point<1>(), d) * area;
-    return F;
-  }
-
-
-
-  template <int dim>
-  Tensor<1, dim>
-  Simulator<dim>::external_acceleration(const unsigned int    k,
-                                        const Tensor<1, dim> &gravity)
-  {
-    using Index            = PropertyIndex<dim>;
-    const PointRecord    p = points.record(k);
-    const Point<dim>    &x = points.position[k];
-    const Tensor<1, dim> V = get_vector<dim>(p, Index::velocity);
-    Tensor<1, dim>       b =
-      parameters.body_acceleration_at_initial_position ?
-              body_acceleration_at(x,
-                             V,
-                             gravity,
-                             Point<dim>(
-                               get_vector<dim>(p, Index::initial_position))) :
-              body_acceleration_at(x, V, gravity, x);
-    if (!traction_functions.empty())
-      {
-        // The traction force as an acceleration, F_p / M_p (Eq. 2.10).
-        const Tensor<1, dim> F_p = traction_force_of(k);
-        b += F_p / p[Index::mass];
-        local_traction_power += F_p * V;
-        local_traction_magnitude += F_p.norm();
-      }
-    return b;
+      local_failed_point.position[d] = points.position[k][d];
   }
 
 
@@ -957,26 +441,21 @@ namespace fmpm
                   parameters.method.cpdi_critical_radius);
                 if (status != ShapeFunction::Status::ok)
                   {
-                    if (local_failure.empty())
-                      {
-                        std::ostringstream message;
-                        message
-                          << "the domain of material point " << points.id[k]
-                          << " at (" << location << ") "
-                          << (status == ShapeFunction::Status::outside_mesh ?
-                                "reaches outside the mesh by more than half a "
-                                "cell" :
-                                "reaches beyond the cells that share a vertex "
-                                "with its cell (one layer of neighbour or "
-                                "ghost cells)")
-                          << " (Shape function/Type = "
-                          << parameters.method.shape_function
-                          << "): use smaller points (more Points per cell), "
-                             "a coarser mesh there, classic shape "
-                             "functions, or for CPDI a Shape function/CPDI "
-                             "critical radius of at most 1";
-                        local_failure = message.str();
-                      }
+                    report_point_failure(
+                      k,
+                      FailedPoint::Cause::support_outside_patch,
+                      status == ShapeFunction::Status::outside_mesh ?
+                        "reaches outside the mesh by more than half a "
+                        "cell" :
+                        "reaches beyond the cells that share a vertex "
+                        "with its cell (one layer of neighbour or "
+                        "ghost cells)",
+                      " (Shape function/Type = ",
+                      parameters.method.shape_function,
+                      "): use smaller points (more Points per cell), "
+                      "a coarser mesh there, classic shape "
+                      "functions, or for CPDI a Shape function/CPDI "
+                      "critical radius of at most 1");
                     // Carry on with the classic weights; the step fails.
                     ShapeFunction::compute_support(ShapeFunction::Type::classic,
                                                    transfer,
@@ -1068,12 +547,9 @@ namespace fmpm
         matrix.clear();
     std::vector<double *> m_alpha(n_materials), p_alpha(n_materials * dim),
       f_alpha(n_materials * dim);
-    ContactGeometry<dim> contact_geometry;
-    if (contact)
-      contact_geometry.reset(material_fields,
-                             this->contact->normal_needs(),
-                             this->contact->needs_interface_state(),
-                             points);
+    Contact::GeometrySink<dim>        no_contact_geometry;
+    const Contact::GeometrySink<dim> &contact_geometry =
+      contact ? this->contact->begin_geometry(points) : no_contact_geometry;
     for (unsigned int a = 0; a < n_materials; ++a)
       {
         Contact::MaterialField<dim> &field = material_fields[a];
@@ -1089,11 +565,9 @@ namespace fmpm
           }
       }
 
-    const auto    &partitioner        = *lumped_mass.get_partitioner();
-    const bool     uniform_body_force = !has_point_body_force();
-    Tensor<1, dim> gravity;
-    for (unsigned int d = 0; d < dim; ++d)
-      gravity[d] = parameters.gravity[d];
+    const auto &partitioner        = *lumped_mass.get_partitioner();
+    const bool  uniform_body_force = !external_loads.has_point_body_force();
+    const Tensor<1, dim> gravity   = external_loads.gravity();
 
     // Raw views of the ghosted grid vectors (owned and ghost entries).
     double *const m = lumped_mass.begin();
@@ -1179,8 +653,9 @@ namespace fmpm
                 if (with_forces)
                   {
                     const Tensor<1, dim> b =
-                      uniform_body_force ? gravity :
-                                           external_acceleration(k, gravity);
+                      uniform_body_force ?
+                        gravity :
+                        external_loads.acceleration(points, k);
                     double sigma[dim][dim];
                     stress_block<dim>(stress_column, k, sigma);
                     const double V = volume_column[k];
@@ -1284,10 +759,10 @@ namespace fmpm
                 {
                   // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
                   // τ/ρ₀ M = σ V; F_p the traction force)
-                  const Tensor<1, dim> b = uniform_body_force ?
-                                             gravity :
-                                             external_acceleration(k, gravity);
-                  double               sigma[dim][dim];
+                  const Tensor<1, dim> b =
+                    uniform_body_force ? gravity :
+                                         external_loads.acceleration(points, k);
+                  double sigma[dim][dim];
                   stress_block<dim>(stress_column, k, sigma);
                   const double V = volume_column[k];
                   // (with contact f^α0 of the point's material, Eq. 29)
@@ -1400,9 +875,7 @@ namespace fmpm
         field.momentum.compress(VectorOperation::add);
         if (with_forces)
           field.force.compress(VectorOperation::add);
-        ContactGeometry<dim>::compress(field,
-                                       this->contact->normal_needs(),
-                                       this->contact->needs_interface_state());
+        this->contact->compress_geometry(field);
         field.mass.update_ghost_values();
         field.computed.fill(false);
       }
@@ -1445,10 +918,7 @@ namespace fmpm
       for (auto &field : this->contact->material_fields())
         {
           field.momentum.compress(VectorOperation::add);
-          ContactGeometry<dim>::compress(
-            field,
-            this->contact->normal_needs(),
-            this->contact->needs_interface_state());
+          this->contact->compress_geometry(field);
           field.computed.fill(false);
         }
   }
@@ -1485,7 +955,7 @@ namespace fmpm
     double       sigma[dim][dim];
     stress_block<dim>(columns.stress, k, sigma);
     const Tensor<1, dim> b =
-      uniform_body_force ? gravity : external_acceleration(k, gravity);
+      uniform_body_force ? gravity : external_loads.acceleration(points, k);
     if (b.norm_square() == 0)
       for (unsigned int j = 0; j < n_entries; ++j)
         for (unsigned int a = 0; a < dim; ++a)
@@ -1532,7 +1002,7 @@ namespace fmpm
     ParticleUpdate::Interface<dim> &update = active_update();
     ParticleUpdate::Batch<dim>      batch;
     batch.time_step = control.time_step();
-    points_that_left_their_cell.clear();
+    point_sort.clear();
     const bool   track_dissipation = parameters.output.track_dissipation;
     const double grid_damping      = parameters.method.grid_damping;
     const double particle_damping  = parameters.method.particle_damping;
@@ -1550,13 +1020,12 @@ namespace fmpm
     // the normals and laws read of the moved points).
     const bool            re_extrapolate = re_extrapolates_in_particle_update();
     std::vector<double *> momentum_target;
-    ContactGeometry<dim>  contact_geometry;
+    Contact::GeometrySink<dim>        no_contact_geometry;
+    const Contact::GeometrySink<dim> &contact_geometry =
+      re_extrapolate && contact ? this->contact->begin_geometry(points) :
+                                  no_contact_geometry;
     if (re_extrapolate && contact)
       {
-        contact_geometry.reset(this->contact->material_fields(),
-                               this->contact->normal_needs(),
-                               this->contact->needs_interface_state(),
-                               points);
         for (auto &field : this->contact->material_fields())
           {
             field.momentum = 0;
@@ -1620,25 +1089,25 @@ namespace fmpm
             batch.position[q] = points.position[k];
             const FieldViews &field_values =
               views[contact ? supports.material[k] : 0];
-            support_of.visit(k,
-                             data,
-                             false,
-                             [&](const unsigned int *const node,
-                                 const double *const       S,
-                                 const Tensor<1, dim> *,
-                                 const auto n_entries) {
-                               for (unsigned int field = 0; field < n_fields;
-                                    ++field)
-                                 {
-                                   const unsigned int f = fields[field];
-                                   interpolate<dim>(node,
-                                                    S,
-                                                    0,
-                                                    n_entries,
-                                                    field_values[f].data(),
-                                                    batch.grid[f][q]);
-                                 }
-                             });
+            support_of.visit(
+              k,
+              data,
+              false,
+              [&](const unsigned int *const node,
+                  const double *const       S,
+                  const Tensor<1, dim> *,
+                  const auto n_entries) {
+                for (unsigned int field = 0; field < n_fields; ++field)
+                  {
+                    const unsigned int f = fields[field];
+                    Kinematics::interpolate<dim>(node,
+                                                 S,
+                                                 0,
+                                                 n_entries,
+                                                 field_values[f].data(),
+                                                 batch.grid[f][q]);
+                  }
+              });
           }
 
         // Keep V^(n), X^(n) where damping or the dissipation measure need
@@ -1701,14 +1170,10 @@ namespace fmpm
             const unsigned int    k  = first_point + q;
             const Tensor<1, dim> &V  = batch.velocity[q];
             const double          V2 = V * V;
-            if (!std::isfinite(V2) && local_failure.empty())
-              {
-                std::ostringstream message;
-                message << "velocity of material point " << points.id[k]
-                        << " at (" << points.position[k]
-                        << ") is not finite (NaN or Inf)";
-                local_failure = message.str();
-              }
+            if (!std::isfinite(V2))
+              report_point_failure(k,
+                                   FailedPoint::Cause::velocity_not_finite,
+                                   "is not finite (NaN or Inf)");
             max_V2 = std::max(max_V2, V2);
             for (unsigned int d = 0; d < dim; ++d)
               velocity_column[d][k] = V[d];
@@ -1725,7 +1190,7 @@ namespace fmpm
             if (GridTransfer<dim>::is_inside(xi))
               points.reference_position[k] = xi;
             else
-              points_that_left_their_cell.push_back(k);
+              point_sort.left_cell(k);
           }
       }
     local_max_point_speed = std::sqrt(max_V2);
@@ -1756,10 +1221,10 @@ namespace fmpm
     ConstitutiveModel::StressUpdateInputs  inputs;
     ConstitutiveModel::StressUpdateOutputs outputs;
     inputs.time_step = dt;
-    BatchEntries  dF, F_gathered;
-    double        wave_speed = 0;
-    const double *v_a[dim];
-    auto          view_velocities = [&](const GridVectorField &v) {
+    Kinematics::BatchEntries dF, F_gathered;
+    double                   wave_speed = 0;
+    const double            *v_a[dim];
+    auto                     view_velocities = [&](const GridVectorField &v) {
       for (unsigned int a = 0; a < dim; ++a)
         v_a[a] = v.block(a).begin();
     };
@@ -1778,18 +1243,15 @@ namespace fmpm
     const ForceColumns    force_columns(points);
     double               *f[dim];
     std::vector<double *> f_alpha;
-    Tensor<1, dim>        gravity;
-    const bool            uniform_body_force = !has_point_body_force();
+    const Tensor<1, dim>  gravity = external_loads.gravity();
+    const bool uniform_body_force = !external_loads.has_point_body_force();
     if (with_forces)
       {
         // (With contact f is set from the f^α0 after the sweep.)
         if (!contact)
           force = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          {
-            f[d]       = force.block(d).begin();
-            gravity[d] = parameters.gravity[d];
-          }
+          f[d] = force.block(d).begin();
         if (contact)
           for (auto &material_field : this->contact->material_fields())
             {
@@ -1884,7 +1346,7 @@ namespace fmpm
                     const auto &cell     = transfer.cell_data(points.cell[k]);
                     support_of.compute(k, cell, true, batch_S[b], batch_G[b]);
                     batch_node[b] = cell.local_index.data();
-                    velocity_gradient<dim>(
+                    Kinematics::velocity_gradient<dim>(
                       batch_node[b],
                       batch_G[b].data(),
                       0,
@@ -1900,7 +1362,7 @@ namespace fmpm
                                        const double *,
                                        const Tensor<1, dim> *const G,
                                        const auto                  n_entries) {
-                                     velocity_gradient<dim>(
+                                     Kinematics::velocity_gradient<dim>(
                                        node,
                                        G,
                                        0,
@@ -1954,17 +1416,17 @@ namespace fmpm
                         F_gathered[c][q] = F_column[c][group_points[q]];
                       F_old[c] = F_gathered[c];
                     }
-                cayley_update<dim>(
+                Kinematics::cayley_update<dim>(
                   n_group, dt, inputs.velocity_gradient, F_old, F, J);
               }
             else
               {
-                increments<dim>(F_update,
-                                parameters.method,
-                                inputs.velocity_gradient,
-                                dt,
-                                n_group,
-                                dF);
+                Kinematics::increments<dim>(F_update,
+                                            parameters.method,
+                                            inputs.velocity_gradient,
+                                            dt,
+                                            n_group,
+                                            dF);
                 // F^{n+1} = ΔF F^n and J = det F^{n+1} (the operations of
                 // deal.II's Tensor product and determinant()); in 2D on the
                 // 2x2 block, F_33 kept (plane strain).
@@ -2003,27 +1465,19 @@ namespace fmpm
                     }
               }
             for (unsigned int q = 0; q < n_group; ++q)
-              if (!(J[q] > 0) && local_failure.empty())
-                {
-                  const unsigned int k = group_points[q];
-                  std::ostringstream message;
-                  message << "material point " << points.id[k] << " at ("
-                          << points.position[k]
-                          << ") has an inverted deformation gradient, J = "
-                          << J[q];
-                  local_failure = message.str();
-                }
+              if (!(J[q] > 0))
+                report_point_failure(group_points[q],
+                                     FailedPoint::Cause::inverted,
+                                     "has an inverted deformation gradient, "
+                                     "J = ",
+                                     J[q]);
 
             outputs.failed_point = -1;
             constitutive_models[m]->update_stress(inputs, outputs);
-            if (outputs.failed_point >= 0 && local_failure.empty())
-              {
-                const unsigned int k = group_points[outputs.failed_point];
-                std::ostringstream message;
-                message << "material point " << points.id[k] << " at ("
-                        << points.position[k] << ") " << outputs.failure;
-                local_failure = message.str();
-              }
+            if (outputs.failed_point >= 0)
+              report_point_failure(group_points[outputs.failed_point],
+                                   FailedPoint::Cause::model_failure,
+                                   outputs.failure);
 
             // F, σ, W and V = J V0 into the store (in 2D the plane-strain
             // zero entries are not stored; F_33 is unchanged).
@@ -2061,16 +1515,10 @@ namespace fmpm
                   J_of_group[q] = J[q] > 0 ? J[q] : 1;
                 }
             for (unsigned int q = 0; q < n_group; ++q)
-              if (!std::isfinite(outputs.strain_energy_density[q]) &&
-                  local_failure.empty())
-                {
-                  const unsigned int k = group_points[q];
-                  std::ostringstream message;
-                  message << "stress of material point " << points.id[k]
-                          << " at (" << points.position[k]
-                          << ") is not finite (NaN or Inf)";
-                  local_failure = message.str();
-                }
+              if (!std::isfinite(outputs.strain_energy_density[q]))
+                report_point_failure(group_points[q],
+                                     FailedPoint::Cause::stress_not_finite,
+                                     "is not finite (NaN or Inf)");
             if (constitutive_models[m]->computes_wave_speed())
               for (unsigned int q = 0; q < n_group; ++q)
                 wave_speed = std::max(wave_speed, outputs.wave_speed[q]);
@@ -2146,242 +1594,15 @@ namespace fmpm
   Simulator<dim>::sort_particles_into_cells()
   {
     TimerOutput::Scope timer(computing_timer, "sort points into cells");
-    // The particle update set the reference positions of the points that
-    // stayed in their cells. Each of the others gets the cell that now holds
-    // it, searched around its old cell: a locally owned cell takes it in the
-    // store, a ghost cell's owner receives it (one point-to-point exchange of
-    // only these points), and the store puts its points back in cell order.
-    // A point not found nearby or outside the mesh: deal.II's sort handles
-    // every point (and reports lost points).
-    // Mesh/Periodic directions: the box's length along each periodic axis.
-    // A point that crosses a periodic face enters through the opposite one:
-    // its position and initial position shift by the length (u = x − X
-    // and F are kept).
-    Tensor<1, dim> period;
-    for (unsigned int d = 0; d < dim; ++d)
-      if (parameters.mesh.periodic[d])
-        period[d] =
-          parameters.mesh.upper_corner[d] - parameters.mesh.lower_corner[d];
-    const auto shift_point = [this](const unsigned int    k,
-                                    const Tensor<1, dim> &shift) {
-      points.position[k] += shift;
-      for (unsigned int d = 0; d < dim; ++d)
-        points.column(PropertyIndex<dim>::initial_position + d)[k] += shift[d];
-    };
-    auto full_sort = [&]() {
-      points_that_left_their_cell.clear();
-      if (parameters.mesh.any_periodic())
-        for (unsigned int k = 0; k < points.n_points(); ++k)
-          {
-            Tensor<1, dim> shift;
-            for (unsigned int d = 0; d < dim; ++d)
-              if (period[d] > 0)
-                {
-                  const double x = points.position[k][d];
-                  if (x < parameters.mesh.lower_corner[d])
-                    shift[d] = period[d];
-                  else if (x >= parameters.mesh.upper_corner[d])
-                    shift[d] = -period[d];
-                }
-            if (shift.norm_square() > 0)
-              shift_point(k, shift);
-          }
-      points_to_handler();
-      particle_handler.sort_particles_into_subdomains_and_cells();
-      points_from_handler();
-    };
-    if (!parameters.fast_point_sorting)
-      {
-        full_sort();
-        return;
-      }
-    point_moves.clear();
-    std::uint64_t n_sent         = 0;
-    bool          need_full_sort = false;
-    Point<dim>    center;
-    for (unsigned int d = 0; d < dim; ++d)
-      center[d] = 0.5;
-    Assert(std::is_sorted(points_that_left_their_cell.begin(),
-                          points_that_left_their_cell.end()),
-           ExcInternalError());
-    unsigned int cell_with_points = 0;
-    for (const unsigned int k : points_that_left_their_cell)
-      {
-        // The points that left are listed in store order: the cell's place
-        // follows with a cursor.
-        while (points.cell_point_begin[cell_with_points + 1] <= k)
-          ++cell_with_points;
-        const auto       cell = points.cell_iterator(cell_with_points);
-        const Point<dim> x    = points.position[k];
-
-        // The new cell: across the face the point crossed, from neighbour
-        // to neighbour (a corner takes two steps); where that meets a
-        // boundary, a finer neighbour or an artificial cell, the cells
-        // around the old cell's vertices.
-        // Across a periodic face the walk goes on in the twin cell, with x
-        // shifted by the period (x_walk).
-        typename Triangulation<dim>::active_cell_iterator target;
-        Point<dim>                                        xi;
-        Point<dim>                                        x_walk = x;
-        {
-          auto       walk    = cell;
-          Point<dim> xi_walk = GridTransfer<dim>::reference_point(
-            transfer.cell_data(cell->active_cell_index()), x, center);
-          for (unsigned int hop = 0; hop <= dim; ++hop)
-            {
-              unsigned int face = numbers::invalid_unsigned_int;
-              for (unsigned int d = 0; d < dim; ++d)
-                if (xi_walk[d] < -1e-12 || xi_walk[d] > 1 + 1e-12)
-                  {
-                    face = 2 * d + (xi_walk[d] > 1 ? 1 : 0);
-                    break;
-                  }
-              if (face == numbers::invalid_unsigned_int)
-                {
-                  if (walk != cell)
-                    {
-                      target = walk;
-                      xi     = xi_walk;
-                    }
-                  break;
-                }
-              if (walk->at_boundary(face))
-                {
-                  if (!walk->has_periodic_neighbor(face) ||
-                      walk->periodic_neighbor(face)->has_children())
-                    break;
-                  x_walk[face / 2] +=
-                    (face % 2 == 1 ? -1. : 1.) * period[face / 2];
-                  walk = walk->periodic_neighbor(face);
-                }
-              else if (walk->neighbor(face)->has_children())
-                break;
-              else
-                walk = walk->neighbor(face);
-              if (walk->is_artificial())
-                break;
-              xi_walk = GridTransfer<dim>::reference_point(
-                transfer.cell_data(walk->active_cell_index()), x_walk, center);
-            }
-          if (target.state() == IteratorState::valid && x_walk != x)
-            shift_point(k, x_walk - x);
-        }
-        if (target.state() != IteratorState::valid)
-          for (const unsigned int v : cell->vertex_indices())
-            {
-              for (const auto &other : vertex_to_cells[cell->vertex_index(v)])
-                {
-                  const auto candidate = vertex_to_cells.iterator(other);
-                  if (candidate == cell || candidate->is_artificial())
-                    continue;
-                  xi = GridTransfer<dim>::reference_point(
-                    transfer.cell_data(candidate->active_cell_index()),
-                    x,
-                    center);
-                  if (GridTransfer<dim>::is_inside(xi))
-                    {
-                      target = candidate;
-                      break;
-                    }
-                }
-              if (target.state() == IteratorState::valid)
-                break;
-            }
-        if (target.state() == IteratorState::valid)
-          {
-            point_moves.push_back({k, target, xi});
-            if (!target->is_locally_owned())
-              ++n_sent;
-          }
-        else
-          need_full_sort = true;
-      }
-    // One reduction: does any rank need the full sort, how many points left
-    // their cells and how many their rank, on all ranks (the same decision
-    // on every rank).
-    const std::uint64_t local_counts[3] = {need_full_sort ? 1u : 0u,
-                                           points_that_left_their_cell.size(),
-                                           n_sent};
-    std::uint64_t global_counts[3] = {0, 0, 0};
-    Utilities::MPI::sum(make_array_view(local_counts),
-                        mpi_communicator,
-                        make_array_view(global_counts));
-    points_that_left_their_cell.clear();
-    if (global_counts[0] != 0)
-      {
-        full_sort();
-        return;
-      }
-    if (global_counts[1] == 0)
+    // The points that left their cells, to their new cells nearby (on this
+    // rank or their new owner's); else deal.II's sort of every point (a
+    // point not found nearby or outside the mesh: it reports lost points).
+    if (parameters.fast_point_sorting && point_sort.sort(points))
       return;
-
-    // Per receiving rank, per point: id, x, the new cell's CellId (binary),
-    // the properties.
-    const unsigned int n_properties = points.n_properties();
-    std::map<unsigned int, std::vector<double>> sent;
-    for (const PointMove &move : point_moves)
-      if (move.cell->is_locally_owned())
-        points.move(move.k, move.cell, move.xi);
-      else
-        {
-          std::vector<double> &buffer = sent[move.cell->subdomain_id()];
-          buffer.push_back(points.id[move.k]);
-          for (unsigned int d = 0; d < dim; ++d)
-            buffer.push_back(points.position[move.k][d]);
-          for (const unsigned int word :
-               move.cell->id().template to_binary<dim>())
-            buffer.push_back(word);
-          const std::size_t first = buffer.size();
-          buffer.resize(first + n_properties);
-          points.copy_record(move.k, buffer.data() + first);
-          points.remove(move.k);
-        }
-    // Only the points that change rank travel, to the owners of their new
-    // cells. A new cell is owned or a ghost cell, so each rank exchanges
-    // one message (empty if no point moves) with each owner of its ghost
-    // cells: a neighbour exchange without collectives. With one ghost layer
-    // the ghost owners are symmetric (a ghost cell touches an owned cell,
-    // so that cell is a ghost cell on the other rank). The full sort covers
-    // everything else.
-    if (global_counts[2] != 0)
-      {
-        const std::vector<unsigned int> neighbours(
-          triangulation.ghost_owners().begin(),
-          triangulation.ghost_owners().end());
-        const std::map<unsigned int, std::vector<double>> received =
-          neighbour_exchange(mpi_communicator,
-                             neighbours,
-                             neighbours,
-                             sent,
-                             MPITags::point_exchange);
-        const unsigned int record = 1 + dim + 4 + n_properties;
-        for (const auto &from_rank : received)
-          {
-            const std::vector<double> &buffer = from_rank.second;
-            AssertDimension(buffer.size() % record, 0);
-            for (std::size_t r = 0; r < buffer.size(); r += record)
-              {
-                const double *const entry = buffer.data() + r;
-                Point<dim>          x;
-                for (unsigned int d = 0; d < dim; ++d)
-                  x[d] = entry[1 + d];
-                CellId::binary_type binary;
-                for (unsigned int w = 0; w < 4; ++w)
-                  binary[w] = static_cast<unsigned int>(entry[1 + dim + w]);
-                const typename Triangulation<dim>::active_cell_iterator cell =
-                  triangulation.create_cell_iterator(CellId(binary));
-                Assert(cell->is_locally_owned(), ExcInternalError());
-                const Point<dim> xi = GridTransfer<dim>::reference_point(
-                  transfer.cell_data(cell->active_cell_index()), x, center);
-                points.add(static_cast<types::particle_index>(entry[0]),
-                           x,
-                           xi,
-                           cell,
-                           entry + 1 + dim + 4);
-              }
-          }
-      }
-    points.rebin();
+    point_sort.prepare_full_sort(points);
+    points_to_handler();
+    particle_handler.sort_particles_into_subdomains_and_cells();
+    points_from_handler();
   }
 
   template class Simulator<2>;

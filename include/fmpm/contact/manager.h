@@ -4,6 +4,7 @@
 #ifndef fmpm_contact_manager_h
 #define fmpm_contact_manager_h
 
+#include <fmpm/contact/geometry_sink.h>
 #include <fmpm/contact/laws.h>
 #include <fmpm/contact/normals.h>
 #include <fmpm/contact/parameters.h>
@@ -130,6 +131,23 @@ namespace fmpm
       needs_interface_state() const
       {
         return needs_interface;
+      }
+
+      /** The sink that adds each point's share of g^α, Σ S M X, u^α and
+       * V^α (what normal_needs() and needs_interface_state() ask for), those
+       * fields zeroed, for a sweep over @p points. */
+      GeometrySink<dim> &
+      begin_geometry(const MaterialPoints<dim> &points)
+      {
+        geometry_sink.reset(fields, needs, needs_interface, points);
+        return geometry_sink;
+      }
+
+      /** Add the ghosts of what the geometry sink added to @p field. */
+      void
+      compress_geometry(MaterialField<dim> &field) const
+      {
+        GeometrySink<dim>::compress(field, needs, needs_interface);
       }
 
       /** The points moved or were extrapolated again: the geometry is found
@@ -281,6 +299,8 @@ namespace fmpm
       std::vector<CellwiseMatrix> full_mass;
       NormalNeeds                 needs;
       bool                        needs_interface = false;
+      /** What the points add to the geometry fields (begin_geometry()). */
+      GeometrySink<dim>                           geometry_sink;
       std::unique_ptr<NormalMethodInterface<dim>> normal_method;
       /** The law of materials a < b at [a * n_materials + b]. */
       std::vector<std::unique_ptr<LawInterface<dim>>> laws;
