@@ -56,6 +56,10 @@ def courant(c):
     return [("Time", "Courant number", str(c))]
 
 
+def strain_update(name):
+    return [("Time", "Strain update", name)]
+
+
 def shape(name):
     return [("Shape function", "Type", name)]
 
@@ -84,6 +88,12 @@ RUNS = {
                         courant(0.4) + flip(1) + shape("ugimp")),
     "psi1_c0.4_cpgimp": ("FLIP psi = 1, C = 0.4, cpGIMP",
                          courant(0.4) + flip(1) + shape("cpgimp")),
+    # The position update against the strain update's velocity: USL- strains
+    # a point with v+, which psi = 0 moves it with.
+    "psi0_c0.4_usl": ("FLIP psi = 0, C = 0.4, USL-",
+                      courant(0.4) + flip(0) + strain_update("usl")),
+    "psi1_c0.4_usl": ("FLIP psi = 1, C = 0.4, USL-",
+                      courant(0.4) + flip(1) + strain_update("usl")),
     "xpic2_c0.4": ("XPIC(2), C = 0.4",
                    courant(0.4) + [("Particle update", "Model name", "xpic"),
                                    ("Mass matrix", "Model name", "fmpm"),
@@ -196,6 +206,13 @@ def main():
                     stream.write(f"{t:.6g},{u:.6g}\n")
 
     reference = tips.get(args.reference)
+    if reference is None and (HERE.parent.parent / "doc" / "studies" /
+                              "cantilever" / "reference.csv").exists():
+        # Without the reference run: the shipped reference curve.
+        rows = read_csv(ROOT / "doc" / "studies" / "cantilever" /
+                        "reference.csv")
+        reference = ([float(r["time"]) for r in rows],
+                     [float(r["tip_deflection"]) for r in rows])
     rows = []
     for name, (times, values) in tips.items():
         directory = output / name

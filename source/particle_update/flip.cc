@@ -13,14 +13,20 @@ namespace fmpm
     {
       prm.declare_entry(
         "Position update psi",
-        "1",
-        Patterns::Double(0, 1),
-        "psi of [Nairn2023-FMPM] Eq. 2.28: 1 (default) the second-order "
-        "position update X += (v_p - a dt/2) dt, which moves the points with "
-        "the grid velocity averaged over the step, as USAVG+ strains them; 0 "
-        "the common first-order update X += v_p dt, which lets a checkerboard "
-        "of J grow in large-deflection dynamics at Courant numbers above 0.2 "
-        "(doc/studies/cantilever.md). Units: none.");
+        "auto",
+        Patterns::Anything(),
+        "psi of [Nairn2023-FMPM] Eq. 2.28 in X += (v_p - psi a dt/2) dt, a "
+        "number from 0 to 1 or 'auto'. 1 moves a point by the grid velocity "
+        "averaged over the step, (v + v_p)/2 dt, as USAVG and USAVG+ strain "
+        "it; 0 by the end-of-step grid velocity v_p dt, as USL- and USL+ "
+        "strain it. 'auto' (default) takes the one that matches "
+        "'Time/Strain update': 0 for usl and usl+, 1 for the others. A "
+        "position update that does not match the strain update moves the "
+        "points away from their deformation by (v(t) - v(0)) dt/2, a "
+        "first-order error in the displacement, and with USAVG+ and psi = 0 "
+        "lets a checkerboard of J grow in large-deflection dynamics at "
+        "Courant numbers above 0.2 (doc/studies/cantilever.md). Units: "
+        "none.");
     }
 
 
@@ -29,7 +35,33 @@ namespace fmpm
     void
     Flip<dim>::parse_parameters(ParameterHandler &prm)
     {
-      psi = prm.get_double("Position update psi");
+      const std::string value = prm.get("Position update psi");
+      psi_from_strain_update  = (value == "auto");
+      if (psi_from_strain_update)
+        return;
+      std::size_t end = 0;
+      try
+        {
+          psi = std::stod(value, &end);
+        }
+      catch (const std::exception &)
+        {
+          end = 0;
+        }
+      AssertThrow(end > 0 && end == value.size() && psi >= 0 && psi <= 1,
+                  ExcMessage("'Particle update/Flip/Position update psi' is <" +
+                             value +
+                             ">; allowed: a number from 0 to 1, or 'auto'."));
+    }
+
+
+
+    template <int dim>
+    void
+    Flip<dim>::set_strain_update(const std::string &name)
+    {
+      if (psi_from_strain_update)
+        psi = (name == "usl" || name == "usl+") ? 0. : 1.;
     }
 
 

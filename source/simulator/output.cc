@@ -132,7 +132,8 @@ namespace fmpm
             << ": neighbouring points have J alternating by more than the "
                "deformation the grid resolves, and the results are "
                "unreliable from here on (doc/studies/cantilever.md). Use "
-               "'Particle update/Flip/Position update psi = 1' (the "
+               "a position update that matches the strain update "
+               "('Particle update/Flip/Position update psi = auto', the "
                "default) or a smaller Time/Courant number."
             << std::endl;
       }

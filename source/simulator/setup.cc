@@ -613,9 +613,13 @@ namespace fmpm
     prm.enter_subsection("Particle update");
     particle_update = ParticleUpdate::Registry<dim>::instance().create(
       parameters.method.particle_update, prm);
+    particle_update->set_strain_update(parameters.method.strain_update);
     if (mass_matrix->periodic())
-      lumped_step_update =
-        ParticleUpdate::Registry<dim>::instance().create("flip", prm);
+      {
+        lumped_step_update =
+          ParticleUpdate::Registry<dim>::instance().create("flip", prm);
+        lumped_step_update->set_strain_update(parameters.method.strain_update);
+      }
     prm.leave_subsection();
 
     velocity_conditions.initialize(parameters, mpi_communicator);

@@ -3,7 +3,7 @@
 # The cantilever (parameters/cantilever.prm) to t = 1.8 s: with FLIP's
 # first-order position update (psi = 0) at Courant 0.4 a checkerboard of J
 # grows after the first minimum and fmpm warns once, naming the indicator;
-# with the default psi = 1 the indicator stays below the threshold 0.1 and
+# with psi = 1 (the default auto with USAVG+) the indicator stays below 0.1 and
 # nothing warns (doc/studies/cantilever.md). On 2 ranks the indicator is the
 # same as on 1.
 #   check_cantilever_checkerboard.sh FMPM SCENE MPIEXEC...

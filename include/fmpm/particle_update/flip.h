@@ -33,11 +33,20 @@ namespace fmpm
       std::vector<GridField>
       required_fields() const override;
 
+      /** With 'Position update psi = auto': ψ = 0 for USL- and USL+, which
+       * strain a point with the end-of-step grid velocity v⁺ Δt, ψ = 1 for
+       * the others (USAVG± strain it with (v + v⁺)/2 Δt). */
+      void
+      set_strain_update(const std::string &name) override;
+
       void
       update(Batch<dim> &batch) const override;
 
       /** ψ of Eq. 2.28. */
       double psi = 1;
+
+      /** ψ follows the strain update ('auto'). */
+      bool psi_from_strain_update = false;
     };
 
     /**

@@ -10,6 +10,7 @@
 #include <deal.II/base/tensor.h>
 
 #include <array>
+#include <string>
 #include <vector>
 
 namespace fmpm
@@ -106,6 +107,13 @@ namespace fmpm
       {
         return 0;
       }
+
+      /** @brief Told the name of 'Time/Strain update' before the run: an
+       * update whose position update follows the velocity the strain update
+       * uses (FLIP's 'Position update psi = auto') takes it from here. */
+      virtual void
+      set_strain_update(const std::string &)
+      {}
 
       /** @brief Overwrite velocity and position of every point of @p batch. */
       virtual void
