@@ -22,8 +22,9 @@ trap 'rm -rf "$work"' EXIT
 field() { # field NAME summary.json
   sed -n "s/^ *\"$1\": *\([^,]*\),*$/\1/p" "$2" | head -n 1
 }
-printf '| scene | steps | wall s | coverage %% |\n|---|---:|---:|---:|\n'
+printf '| scene | status | steps | wall s | coverage %% |\n|---|---|---:|---:|---:|\n'
 for prm in ${SCENES:-"$root"/parameters/*.prm}; do
+  prm="$(realpath "$prm")"
   name="$(basename "$prm" .prm)"
   override="$work/$name.prm"
   printf 'subsection Output\n  set Directory = %s\nend\n' "$work/$name" > "$override"
@@ -33,12 +34,14 @@ for prm in ${SCENES:-"$root"/parameters/*.prm}; do
           "$MAX_STEPS" >> "$override"
       fi ;;
   esac
-  if (cd "$(dirname "$prm")" && "$fmpm" "$prm" "$override" > "$work/$name.log" 2>&1); then
-    summary="$work/$name/summary.json"
+  (cd "$(dirname "$prm")" && "$fmpm" "$prm" "$override" > "$work/$name.log" 2>&1) || true
+  summary="$work/$name/summary.json"
+  if [ -f "$summary" ]; then
     coverage="$(field timer_coverage "$summary")"
-    printf '| %s | %s | %.3g | %.1f |\n' "$name" "$(field n_steps "$summary")" \
-      "$(field wall_seconds "$summary")" "$(echo "100 * $coverage" | bc -l)"
+    printf '| %s | %s | %s | %.3g | %.1f |\n' "$name" "$(field status "$summary" | tr -d '"' | cut -c1-20)" \
+      "$(field n_steps "$summary")" "$(field wall_seconds "$summary")" \
+      "$(echo "100 * $coverage" | bc -l)"
   else
-    printf '| %s | failed (%s) | | |\n' "$name" "$(tail -n 1 "$work/$name.log")"
+    printf '| %s | no summary: %s | | | |\n' "$name" "$(tail -n 1 "$work/$name.log")"
   fi
 done
