@@ -86,9 +86,8 @@ namespace fmpm
     std::map<std::string, double> data;
     for (const Section &section : sections)
       data[section.name] =
-        kind == n_calls ?
-          static_cast<double>(section.n_calls) :
-          std::chrono::duration<double>(section.total).count();
+        kind == n_calls ? static_cast<double>(section.n_calls) :
+                          std::chrono::duration<double>(section.total).count();
     return data;
   }
 
@@ -113,8 +112,7 @@ namespace fmpm
         << "+---------------------------------------------"
         << "+------------+------------+\n"
         << "| Total wallclock time elapsed since start    |" << std::setw(10)
-        << std::setprecision(3) << std::right << total
-        << "s |            |\n"
+        << std::setprecision(3) << std::right << total << "s |            |\n"
         << "|                                             "
         << "|            |            |\n"
         << "| Section                         | no. calls |"
