@@ -24,12 +24,12 @@
 #include <fmpm/simulator_access.h>
 #include <fmpm/support_cache.h>
 #include <fmpm/time_step_stability.h>
+#include <fmpm/timer_output.h>
 #include <fmpm/velocity_conditions.h>
 
 #include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/function.h>
 #include <deal.II/base/function_parser.h>
-#include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_q.h>

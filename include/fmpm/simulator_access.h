@@ -9,9 +9,9 @@
 #include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
 #include <fmpm/shape_function.h>
+#include <fmpm/timer_output.h>
 
 #include <deal.II/base/conditional_ostream.h>
-#include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/affine_constraints.h>
