@@ -221,9 +221,11 @@ namespace fmpm
           ++result.iterations;
           const double change = 1. - normal * result.normal; // Eq. 57
           result.normal       = normal;
-          result.converged    = change < std::max(tolerance, 1e-5);
-          if (tolerance > 0 && change < tolerance)
-            break;
+          if (change < tolerance)
+            {
+              result.converged = true;
+              break;
+            }
         }
       return result;
     }
@@ -479,17 +481,10 @@ namespace fmpm
               cloud_c.push_back(side);
               cloud_k.push_back(k);
             }
-          // A fixed number of NLLS steps and no stopping test: n̂ is then a
-          // smooth function of the cloud, so round-off differences of the
-          // positions (sums in another order on another number of ranks)
-          // stay round-off; a stopping test (Eq. 57) makes n̂ jump by up
-          // to its tolerance where the count changes.
           const auto fit = logistic_regression_normal<dim>(cloud_x.data(),
                                                            cloud_c.data(),
                                                            cloud_x.size(),
-                                                           node.cell_size,
-                                                           0.,
-                                                           nlls_iterations);
+                                                           node.cell_size);
           ++fits;
           iterations += fit.iterations;
           if (!fit.valid)
@@ -539,10 +534,6 @@ namespace fmpm
         }
 
       private:
-        /** NLLS steps after the linear regression: the third changes n̂ by
-         * less than Eq. 57's 1 − cos = 1e-5 at most nodes of the 3D spheres
-         * (3.2 steps on average with that test). */
-        static constexpr unsigned int nlls_iterations = 2;
         /** Scratch: the cloud's positions, classes and places. */
         std::vector<Tensor<1, dim>> cloud_x;
         std::vector<double>         cloud_c;

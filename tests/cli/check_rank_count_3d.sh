@@ -15,8 +15,7 @@ fmpm="$1"; scene="$(realpath "$2")"; shift 3
 mpiexec="$1"; np_flag="$2"; shift 2
 preflags=("$@")
 fail() { echo "FAIL: $*"; exit 1; }
-work="rank-count-$(basename "$scene" .prm)"
-rm -rf "$work"; mkdir "$work"; cd "$work" || exit 1
+rm -rf rank-count-3d; mkdir rank-count-3d; cd rank-count-3d || exit 1
 printf 'subsection Output\n set Directory = one\nend\n' > one.prm
 printf 'subsection Output\n set Directory = two\nend\n' > two.prm
 "$fmpm" "$scene" one.prm > one.log 2>&1 || { tail one.log; fail "serial run"; }

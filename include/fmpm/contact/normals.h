@@ -90,9 +90,7 @@ namespace fmpm
      * Σ λ_j φ_j² with f(s) = 2/(1 + e^{−s}) − 1 = tanh(s/2), by NLLS from
      * φ⁽⁰⁾ = 0 (the first iterate is the linear regression). w_p = 1,
      * λ = 10⁻⁷ Δx² (1, ..., 1, 0), converged when 1 − n̂⁽ᵏ⁺¹⁾·n̂⁽ᵏ⁾ <
-     * @p tolerance (Eq. 57), at most @p max_iterations NLLS steps (exactly
-     * that many with @p tolerance = 0: n̂ is then a smooth function of x,
-     * and converged says whether the last step met Eq. 57 with 1e-5). If an
+     * @p tolerance (Eq. 57), at most @p max_iterations NLLS steps. If an
      * NLLS step is singular or not finite the last good normal is kept.
      *
      * @p x are the positions (any origin; the cloud's mean is the best
