@@ -2,6 +2,7 @@
 // Copyright (C) 2026 by the fmpm authors
 
 #include <fmpm/constitutive_model/interface.h>
+#include <fmpm/geometry/body_shape.h>
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/parameters.h>
 #include <fmpm/particle_update/interface.h>
@@ -1117,17 +1118,7 @@ namespace fmpm
                                      const unsigned int dim)
   {
     const BodyParameters defaults;
-    prm.declare_entry("Shape",
-                      shape_names.name(defaults.shape),
-                      Patterns::Selection(shape_names.pattern()),
-                      "Shape of the body: 'box' (a rectangle in 2D), "
-                      "'sphere' (disk; radius = first half length), "
-                      "'ellipsoid' (ellipse; semi-axes = half lengths, "
-                      "axis aligned). Bodies may overlap: a point inside "
-                      "an earlier body (lower N) belongs to that body, and "
-                      "the later body gets no point there (fmpm warns "
-                      "with the number of points each body leaves to an "
-                      "earlier one). Units: none.");
+    Geometry::declare_body_shape_parameters(prm);
     prm.declare_entry("Center",
                       join(defaults.center, dim),
                       point_pattern(dim),
@@ -1179,7 +1170,6 @@ namespace fmpm
                                    const SceneSize   &size,
                                    const std::string &where)
   {
-    shape                       = shape_names.value(prm.get("Shape"));
     center                      = get_doubles(prm, "Center");
     half_lengths                = get_doubles(prm, "Half lengths");
     material                    = prm.get_integer("Material");
@@ -1197,6 +1187,7 @@ namespace fmpm
     for (unsigned int d = 0; d < size.dimension; ++d)
       AssertThrow(half_lengths[d] > 0,
                   ExcMessage(where + "/Half lengths must all be positive."));
+    Geometry::parse_body_shape_parameters(prm, *this, size.dimension, where);
   }
 
 
@@ -1879,7 +1870,8 @@ namespace fmpm
   namespace
   {
     /**
-     * The files a scene names ('include' lines and 'Mesh/File name') are
+     * The files a scene names ('include' lines, 'Mesh/File name' and
+     * 'Body N/File name') are
      * relative to the scene file's folder: @p text with those relative
      * paths made absolute against the folder of @p scene_file.
      */
@@ -1914,7 +1906,8 @@ namespace fmpm
             line = "include " + resolved(Utilities::trim(code.substr(8))) +
                    (comment.empty() ? "" : " " + comment);
           else if (code.rfind("set ", 0) == 0 &&
-                   path == std::vector<std::string>{"Mesh"} &&
+                   (path == std::vector<std::string>{"Mesh"} ||
+                    (path.size() == 1 && path[0].rfind("Body ", 0) == 0)) &&
                    code.find('=') != std::string::npos &&
                    Utilities::trim(code.substr(4, code.find('=') - 4)) ==
                      "File name")

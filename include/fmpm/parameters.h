@@ -388,7 +388,14 @@ namespace fmpm
     static constexpr SelectionNames<Shape, 3> shape_names{
       {"box", "sphere", "ellipsoid"}};
 
-    Shape               shape = Shape::box;
+    Shape shape = Shape::box;
+    /** 'Body N/Shape' when it is a shape formula (Geometry::parse_shape())
+     * rather than one of shape_names; empty otherwise. */
+    std::string shape_formula;
+    /** 'Body N/File name': the polygon, surface or volume mesh file. */
+    std::string file_name;
+    /** Whether the body is the volume mesh of 'File name' (Shape = mesh). */
+    bool                from_mesh = false;
     std::vector<double> center{0.5, 0.5, 0.5};
     std::vector<double> half_lengths{0.25, 0.25, 0.25};
     unsigned int        material        = 0;

@@ -6,6 +6,8 @@
 // plugins.
 
 #include <fmpm/function_parser.h>
+#include <fmpm/geometry/body_shape.h>
+#include <fmpm/geometry/mesh_body.h>
 #include <fmpm/simulator.h>
 
 #include <deal.II/base/function_parser.h>
@@ -258,44 +260,17 @@ namespace fmpm
 
   namespace
   {
-    /** Whether @p x lies inside the body's shape. */
+    /** The region of every body (Geometry::create_body_shape()). */
     template <int dim>
-    bool
-    inside_body(const BodyParameters &body, const Point<dim> &x)
+    std::vector<std::unique_ptr<Geometry::Shape<dim>>>
+    body_shapes(const std::vector<BodyParameters> &bodies)
     {
-      if (body.shape == BodyParameters::Shape::box)
-        {
-          for (unsigned int d = 0; d < dim; ++d)
-            if (std::abs(x[d] - body.center[d]) > body.half_lengths[d])
-              return false;
-          return true;
-        }
-      double r2 = 0;
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          const double a = (body.shape == BodyParameters::Shape::sphere) ?
-                             body.half_lengths[0] :
-                             body.half_lengths[d];
-          r2 += std::pow((x[d] - body.center[d]) / a, 2);
-        }
-      return r2 <= 1.0;
-    }
-
-    /** Axis-aligned bounding box of the body. */
-    template <int dim>
-    BoundingBox<dim>
-    body_bounding_box(const BodyParameters &body)
-    {
-      Point<dim> lower, upper;
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          const double a = (body.shape == BodyParameters::Shape::sphere) ?
-                             body.half_lengths[0] :
-                             body.half_lengths[d];
-          lower[d]       = body.center[d] - a;
-          upper[d]       = body.center[d] + a;
-        }
-      return BoundingBox<dim>(std::make_pair(lower, upper));
+      std::vector<std::unique_ptr<Geometry::Shape<dim>>> shapes;
+      for (unsigned int b = 0; b < bodies.size(); ++b)
+        shapes.push_back(
+          Geometry::create_body_shape<dim>(bodies[b],
+                                           numbered_subsection("Body", b)));
+      return shapes;
     }
   } // namespace
 
@@ -344,9 +319,10 @@ namespace fmpm
             (dim == 3 ? ", z" : ""));
       }
 
+    const auto                    shapes = body_shapes<dim>(parameters.bodies);
     std::vector<BoundingBox<dim>> body_boxes;
-    for (const auto &body : parameters.bodies)
-      body_boxes.push_back(body_bounding_box<dim>(body));
+    for (const auto &shape : shapes)
+      body_boxes.push_back(shape->bounding_box());
 
     // Two passes over the same points: the first counts them (the store is
     // then allocated once, at its size), the second writes each point
@@ -356,7 +332,8 @@ namespace fmpm
     // points of body b left to an earlier body e at [b n_bodies + e].
     std::vector<unsigned long long> n_overlapping(n_bodies * n_bodies, 0);
     bool                            count_overlaps = true;
-    const auto for_each_new_point                  = [&](const auto &on_point) {
+    std::vector<std::pair<unsigned int, Point<dim>>> mesh_points;
+    const auto for_each_new_point = [&](const auto &on_point) {
       for (const auto &cell : triangulation.active_cell_iterators())
         if (cell->is_locally_owned())
           {
@@ -367,35 +344,58 @@ namespace fmpm
                 if (cell_box.get_neighbor_type(body_boxes[b]) ==
                     NeighborType::not_neighbors)
                   continue;
+                // A body from a volume mesh brings its own points; the
+                // others keep the regular points inside their shape.
+                const auto on_candidate = [&](const Point<dim> &x,
+                                              const Point<dim> &reference,
+                                              const double      volume,
+                                              const double      half_length) {
+                  unsigned int earlier = 0;
+                  while (earlier < b && !shapes[earlier]->inside(x))
+                    ++earlier;
+                  if (earlier < b)
+                    {
+                      if (count_overlaps)
+                        ++n_overlapping[b * n_bodies + earlier];
+                      return;
+                    }
+                  on_point(cell, b, x, reference, volume, half_length);
+                };
+                if (body.from_mesh)
+                  {
+                    const auto &region =
+                      static_cast<const Geometry::MeshRegion<dim> &>(
+                        *shapes[b]);
+                    mesh_points.clear();
+                    region.points_in_cell(cell, mapping, mesh_points);
+                    for (const auto &[index, reference] : mesh_points)
+                      on_candidate(region.positions[index],
+                                   reference,
+                                   region.volumes[index],
+                                   0.5 *
+                                     std::pow(region.volumes[index], 1. / dim));
+                    continue;
+                  }
                 FEValues<dim> &fe_values =
                   *fe_values_for_ppc[body.points_per_cell];
                 fe_values.reinit(cell);
                 const Quadrature<dim> &quadrature = fe_values.get_quadrature();
                 for (unsigned int q = 0; q < quadrature.size(); ++q)
-                  {
-                    const Point<dim> &x = fe_values.quadrature_point(q);
-                    if (!inside_body(body, x))
-                      continue;
-                    unsigned int earlier = 0;
-                    while (earlier < b &&
-                           !inside_body(parameters.bodies[earlier], x))
-                      ++earlier;
-                    if (earlier < b)
-                      {
-                        if (count_overlaps)
-                          ++n_overlapping[b * n_bodies + earlier];
-                        continue;
-                      }
-                    on_point(cell, b, fe_values, q);
-                  }
+                  if (shapes[b]->inside(fe_values.quadrature_point(q)))
+                    on_candidate(fe_values.quadrature_point(q),
+                                 quadrature.point(q),
+                                 fe_values.JxW(q),
+                                 -1);
               }
           }
     };
     unsigned int n_new_points = 0;
-    for_each_new_point(
-      [&](const auto &, const unsigned int, const auto &, const unsigned int) {
-        ++n_new_points;
-      });
+    for_each_new_point([&](const auto &,
+                           const unsigned int,
+                           const Point<dim> &,
+                           const Point<dim> &,
+                           const double,
+                           const double) { ++n_new_points; });
     count_overlaps = false;
     Utilities::MPI::sum(n_overlapping, mpi_communicator, n_overlapping);
     if (!parameters.test_mode &&
@@ -424,14 +424,16 @@ namespace fmpm
                                     cell_runs;
     std::vector<unsigned long long> points_per_body(n_bodies, 0);
     std::vector<double>             p(particle_properties.n_properties());
-    for_each_new_point([&](const auto          &cell,
-                           const unsigned int   b,
-                           const FEValues<dim> &fe_values,
-                           const unsigned int   q) {
+    // half_length < 0: the point's share of a regular subdivision of its
+    // cell.
+    for_each_new_point([&](const auto        &cell,
+                           const unsigned int b,
+                           const Point<dim>  &x,
+                           const Point<dim>  &reference,
+                           const double       volume,
+                           const double       half_length) {
       const BodyParameters     &body     = parameters.bodies[b];
-      const Point<dim>         &x        = fe_values.quadrature_point(q);
       const MaterialParameters &material = parameters.materials[body.material];
-      const double              volume   = fe_values.JxW(q);
       std::fill(p.begin(), p.end(), 0.);
       p[Index::mass]           = material.density * volume;
       p[Index::volume]         = volume;
@@ -446,9 +448,11 @@ namespace fmpm
         {
           p[Index::initial_position + d] = x[d];
           p[Index::initial_half_length + d] =
-            0.5 * cell->extent_in_direction(d) / body.points_per_cell;
+            half_length < 0 ?
+              0.5 * cell->extent_in_direction(d) / body.points_per_cell :
+              half_length;
         }
-      points.add(0, x, fe_values.get_quadrature().point(q), cell, p.data());
+      points.add(0, x, reference, cell, p.data());
       if (cell_runs.empty() || cell_runs.back().first != cell)
         cell_runs.emplace_back(cell, 0);
       ++cell_runs.back().second;
@@ -669,15 +673,16 @@ namespace fmpm
     // Bodies must lie inside the mesh.
     const BoundingBox<dim> mesh_box =
       GridTools::compute_bounding_box(triangulation);
+    const auto shapes = body_shapes<dim>(parameters.bodies);
     for (unsigned int b = 0; b < parameters.bodies.size(); ++b)
       {
-        const BoundingBox<dim> box =
-          body_bounding_box<dim>(parameters.bodies[b]);
-        const double tolerance = 1e-10 * mesh_box.side_length(0);
+        const BoundingBox<dim> box       = shapes[b]->bounding_box();
+        const double           tolerance = 1e-10 * mesh_box.side_length(0);
         for (unsigned int d = 0; d < dim; ++d)
           AssertThrow(
-            box.lower_bound(d) >= mesh_box.lower_bound(d) - tolerance &&
-              box.upper_bound(d) <= mesh_box.upper_bound(d) + tolerance,
+            !Geometry::is_bounded(box, d) ||
+              box.lower_bound(d) >= mesh_box.lower_bound(d) - tolerance &&
+                box.upper_bound(d) <= mesh_box.upper_bound(d) + tolerance,
             ExcMessage(numbered_subsection("Body", b) +
                        " reaches outside the mesh in direction " +
                        std::to_string(d) + ": the body spans [" +
@@ -686,7 +691,7 @@ namespace fmpm
                        "] but the mesh spans [" +
                        format_number(mesh_box.lower_bound(d), 6) + ", " +
                        format_number(mesh_box.upper_bound(d), 6) +
-                       "]. Change its Center or Half lengths."));
+                       "]. Change its Shape (or Center and Half lengths)."));
       }
 
     // Contact: every particle update with the lumped mass matrix, and
