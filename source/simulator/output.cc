@@ -473,12 +473,12 @@ namespace fmpm
     {
       TimerOutput::Scope grid_timer(computing_timer, "output: vtu grid");
       grid->set_flags(vtk_flags(output.compression));
-      grid->add_scalar(lumped_mass, "nodal_mass");
-      grid->add_vector(grid_fields[ParticleUpdate::updated_velocity],
+      grid->add_scalar(centre_of_mass.mass, "nodal_mass");
+      grid->add_vector(centre_of_mass.fields[ParticleUpdate::updated_velocity],
                        "velocity");
       if (output.write_grid_acceleration &&
-          field_computed[ParticleUpdate::acceleration])
-        grid->add_vector(grid_fields[ParticleUpdate::acceleration],
+          centre_of_mass.computed[ParticleUpdate::acceleration])
+        grid->add_vector(centre_of_mass.fields[ParticleUpdate::acceleration],
                          "acceleration");
       if (contact_active())
         {
