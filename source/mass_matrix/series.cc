@@ -32,8 +32,8 @@ namespace fmpm
           {
             const DoublePair z_old = load_pair(z + i);
             DoublePair       z_new =
-              z_old + (load_pair(q + i) - load_pair(m_tilde_z + i)) /
-                        load_pair(m + i);
+              z_old +
+              (load_pair(q + i) - load_pair(m_tilde_z + i)) / load_pair(m + i);
             if (held)
               where(load_pair(held + i) != 0., z_new) = z_old;
             store_pair(z + i, z_new);

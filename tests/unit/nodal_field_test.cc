@@ -71,8 +71,8 @@ namespace
   void
   lumped_solves_agree()
   {
-    const auto partitioner = make_partitioner();
-    const double floor = 1e-12, dt = 0.37;
+    const auto             partitioner = make_partitioner();
+    const double           floor = 1e-12, dt = 0.37;
     fmpm::FieldSolver<dim> solver;
     solver.mass_floor = floor;
     solver.t_begin    = 1.0;
@@ -96,7 +96,7 @@ namespace
         EXPECT_EQ(centre_of_mass.fields[field].n_blocks(), dim);
         // Centre of mass: every owned node; an acceleration from f =
         // (p⁺ − p)/Δt.
-        const GridField  is_updated = lumped_updated_velocity;
+        const GridField       is_updated = lumped_updated_velocity;
         fmpm::GridVectorField q(centre_of_mass.momentum);
         if (field == lumped_acceleration)
           fmpm::set_scaled_sum(q,
@@ -137,15 +137,16 @@ namespace
               {
                 const double m   = material.mass.local_element(i);
                 const double v_i = v.block(d).local_element(i);
-                const double p0 = material.momentum.block(d).local_element(i);
+                const double p0  = material.momentum.block(d).local_element(i);
                 const double p1 =
                   material.updated_momentum.block(d).local_element(i);
-                const double expected =
-                  field == lumped_velocity ? p0 :
-                  field == is_updated      ? p1 :
-                                             (p1 - p0) / dt;
+                const double expected = field == lumped_velocity ? p0 :
+                                        field == is_updated      ? p1 :
+                                                                   (p1 - p0) / dt;
                 if (m > floor)
-                  EXPECT_NEAR(m * v_i, expected, 1e-14 * (1 + std::abs(expected)));
+                  EXPECT_NEAR(m * v_i,
+                              expected,
+                              1e-14 * (1 + std::abs(expected)));
                 else
                   EXPECT_EQ(v_i, 0.);
               }
