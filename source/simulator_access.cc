@@ -66,7 +66,7 @@ namespace fmpm
   const GridScalar &
   SimulatorAccess<dim>::get_lumped_mass() const
   {
-    return get_simulator().lumped_mass;
+    return get_simulator().centre_of_mass.mass;
   }
 
   template <int dim>
@@ -116,6 +116,15 @@ namespace fmpm
   SimulatorAccess<dim>::get_momentum_time() const
   {
     return get_simulator().momentum_time;
+  }
+
+
+
+  template <int dim>
+  FieldSolver<dim>
+  SimulatorAccess<dim>::get_field_solver() const
+  {
+    return get_simulator().field_solver();
   }
 
   template <int dim>

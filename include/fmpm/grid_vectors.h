@@ -11,8 +11,36 @@
 #include <type_traits>
 #include <vector>
 
+#include <experimental/simd>
+
 namespace fmpm
 {
+  /**
+   * @brief Two doubles as one SIMD value (SSE2 on x86-64), for the grid
+   * kernels that treat two components or two nodes at once: the portable
+   * simd type of the C++ Parallelism TS 2. (deal.II's VectorizedArray<double,
+   * 2> is defined only when deal.II itself is configured with SSE2 or wider
+   * vectorization, DEAL_II_VECTORIZATION_WIDTH_IN_BITS >= 128, which the
+   * Debian build of deal.II 9.4 is not.)
+   */
+  using DoublePair =
+    std::experimental::simd<double,
+                            std::experimental::simd_abi::deduce_t<double, 2>>;
+
+  /** @brief The two doubles at @p x as one DoublePair. */
+  inline DoublePair
+  load_pair(const double *const x)
+  {
+    return DoublePair(x, std::experimental::element_aligned);
+  }
+
+  /** @brief Write @p value to the two doubles at @p x. */
+  inline void
+  store_pair(double *const x, const DoublePair &value)
+  {
+    value.copy_to(x, std::experimental::element_aligned);
+  }
+
   /** A scalar nodal field, e.g. the lumped masses m. Ghosted. */
   using GridScalar = dealii::LinearAlgebra::distributed::Vector<double>;
 
@@ -40,15 +68,14 @@ namespace fmpm
 
     /**
      * A cell's local copy of its nodes' values for a product y = m̃_c x:
-     * two components per two-lane vector (GCC/Clang vector extension; SSE2
-     * on x86-64), so that one multiply serves both; the third, in 3D, alone.
+     * two components per DoublePair, so that one multiply serves both; the
+     * third, in 3D, alone.
      */
     template <bool third, unsigned int size>
     struct CellNodeValues
     {
-      typedef double pair __attribute__((vector_size(16)));
-      pair           x[size], y[size];
-      double         x2[third ? size : 1], y2[third ? size : 1];
+      DoublePair x[size], y[size];
+      double     x2[third ? size : 1], y2[third ? size : 1];
 
       /** x from @p source at the cell's @p n nodes @p index; y = 0. */
       template <typename Count>
@@ -59,8 +86,9 @@ namespace fmpm
       {
         for (unsigned int j = 0; j < n; ++j)
           {
-            x[j] = pair{source[0][index[j]], source[1][index[j]]};
-            y[j] = pair{0., 0.};
+            x[j] = DoublePair(
+              [&](const auto lane) { return source[lane][index[j]]; });
+            y[j] = 0.;
             if constexpr (third)
               {
                 x2[j] = source[2][index[j]];
@@ -294,7 +322,7 @@ namespace fmpm
     }
 
     /**
-     * The cells kept as supports: per point s = S_pᵀx (one two-lane vector
+     * The cells kept as supports: per point s = S_pᵀx (one DoublePair
      * for two components, as in add_cell_products_paired()), then
      * y += S_p M_p s, in the cell's local copy of its nodes; 1D one
      * component at a time.
@@ -305,8 +333,7 @@ namespace fmpm
                           const double *const *source) const
     {
       internal::CellNodeValues<third, 64> local;
-      auto &x = local.x, &y = local.y, &x2 = local.x2, &y2 = local.y2;
-      using pair          = typename internal::CellNodeValues<third, 64>::pair;
+      auto         &x = local.x, &y = local.y, &x2 = local.x2, &y2 = local.y2;
       const double *S     = entry_value.data();
       const auto   *place = entry_slot.data();
       for (unsigned int c = 0; c < n_factored_cells(); ++c)
@@ -320,8 +347,8 @@ namespace fmpm
                ++q)
             {
               const unsigned int n_entries = point_entries[q];
-              pair               s{0., 0.};
-              double             s2 = 0;
+              DoublePair         s         = 0.;
+              double             s2        = 0;
               for (unsigned int e = 0; e < n_entries; ++e)
                 {
                   s += S[e] * x[place[e]];

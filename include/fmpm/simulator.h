@@ -11,6 +11,7 @@
 #include <fmpm/grid_vectors.h>
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/material_points.h>
+#include <fmpm/nodal_field.h>
 #include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
@@ -186,7 +187,7 @@ namespace fmpm
     const GridVectorField &
     get_grid_field(const ParticleUpdate::GridField field) const
     {
-      return grid_fields[field];
+      return centre_of_mass.fields[field];
     }
 
     /** @brief The DoF handler of the grid fields. */
@@ -470,9 +471,9 @@ namespace fmpm
     /** Compute a nodal field (once per step) with BCs, ghosts, constraints. */
     void
     compute_field(const ParticleUpdate::GridField field);
-    /** Size grid field @p field on the current mesh (zero) unless it is. */
-    void
-    allocate_grid_field(const ParticleUpdate::GridField field);
+    /** The solver of the nodal fields at the current step's times. */
+    FieldSolver<dim>
+    field_solver() const;
     /** Update the stresses with the velocity field @p grid_velocity over
      * @p dt; with @p with_forces also f (Eq. 2.11; with contact f^α0, seed
      * 004 Eq. 29) from the new stresses in the same sweep, summed in the
@@ -662,20 +663,16 @@ namespace fmpm
     std::vector<double>             cell_size_by_index;
     Particles::ParticleHandler<dim> particle_handler;
 
-    // Grid fields in the notation of seed 000.
-    GridScalar      lumped_mass;      // m = SᵀM
-    GridVectorField momentum;         // p = SᵀMV
-    GridVectorField force;            // f
-    GridVectorField updated_momentum; // p⁺ = p + fΔt
-    /** Allocated on the mesh when a step may read them (field_needed,
-     * lumped_step_fields, contact), the others when first computed. */
-    std::array<GridVectorField, ParticleUpdate::n_grid_fields> grid_fields;
+    /** The centre-of-mass field (m, p, f, p⁺ in the notation of seed 000).
+     * Its fields are allocated on the mesh when a step may read them
+     * (field_needed, lumped_step_fields, contact), the others when first
+     * computed. */
+    NodalField<dim> centre_of_mass;
     /** The grid fields a step computes and the particle update reads:
      * field_needed for the configured update, lumped_step_fields for the
      * FLIP of the lumped steps of a periodic FMPM(k) (active_fields()). */
     std::array<bool, ParticleUpdate::n_grid_fields> field_needed{};
     std::array<bool, ParticleUpdate::n_grid_fields> lumped_step_fields{};
-    std::array<bool, ParticleUpdate::n_grid_fields> field_computed;
     TrilinosWrappers::SparseMatrix                  full_mass_matrix;
     /** m̃ as one local matrix per cell (FMPM(k) without hanging nodes). */
     CellwiseMatrix cellwise_full_mass;

@@ -6,6 +6,7 @@
 
 #include <fmpm/grid_vectors.h>
 #include <fmpm/material_points.h>
+#include <fmpm/nodal_field.h>
 #include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
 #include <fmpm/shape_function.h>
@@ -102,6 +103,11 @@ namespace fmpm
      * re-extrapolation of USL+/USAVG+). */
     double
     get_momentum_time() const;
+
+    /** The solver of the nodal fields (lumped solve, conditions,
+     * constraints, ghosts) at the current step's times. */
+    FieldSolver<dim>
+    get_field_solver() const;
     /** Nodes with mass below this are empty. */
     double
     get_mass_floor() const;

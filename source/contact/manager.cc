@@ -108,10 +108,7 @@ namespace fmpm
       fields.resize(parameters.size.n_materials);
       for (auto &material : fields)
         {
-          material.mass.reinit(partitioner);
-          reinit(material.momentum);
-          reinit(material.force);
-          reinit(material.updated_momentum);
+          material.reinit(partitioner, true);
           reinit(material.delta_velocity);
           if (mass_matrix.order() > 1)
             {
@@ -134,8 +131,6 @@ namespace fmpm
               reinit(material.displacement_moment);
               material.volume.reinit(partitioner);
             }
-          for (auto &field : material.fields)
-            reinit(field);
         }
       if (material_exact_solve)
         {

@@ -6,8 +6,8 @@
 // its exact limit.
 
 #include <fmpm/contact/manager.h>
-#include <fmpm/mass_matrix/fmpm.h>
 #include <fmpm/mass_matrix/interface.h>
+#include <fmpm/mass_matrix/series.h>
 #include <fmpm/material_points.h>
 #include <fmpm/support_cache.h>
 #include <fmpm/velocity_conditions.h>
@@ -32,15 +32,12 @@ namespace fmpm
       const GridScalar                 &lumped_mass = this->get_lumped_mass();
       const double                      mass_floor  = this->get_mass_floor();
       const double                      time_step   = this->get_timestep();
-      const double                   momentum_time  = this->get_momentum_time();
-      const double                   time           = this->get_time();
-      const VelocityConditions<dim> &velocity_conditions =
+      const VelocityConditions<dim>    &velocity_conditions =
         this->get_velocity_conditions();
-      const bool has_hanging_nodes                 = this->has_hanging_nodes();
-      const AffineConstraints<double> &constraints = this->get_constraints();
+      const bool has_hanging_nodes = this->has_hanging_nodes();
       using namespace ParticleUpdate;
-      TimerOutput::Scope timer(this->get_computing_timer(), "grid solve");
-      const double       t_begin = momentum_time, t_end = time + time_step;
+      TimerOutput::Scope     timer(this->get_computing_timer(), "grid solve");
+      const FieldSolver<dim> solver = this->get_field_solver();
       // Lumped fields without hanging nodes or a series after them: solved
       // on the material's nodes only, zero elsewhere (they were zeroed where
       // the last solve of the field wrote).
@@ -53,82 +50,34 @@ namespace fmpm
           MaterialField<dim> &material = fields[alpha];
           if (material.computed[field])
             continue;
-          GridVectorField &target = material.fields[field];
           if (on_material_nodes)
             {
-              std::vector<unsigned int> &written =
-                material.written_nodes[field];
-              const std::vector<unsigned int> &nodes = material_nodes[alpha];
-              const double *const              m     = material.mass.begin();
-              const bool                       updated =
-                field == updated_velocity || field == lumped_updated_velocity;
-              const double inverse_time_step = 1. / time_step;
-              for (unsigned int d = 0; d < dim; ++d)
-                {
-                  double *const v = target.block(d).begin();
-                  for (const unsigned int i : written)
-                    v[i] = 0;
-                  const double *const p0 = material.momentum.block(d).begin();
-                  const double *const p1 =
-                    material.updated_momentum.block(d).begin();
-                  if (field == acceleration || field == lumped_acceleration)
-                    // a^α = (p^α+ − p^α) / (m^α Δt), Eqs. 32-34
-                    for (const unsigned int i : nodes)
-                      v[i] = ((p1[i] - p0[i]) * inverse_time_step) / m[i];
-                  else // v^α = p^α / m^α, v^α+ = p^α+ / m^α (Eqs. 26, 31)
-                    {
-                      const double *const q = updated ? p1 : p0;
-                      for (const unsigned int i : nodes)
-                        v[i] = q[i] / m[i];
-                    }
-                }
-              written = nodes;
-              if (field == acceleration || field == lumped_acceleration)
-                velocity_conditions.correct_accelerations(target,
-                                                          t_begin,
-                                                          t_end);
-              else
-                velocity_conditions.correct_velocities(
-                  target, updated ? t_end : t_begin, nullptr);
-              for (const auto &c : velocity_conditions.node_conditions())
-                written.push_back(c.local_index);
-              target.update_ghost_values();
-              material.computed[field] = true;
+              solver.lumped_on_nodes(material,
+                                     field,
+                                     material_nodes[alpha],
+                                     time_step);
+              solver.finish(material, field, true);
               continue;
             }
+          // The series of Eq. 37 without the contact term (Eq. 48) starts
+          // from v^α0 = v^α − Δv^α.
+          const bool uncorrected_series_start =
+            parameters.contact.xpic_contact_term ==
+              XpicContactTerm::uncorrected &&
+            mass_matrix.order() > 1;
           switch (field)
             {
               case velocity:
               case lumped_velocity: // v^α = p^α / m^α (Eq. 26)
-                MassMatrix::apply_lumped_inverse(material.mass,
-                                                 material.momentum,
-                                                 target,
-                                                 mass_floor);
-                if (field == velocity &&
-                    parameters.contact.xpic_contact_term ==
-                      XpicContactTerm::uncorrected &&
-                    mass_matrix.order() > 1)
-                  {
-                    // v^α0 = v^α − Δv^α: the series of Eq. 37 without the
-                    // contact term (Eq. 48).
-                    target.add(-1., material.delta_velocity);
-                  }
-                velocity_conditions.correct_velocities(target,
-                                                       t_begin,
-                                                       nullptr);
+                solver.lumped(material, field, material.momentum);
+                if (field == velocity && uncorrected_series_start)
+                  material.fields[field].add(-1., material.delta_velocity);
                 break;
               case updated_velocity:
               case lumped_updated_velocity: // v^α+ = p^α+ / m^α (Eq. 31)
-                MassMatrix::apply_lumped_inverse(material.mass,
-                                                 material.updated_momentum,
-                                                 target,
-                                                 mass_floor);
-                if (field == updated_velocity &&
-                    parameters.contact.xpic_contact_term ==
-                      XpicContactTerm::uncorrected &&
-                    mass_matrix.order() > 1)
-                  target.add(-1., material.delta_velocity);
-                velocity_conditions.correct_velocities(target, t_end, nullptr);
+                solver.lumped(material, field, material.updated_momentum);
+                if (field == updated_velocity && uncorrected_series_start)
+                  material.fields[field].add(-1., material.delta_velocity);
                 break;
               case acceleration:
               case lumped_acceleration:
@@ -138,29 +87,18 @@ namespace fmpm
                   // only (Eqs. 32-34, a^{α,1}).
                   // (f^α is not read after the momentum update: its storage
                   // holds the difference.)
-                  GridVectorField &difference = material.force;
-                  set_scaled_sum(difference,
+                  set_scaled_sum(material.force,
                                  material.updated_momentum,
                                  -1.,
                                  material.momentum,
                                  1. / time_step);
-                  MassMatrix::apply_lumped_inverse(material.mass,
-                                                   difference,
-                                                   target,
-                                                   mass_floor);
-                  velocity_conditions.correct_accelerations(target,
-                                                            t_begin,
-                                                            t_end);
+                  solver.lumped(material, field, material.force);
                   break;
                 }
               default:
                 Assert(false, ExcInternalError());
             }
-          if (has_hanging_nodes)
-            for (unsigned int d = 0; d < dim; ++d)
-              constraints.distribute(target.block(d));
-          target.update_ghost_values();
-          material.computed[field] = true;
+          solver.finish(material, field, true);
         }
 
       // Multimaterial XPIC(k) and FMPM(k) (seed 004 Eq. 37, seed 000 Eqs.
@@ -183,7 +121,7 @@ namespace fmpm
       if ((field != velocity && field != updated_velocity) || k < 2)
         return;
       const bool         updated         = field == updated_velocity;
-      const double       t_field         = updated ? t_end : t_begin;
+      const double       t_field         = solver.time_of(field);
       const unsigned int n_owned         = lumped_mass.locally_owned_size();
       const double       floor           = mass_floor;
       const bool         net_incremental = parameters.contact.net_incremental;
@@ -258,13 +196,7 @@ namespace fmpm
               }
           }
         for (auto &material : fields)
-          {
-            GridVectorField &target = material.fields[field];
-            if (has_hanging_nodes)
-              for (unsigned int d = 0; d < dim; ++d)
-                constraints.distribute(target.block(d));
-            target.update_ghost_values();
-          }
+          solver.finish(material, field, false);
       };
       MassMatrix::fmpm_series(
         [this](const std::vector<GridVectorField *> &in,
@@ -292,8 +224,6 @@ namespace fmpm
       const double                   time          = this->get_time();
       const VelocityConditions<dim> &velocity_conditions =
         this->get_velocity_conditions();
-      const bool has_hanging_nodes                 = this->has_hanging_nodes();
-      const AffineConstraints<double> &constraints = this->get_constraints();
       // Multimaterial FMPM(k) with net incremental contact iterates
       //   z_{j+1} = z_j + (m^α)⁻¹ P(q^α − m̃^α z_j),   q^α = p^α − m^α Δv^α,
       // from the contact-corrected lumped velocity z₁ (seed 000 Eqs. 3.13-
@@ -396,15 +326,9 @@ namespace fmpm
       material_solve_iterations += result.iterations;
       material_solve_failures += result.converged ? 0 : 1;
 
+      const FieldSolver<dim> solver = this->get_field_solver();
       for (auto &material : fields)
-        {
-          GridVectorField &target = material.fields[field];
-          velocity_conditions.correct_velocities(target, t_field, nullptr);
-          if (has_hanging_nodes)
-            for (unsigned int c = 0; c < dim; ++c)
-              constraints.distribute(target.block(c));
-          target.update_ghost_values();
-        }
+        solver.finish(material, field, true);
     }
 
 

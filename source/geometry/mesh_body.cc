@@ -52,9 +52,8 @@ namespace fmpm
        * coordinates >= 0 up to round-off). */
       template <int dim>
       bool
-      in_simplex(
-        const typename Triangulation<dim>::active_cell_iterator &cell,
-        const Point<dim>                                        &x)
+      in_simplex(const typename Triangulation<dim>::active_cell_iterator &cell,
+                 const Point<dim>                                        &x)
       {
         Tensor<2, dim> A;
         for (unsigned int v = 0; v < dim; ++v)
@@ -101,18 +100,17 @@ namespace fmpm
                                  std::to_string(dim) + "D: " + message.str()));
         }
       AssertThrow(mesh.n_active_cells() > 0,
-                  ExcMessage(where + " = <" + file_name +
-                             "> holds no cell."));
+                  ExcMessage(where + " = <" + file_name + "> holds no cell."));
 
       // One FEValues per kind of cell.
-      std::map<ReferenceCell, std::unique_ptr<FE_Nothing<dim>>>   elements;
-      std::map<ReferenceCell, std::unique_ptr<FEValues<dim>>>     fe_values;
+      std::map<ReferenceCell, std::unique_ptr<FE_Nothing<dim>>> elements;
+      std::map<ReferenceCell, std::unique_ptr<FEValues<dim>>>   fe_values;
       for (const auto &cell : mesh.active_cell_iterators())
         {
           const ReferenceCell kind = cell->reference_cell();
           if (fe_values.find(kind) != fe_values.end())
             continue;
-          elements[kind] = std::make_unique<FE_Nothing<dim>>(kind);
+          elements[kind]  = std::make_unique<FE_Nothing<dim>>(kind);
           fe_values[kind] = std::make_unique<FEValues<dim>>(
             kind.template get_default_linear_mapping<dim>(),
             *elements[kind],
@@ -126,8 +124,8 @@ namespace fmpm
           for (unsigned int q = 0; q < values.n_quadrature_points; ++q)
             {
               AssertThrow(values.JxW(q) > 0,
-                          ExcMessage(where + " = <" + file_name +
-                                     ">: cell " + std::to_string(cell->index()) +
+                          ExcMessage(where + " = <" + file_name + ">: cell " +
+                                     std::to_string(cell->index()) +
                                      " is inverted (negative volume)."));
               positions.push_back(values.quadrature_point(q));
               volumes.push_back(values.JxW(q));
@@ -135,10 +133,10 @@ namespace fmpm
         }
 
       // Buckets: about one cell per bucket.
-      box = BoundingBox<dim>(mesh.get_vertices());
+      box       = BoundingBox<dim>(mesh.get_vertices());
       n_buckets = std::max<unsigned int>(
-        1, std::min<unsigned int>(
-             256, std::pow(mesh.n_active_cells(), 1. / dim)));
+        1,
+        std::min<unsigned int>(256, std::pow(mesh.n_active_cells(), 1. / dim)));
       bucket_points.assign(std::pow(n_buckets, dim), {});
       bucket_cells.assign(bucket_points.size(), {});
       for (unsigned int i = 0; i < positions.size(); ++i)

@@ -90,8 +90,7 @@ namespace fmpm
             {
               const Point<2> &a = vertices[i], &b = vertices[j];
               if ((a[1] > x[1]) != (b[1] > x[1]) &&
-                  x[0] <
-                    (b[0] - a[0]) * (x[1] - a[1]) / (b[1] - a[1]) + a[0])
+                  x[0] < (b[0] - a[0]) * (x[1] - a[1]) / (b[1] - a[1]) + a[0])
                 odd = !odd;
             }
           return odd;
@@ -120,17 +119,17 @@ namespace fmpm
       if (vertices.size() > 1 && vertices.front() == vertices.back())
         vertices.pop_back();
       AssertThrow(vertices.size() >= 3,
-                  ExcMessage(where + ": a polygon needs at least three "
-                                     "distinct vertices; it has " +
+                  ExcMessage(where +
+                             ": a polygon needs at least three "
+                             "distinct vertices; it has " +
                              std::to_string(vertices.size()) + "."));
       const unsigned int n = vertices.size();
       for (unsigned int i = 0; i < n; ++i)
         AssertThrow(vertices[i] != vertices[(i + 1) % n],
                     ExcMessage(where + ": polygon vertices " +
                                std::to_string(i) + " and " +
-                               std::to_string((i + 1) % n) +
-                               " coincide at " + point_text(vertices[i]) +
-                               "."));
+                               std::to_string((i + 1) % n) + " coincide at " +
+                               point_text(vertices[i]) + "."));
       // Every pair of edges that are not neighbours must not meet;
       // neighbours meet only at their shared vertex (no fold back).
       for (unsigned int i = 0; i < n; ++i)
@@ -138,8 +137,8 @@ namespace fmpm
           {
             const Point<2> &a = vertices[i], &b = vertices[(i + 1) % n];
             const Point<2> &c = vertices[j], &d = vertices[(j + 1) % n];
-            const bool neighbours = (j == i + 1) || (i == 0 && j == n - 1);
-            bool       meet       = false;
+            const bool      neighbours = (j == i + 1) || (i == 0 && j == n - 1);
+            bool            meet       = false;
             if (!neighbours)
               meet = segments_meet(a, b, c, d);
             else
@@ -149,12 +148,13 @@ namespace fmpm
                 const Point<2> &shared = (j == i + 1) ? b : a;
                 const Point<2> &p      = (j == i + 1) ? a : b;
                 const Point<2> &q      = (j == i + 1) ? d : c;
-                meet = orientation(p, shared, q) == 0 &&
+                meet                   = orientation(p, shared, q) == 0 &&
                        (q - shared) * (p - shared) > 0;
               }
             AssertThrow(!meet,
-                        ExcMessage(where + ": the polygon intersects itself: "
-                                           "edge " +
+                        ExcMessage(where +
+                                   ": the polygon intersects itself: "
+                                   "edge " +
                                    std::to_string(i) + " " + point_text(a) +
                                    "-" + point_text(b) + " meets edge " +
                                    std::to_string(j) + " " + point_text(c) +

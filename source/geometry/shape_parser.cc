@@ -124,9 +124,9 @@ namespace fmpm
           auto left = parse_term();
           while (peek() == '+' || peek() == '-')
             {
-              const Combination combination =
-                formula[position] == '+' ? Combination::union_of :
-                                           Combination::difference_of;
+              const Combination combination = formula[position] == '+' ?
+                                                Combination::union_of :
+                                                Combination::difference_of;
               ++position;
               std::vector<std::unique_ptr<Shape<dim>>> parts;
               parts.push_back(std::move(left));
@@ -162,7 +162,7 @@ namespace fmpm
               expect(')');
               return shape;
             }
-          const std::size_t start = position;
+          const std::size_t start      = position;
           const std::string shape_name = name();
           if (shape_name.empty())
             fail("expected a shape name or '('");
@@ -188,7 +188,7 @@ namespace fmpm
               const std::size_t end = formula.find('"', position + 1);
               if (end == std::string::npos)
                 fail("a text without its closing '\"'");
-              argument.text    = formula.substr(position + 1, end - position - 1);
+              argument.text = formula.substr(position + 1, end - position - 1);
               argument.is_text = true;
               position         = end + 1;
               return argument;
@@ -218,8 +218,8 @@ namespace fmpm
         number()
         {
           skip_space();
-          const char *begin = formula.c_str() + position;
-          char       *end   = nullptr;
+          const char  *begin = formula.c_str() + position;
+          char        *end   = nullptr;
           const double value = std::strtod(begin, &end);
           if (end == begin || !std::isfinite(value))
             fail("expected a number");
@@ -262,24 +262,20 @@ namespace fmpm
               std::vector<Argument<dim>> &&arguments,
               const std::size_t            start)
         {
-          const unsigned int D = dim;
-          const auto positive = [&](const std::vector<double> &values,
+          const unsigned int D        = dim;
+          const auto         positive = [&](const std::vector<double> &values,
                                     const std::string         &what) {
             for (const double v : values)
               if (!(v > 0))
                 {
                   position = start;
-                  fail(shape_name + "(...): the " + what +
-                       " must be positive");
+                  fail(shape_name + "(...): the " + what + " must be positive");
                 }
           };
           if (shape_name == "box" || shape_name == "rectangle")
             {
-              check_count(shape_name,
-                          arguments,
-                          {D, D},
-                          "center; half lengths",
-                          start);
+              check_count(
+                shape_name, arguments, {D, D}, "center; half lengths", start);
               positive(arguments[1].numbers, "half lengths");
               return make_box<dim>(to_point(arguments[0].numbers),
                                    to_point(arguments[1].numbers));
@@ -287,13 +283,13 @@ namespace fmpm
           if (shape_name == "sphere" || shape_name == "disk" ||
               shape_name == "circle")
             {
-              check_count(shape_name, arguments, {D, 1}, "center; radius", start);
+              check_count(
+                shape_name, arguments, {D, 1}, "center; radius", start);
               positive(arguments[1].numbers, "radius");
               Tensor<1, dim> radii;
               for (unsigned int d = 0; d < dim; ++d)
                 radii[d] = arguments[1].numbers[0];
-              return make_ellipsoid<dim>(to_point(arguments[0].numbers),
-                                         radii);
+              return make_ellipsoid<dim>(to_point(arguments[0].numbers), radii);
             }
           if (shape_name == "ellipsoid" || shape_name == "ellipse")
             {
@@ -322,11 +318,8 @@ namespace fmpm
             }
           if (shape_name == "halfspace")
             {
-              check_count(shape_name,
-                          arguments,
-                          {D, D},
-                          "point; outward normal",
-                          start);
+              check_count(
+                shape_name, arguments, {D, D}, "point; outward normal", start);
               const Tensor<1, dim> normal = to_point(arguments[1].numbers);
               if (normal.norm() == 0)
                 {
@@ -412,11 +405,12 @@ namespace fmpm
           if (shape_name == "rotate")
             {
               // rotate(angle; [axis (3D);] [point;] shape)
-              const unsigned int n = arguments.size();
-              bool ok = n >= 2 && arguments[n - 1].shape &&
+              const unsigned int n  = arguments.size();
+              bool               ok = n >= 2 && arguments[n - 1].shape &&
                         arguments[0].numbers.size() == 1;
               const unsigned int first_point = (dim == 3) ? 2 : 1;
-              ok = ok && (dim == 2 || (n >= 3 && arguments[1].numbers.size() == 3));
+              ok                             = ok &&
+                   (dim == 2 || (n >= 3 && arguments[1].numbers.size() == 3));
               ok = ok && (n == first_point + 1 ||
                           (n == first_point + 2 &&
                            arguments[first_point].numbers.size() == dim));

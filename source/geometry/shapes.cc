@@ -137,8 +137,8 @@ namespace fmpm
             {
               const double reach =
                 radius *
-                std::sqrt(std::max(0.,
-                                   1. - axis[d] * axis[d] / axis.norm_square()));
+                std::sqrt(
+                  std::max(0., 1. - axis[d] * axis[d] / axis.norm_square()));
               lower[d] = std::min(p0[d], p1[d]) - reach;
               upper[d] = std::max(p0[d], p1[d]) + reach;
             }
@@ -223,7 +223,7 @@ namespace fmpm
       class Combined : public Shape<dim>
       {
       public:
-        Combined(Combination                               combination,
+        Combined(Combination                                combination,
                  std::vector<std::unique_ptr<Shape<dim>>> &&parts)
           : combination(combination)
           , parts(std::move(parts))
@@ -270,10 +270,9 @@ namespace fmpm
                   {
                     lower[d] =
                       std::max(box.lower_bound(d), other.lower_bound(d));
-                    upper[d] =
-                      std::max(lower[d],
-                               std::min(box.upper_bound(d),
-                                        other.upper_bound(d)));
+                    upper[d] = std::max(lower[d],
+                                        std::min(box.upper_bound(d),
+                                                 other.upper_bound(d)));
                   }
                 box = BoundingBox<dim>(std::make_pair(lower, upper));
               }
@@ -324,8 +323,8 @@ namespace fmpm
         bool
         inside(const Point<dim> &x) const override
         {
-          return shape->inside(
-            about + transpose(rotation) * (x - translation - about));
+          return shape->inside(about +
+                               transpose(rotation) * (x - translation - about));
         }
 
         BoundingBox<dim>
@@ -341,7 +340,8 @@ namespace fmpm
               lower[d] = std::numeric_limits<double>::max();
               upper[d] = -std::numeric_limits<double>::max();
             }
-          for (unsigned int v = 0; v < dealii::GeometryInfo<dim>::vertices_per_cell;
+          for (unsigned int v = 0;
+               v < dealii::GeometryInfo<dim>::vertices_per_cell;
                ++v)
             {
               const Point<dim> x =
@@ -414,7 +414,7 @@ namespace fmpm
 
     template <int dim>
     std::unique_ptr<Shape<dim>>
-    make_combination(Combination                               combination,
+    make_combination(Combination                                combination,
                      std::vector<std::unique_ptr<Shape<dim>>> &&parts)
     {
       return std::make_unique<Combined<dim>>(combination, std::move(parts));
@@ -436,28 +436,28 @@ namespace fmpm
 
 
 
-#define FMPM_INSTANTIATE(dim)                                                 \
+#define FMPM_INSTANTIATE(dim)                                                  \
   template bool is_bounded<dim>(const BoundingBox<dim> &, const unsigned int); \
-  template std::unique_ptr<Shape<dim>> make_box<dim>(const Point<dim> &,      \
-                                                     const Tensor<1, dim> &); \
-  template std::unique_ptr<Shape<dim>> make_ellipsoid<dim>(                   \
-    const Point<dim> &, const Tensor<1, dim> &);                              \
-  template std::unique_ptr<Shape<dim>> make_cylinder<dim>(const Point<dim> &, \
-                                                          const Point<dim> &, \
-                                                          double);            \
-  template std::unique_ptr<Shape<dim>> make_half_space<dim>(                  \
-    const Point<dim> &, const Tensor<1, dim> &);                              \
-  template std::unique_ptr<Shape<dim>> make_level_set<dim>(                   \
-    const std::string &,                                                      \
-    const std::map<std::string, double> &,                                    \
-    const std::string &);                                                     \
-  template std::unique_ptr<Shape<dim>> make_combination<dim>(                 \
-    Combination, std::vector<std::unique_ptr<Shape<dim>>> &&);                \
-  template std::unique_ptr<Shape<dim>> make_transformed<dim>(                 \
-    std::unique_ptr<Shape<dim>> &&,                                           \
-    double,                                                                   \
-    const Tensor<1, 3> &,                                                     \
-    const Point<dim> &,                                                       \
+  template std::unique_ptr<Shape<dim>> make_box<dim>(const Point<dim> &,       \
+                                                     const Tensor<1, dim> &);  \
+  template std::unique_ptr<Shape<dim>> make_ellipsoid<dim>(                    \
+    const Point<dim> &, const Tensor<1, dim> &);                               \
+  template std::unique_ptr<Shape<dim>> make_cylinder<dim>(const Point<dim> &,  \
+                                                          const Point<dim> &,  \
+                                                          double);             \
+  template std::unique_ptr<Shape<dim>> make_half_space<dim>(                   \
+    const Point<dim> &, const Tensor<1, dim> &);                               \
+  template std::unique_ptr<Shape<dim>> make_level_set<dim>(                    \
+    const std::string &,                                                       \
+    const std::map<std::string, double> &,                                     \
+    const std::string &);                                                      \
+  template std::unique_ptr<Shape<dim>> make_combination<dim>(                  \
+    Combination, std::vector<std::unique_ptr<Shape<dim>>> &&);                 \
+  template std::unique_ptr<Shape<dim>> make_transformed<dim>(                  \
+    std::unique_ptr<Shape<dim>> &&,                                            \
+    double,                                                                    \
+    const Tensor<1, 3> &,                                                      \
+    const Point<dim> &,                                                        \
     const Tensor<1, dim> &);
     FMPM_INSTANTIATE(2)
     FMPM_INSTANTIATE(3)

@@ -48,7 +48,7 @@ namespace fmpm
                     ExcMessage(where + " = <" + file_name +
                                "> cannot be read: the surface file is "
                                "missing or not readable."));
-        const std::string bytes((std::istreambuf_iterator<char>(in)),
+        const std::string     bytes((std::istreambuf_iterator<char>(in)),
                                 std::istreambuf_iterator<char>());
         std::vector<Triangle> triangles;
         // Binary: an 80-byte header, the count, 50 bytes per triangle.
@@ -132,8 +132,8 @@ namespace fmpm
                   std::array<unsigned int, 2> first, last;
                   for (unsigned int k = 0; k < 2; ++k)
                     {
-                      const unsigned int d = (axis + 1 + k) % 3;
-                      double lo = triangles[t][0][d], hi = lo;
+                      const unsigned int d  = (axis + 1 + k) % 3;
+                      double             lo = triangles[t][0][d], hi = lo;
                       for (const Point<3> &p : triangles[t])
                         {
                           lo = std::min(lo, p[d]);
@@ -191,8 +191,8 @@ namespace fmpm
         {
           const unsigned int a = (axis + 1) % 3, b = (axis + 2) % 3;
           const auto        &list =
-            column_triangles[axis][column(x[a], a) * n_columns +
-                                   column(x[b], b)];
+            column_triangles[axis]
+                            [column(x[a], a) * n_columns + column(x[b], b)];
           bool odd = false;
           for (const unsigned int t : list)
             {
@@ -242,7 +242,7 @@ namespace fmpm
         return it->second;
       };
       std::map<std::pair<unsigned int, unsigned int>, unsigned int> n_uses;
-      std::vector<std::pair<unsigned int, unsigned int>> edge_order;
+      std::vector<std::pair<unsigned int, unsigned int>>            edge_order;
       for (const Triangle &t : triangles)
         for (unsigned int v = 0; v < 3; ++v)
           {

@@ -4,12 +4,12 @@
 // The CG solve of full-mass systems K v = p (seed 000 Eq. 1.9): one
 // material's m̃, or the per-material m̃^α of materials in contact (seed 004).
 
-#include <fmpm/mass_matrix/full.h>
+#include <fmpm/mass_matrix/full_solve.h>
+#include <fmpm/mass_matrix/interface.h>
 
 #include <deal.II/base/mpi.h>
 
 #include <algorithm>
-#include <cstring>
 
 namespace fmpm
 {
@@ -17,23 +17,6 @@ namespace fmpm
   {
     namespace
     {
-      /** Two doubles as one SIMD value (GCC/Clang vector extension). */
-      typedef double Pair __attribute__((vector_size(16)));
-
-      inline Pair
-      load(const double *x)
-      {
-        Pair v;
-        std::memcpy(&v, x, sizeof(Pair));
-        return v;
-      }
-
-      inline void
-      store(double *x, const Pair v)
-      {
-        std::memcpy(x, &v, sizeof(Pair));
-      }
-
       /**
        * The SPD operator of the correction solve on free nodes F:
        * (1 − δ) (K_FF + diag(c)) + δ m, where c = K 1_W lumps the couplings
@@ -281,12 +264,12 @@ namespace fmpm
                   {
                     const double *pb  = system.direction->block(b).begin();
                     const double *qb  = system.q->block(b).begin();
-                    Pair          sum = {};
+                    DoublePair    sum = 0.;
                     for (const auto &[begin, end] : system.ranges)
                       {
                         unsigned int i = begin;
                         for (; i + 2 <= end; i += 2)
-                          sum += load(pb + i) * load(qb + i);
+                          sum += load_pair(pb + i) * load_pair(qb + i);
                         if (i < end)
                           p_dot_q_local[b] += pb[i] * qb[i];
                       }
@@ -319,17 +302,19 @@ namespace fmpm
                     const double *qb = system.q->block(b).begin();
                     double       *xb = system.x->block(b).begin();
                     double       *rb = system.r->block(b).begin();
-                    Pair          rz = {}, rr = {};
+                    DoublePair    rz = 0., rr = 0.;
                     for (const auto &[begin, end] : system.ranges)
                       {
                         unsigned int i = begin;
                         for (; i + 2 <= end; i += 2)
                           {
-                            store(xb + i, load(xb + i) + alpha * load(pb + i));
-                            const Pair r_i =
-                              load(rb + i) - alpha * load(qb + i);
-                            store(rb + i, r_i);
-                            rz += r_i * load(d + i) * r_i;
+                            store_pair(xb + i,
+                                       load_pair(xb + i) +
+                                         alpha * load_pair(pb + i));
+                            const DoublePair r_i =
+                              load_pair(rb + i) - alpha * load_pair(qb + i);
+                            store_pair(rb + i, r_i);
+                            rz += r_i * load_pair(d + i) * r_i;
                             rr += r_i * r_i;
                           }
                         if (i < end)
@@ -370,9 +355,9 @@ namespace fmpm
                       {
                         unsigned int i = begin;
                         for (; i + 2 <= end; i += 2)
-                          store(pb + i,
-                                load(d + i) * load(rb + i) +
-                                  beta * load(pb + i));
+                          store_pair(pb + i,
+                                     load_pair(d + i) * load_pair(rb + i) +
+                                       beta * load_pair(pb + i));
                         if (i < end)
                           pb[i] = d[i] * rb[i] + beta * pb[i];
                       }

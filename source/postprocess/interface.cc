@@ -19,7 +19,7 @@ namespace fmpm
     const GridVectorField &
     Interface<dim>::get_grid_field(const ParticleUpdate::GridField field) const
     {
-      return this->get_simulator().grid_fields[field];
+      return this->get_simulator().centre_of_mass.fields[field];
     }
 
     template <int dim>
@@ -27,7 +27,7 @@ namespace fmpm
     Interface<dim>::grid_field_computed(
       const ParticleUpdate::GridField field) const
     {
-      return this->get_simulator().field_computed[field];
+      return this->get_simulator().centre_of_mass.computed[field];
     }
 
     template <int dim>

@@ -61,7 +61,7 @@ namespace fmpm
     std::vector<types::global_dof_index> dofs(fe.dofs_per_cell);
 
     // Mark the nodes of the cells in @p cells in @p nodes (ghosted result).
-    GridScalar nodes(lumped_mass.get_partitioner());
+    GridScalar nodes(centre_of_mass.mass.get_partitioner());
     auto       mark_nodes = [&](const std::vector<bool> &cells) {
       nodes = 0;
       for (const auto &cell : dof_handler.active_cell_iterators())
@@ -143,10 +143,11 @@ namespace fmpm
         // (supports of the points on the current mesh).
         compute_supports();
         particles_to_grid(false);
-        allocate_grid_field(ParticleUpdate::lumped_velocity);
-        GridVectorField &v = grid_fields[ParticleUpdate::lumped_velocity];
-        MassMatrix::apply_lumped_inverse(lumped_mass,
-                                         momentum,
+        centre_of_mass.allocate(ParticleUpdate::lumped_velocity);
+        GridVectorField &v =
+          centre_of_mass.fields[ParticleUpdate::lumped_velocity];
+        MassMatrix::apply_lumped_inverse(centre_of_mass.mass,
+                                         centre_of_mass.momentum,
                                          v,
                                          mass_floor_value);
         for (unsigned int d = 0; d < dim; ++d)
@@ -155,7 +156,7 @@ namespace fmpm
               constraints.distribute(v.block(d));
             v.block(d).update_ghost_values();
           }
-        field_computed.fill(false);
+        centre_of_mass.computed.fill(false);
         Vector<float> indicator(n_cells), component(n_cells);
         const std::map<types::boundary_id, const Function<dim> *> no_neumann;
         for (unsigned int d = 0; d < dim; ++d)
@@ -206,7 +207,7 @@ namespace fmpm
     setup_dofs();
     mass_matrix->initialize();
     setup_boundary_conditions();
-    field_computed.fill(false);
+    centre_of_mass.computed.fill(false);
   }
 
 

@@ -332,14 +332,14 @@ namespace fmpm
     particle_handler.prepare_for_serialization();
     std::vector<GridScalar> ghosted;
     // A field not allocated is zero.
-    for (const auto &field : grid_fields)
+    for (const auto &field : centre_of_mass.fields)
       for (unsigned int d = 0; d < dim; ++d)
         {
           if (field.n_blocks() == dim)
             ghosted.push_back(field.block(d));
           else
             {
-              ghosted.push_back(lumped_mass);
+              ghosted.push_back(centre_of_mass.mass);
               ghosted.back() = 0.;
             }
           ghosted.back().update_ghost_values();
@@ -471,7 +471,7 @@ namespace fmpm
     setup_dofs();
     mass_matrix->initialize();
     std::vector<GridScalar> loaded(ParticleUpdate::n_grid_fields * dim,
-                                   lumped_mass);
+                                   centre_of_mass.mass);
     {
       std::vector<GridScalar *> fields;
       for (auto &field : loaded)
@@ -516,7 +516,7 @@ namespace fmpm
         std::vector<GridScalar *> new_fields;
         for (auto &field : loaded)
           {
-            field.reinit(lumped_mass);
+            field.reinit(centre_of_mass.mass);
             new_fields.push_back(&field);
           }
         field_transfer.interpolate(new_fields);
@@ -527,13 +527,13 @@ namespace fmpm
         bool zero = true;
         for (unsigned int d = 0; d < dim; ++d)
           zero = zero && loaded[f * dim + d].linfty_norm() == 0;
-        if (zero && grid_fields[f].n_blocks() != dim)
+        if (zero && centre_of_mass.fields[f].n_blocks() != dim)
           continue;
-        allocate_grid_field(static_cast<ParticleUpdate::GridField>(f));
+        centre_of_mass.allocate(static_cast<ParticleUpdate::GridField>(f));
         for (unsigned int d = 0; d < dim; ++d)
           {
-            grid_fields[f].block(d) = loaded[f * dim + d];
-            grid_fields[f].block(d).update_ghost_values();
+            centre_of_mass.fields[f].block(d) = loaded[f * dim + d];
+            centre_of_mass.fields[f].block(d).update_ghost_values();
           }
       }
     points_from_handler();

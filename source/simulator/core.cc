@@ -559,16 +559,19 @@ namespace fmpm
 
 
   template <int dim>
-  void
-  Simulator<dim>::allocate_grid_field(const ParticleUpdate::GridField field)
+  FieldSolver<dim>
+  Simulator<dim>::field_solver() const
   {
-    GridVectorField &target = grid_fields[field];
-    if (target.n_blocks() == dim)
-      return;
-    target.reinit(dim);
-    for (unsigned int d = 0; d < dim; ++d)
-      target.block(d).reinit(lumped_mass.get_partitioner());
-    target.collect_sizes();
+    FieldSolver<dim> solver;
+    solver.conditions        = &velocity_conditions;
+    solver.constraints       = &constraints;
+    solver.has_hanging_nodes = has_hanging_nodes;
+    solver.mass_floor        = mass_floor_value;
+    // The time of the momenta and of the updated momenta (acceleration: over
+    // the step).
+    solver.t_begin = momentum_time;
+    solver.t_end   = control.time() + control.time_step();
+    return solver;
   }
 
 
@@ -578,19 +581,14 @@ namespace fmpm
   Simulator<dim>::compute_field(const ParticleUpdate::GridField field)
   {
     using namespace ParticleUpdate;
-    if (field_computed[field])
+    if (centre_of_mass.computed[field])
       return;
     TimerOutput::Scope timer(computing_timer, "grid solve");
-    allocate_grid_field(field);
-    GridVectorField &target = grid_fields[field];
-    // The time of the field's velocities (acceleration: over the step).
-    const double t_begin = momentum_time,
-                 t_end   = control.time() + control.time_step();
-    const double t_field =
-      (field == updated_velocity || field == lumped_updated_velocity) ? t_end :
-                                                                        t_begin;
-    const bool is_acceleration =
-      (field == acceleration || field == lumped_acceleration);
+    centre_of_mass.allocate(field);
+    const FieldSolver<dim> solver          = field_solver();
+    GridVectorField       &target          = centre_of_mass.fields[field];
+    const double           t_field         = solver.time_of(field);
+    const bool             is_acceleration = solver.is_acceleration(field);
     if (velocity_conditions.uses_known_values() && known_velocities_read())
       {
         velocity_conditions.known_values(t_field,
@@ -601,7 +599,7 @@ namespace fmpm
             // Known accelerations: (v_b(t + Δt) − v_b(t)) / Δt.
             std::vector<GridScalar> mask_end(known_velocity_mask),
               value_end(known_velocity_value);
-            velocity_conditions.known_values(t_end, mask_end, value_end);
+            velocity_conditions.known_values(solver.t_end, mask_end, value_end);
             for (unsigned int d = 0; d < dim; ++d)
               {
                 known_velocity_value[d].sadd(-1., 1., value_end[d]);
@@ -609,11 +607,15 @@ namespace fmpm
               }
           }
       }
+    const GridVectorField &momentum = centre_of_mass.momentum;
+    const GridVectorField &force    = centre_of_mass.force;
     // Iterative solves start from the field's value of the last step.
     switch (field)
       {
         case updated_velocity: // v⁺ = m̃ₖ⁻¹ p⁺
-          mass_matrix->solve_from_guess(updated_momentum, target, 0);
+          mass_matrix->solve_from_guess(centre_of_mass.updated_momentum,
+                                        target,
+                                        0);
           break;
         case acceleration: // m̃ₖ⁻¹ f, as accurate in a Δt as v in p
           mass_matrix->solve_from_guess(force,
@@ -626,51 +628,26 @@ namespace fmpm
           mass_matrix->solve_from_guess(momentum, target, 0);
           break;
         case lumped_velocity: // m⁻¹ p
-          MassMatrix::apply_lumped_inverse(lumped_mass,
-                                           momentum,
-                                           target,
-                                           mass_floor_value);
+          solver.lumped(centre_of_mass, field, momentum);
           break;
         case lumped_updated_velocity: // m⁻¹ p⁺
-          MassMatrix::apply_lumped_inverse(lumped_mass,
-                                           updated_momentum,
-                                           target,
-                                           mass_floor_value);
+          solver.lumped(centre_of_mass, field, centre_of_mass.updated_momentum);
           break;
         case lumped_acceleration: // m⁻¹ f
-          MassMatrix::apply_lumped_inverse(lumped_mass,
-                                           force,
-                                           target,
-                                           mass_floor_value);
+          solver.lumped(centre_of_mass, field, force);
           break;
         default:
           Assert(false, ExcInternalError());
       }
     // Lumped fields satisfy the conditions exactly; full-mass fields where
     // the method promises it (constrained, velocity: Eq. 2.53).
-    const bool is_lumped =
-      (field == lumped_velocity || field == lumped_updated_velocity ||
-       field == lumped_acceleration);
-    if (is_lumped || velocity_conditions.corrects_velocities())
-      {
-        if (is_acceleration)
-          velocity_conditions.correct_accelerations(target, t_begin, t_end);
-        else
-          velocity_conditions.correct_velocities(target,
-                                                 t_field,
-                                                 field == updated_velocity ?
-                                                   &velocity_corrections[1] :
-                                                 field == velocity ?
-                                                   &velocity_corrections[0] :
-                                                   nullptr);
-      }
-    // Hanging nodes take the interpolation of their masters, in every
-    // component (the constraints index one scalar block).
-    if (has_hanging_nodes)
-      for (unsigned int d = 0; d < dim; ++d)
-        constraints.distribute(target.block(d));
-    target.update_ghost_values();
-    field_computed[field] = true;
+    solver.finish(centre_of_mass,
+                  field,
+                  solver.is_lumped(field) ||
+                    velocity_conditions.corrects_velocities(),
+                  field == updated_velocity ? &velocity_corrections[1] :
+                  field == velocity         ? &velocity_corrections[0] :
+                                              nullptr);
   }
 
 
@@ -680,7 +657,7 @@ namespace fmpm
   Simulator<dim>::velocity_condition_operators() const
   {
     typename VelocityConditions<dim>::Operators operators;
-    operators.lumped_mass = &lumped_mass;
+    operators.lumped_mass = &centre_of_mass.mass;
     operators.mass_floor  = mass_floor_value;
     operators.solve = [this](const GridVectorField &p, GridVectorField &v) {
       mass_matrix->solve(p, v);

@@ -148,23 +148,10 @@ namespace fmpm
       std::make_shared<Utilities::MPI::Partitioner>(locally_owned_dofs,
                                                     locally_relevant_dofs,
                                                     mpi_communicator);
-    lumped_mass.reinit(partitioner);
-    auto reinit_field = [&](GridVectorField &field) {
-      field.reinit(dim);
-      for (unsigned int d = 0; d < dim; ++d)
-        field.block(d).reinit(partitioner);
-      field.collect_sizes();
-    };
-    reinit_field(momentum);
-    reinit_field(force);
-    reinit_field(updated_momentum);
-    field_computed.fill(false);
+    centre_of_mass.reinit(partitioner, false);
     for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
-      {
-        grid_fields[f].reinit(0);
-        if (field_needed[f] || lumped_step_fields[f] || contact)
-          allocate_grid_field(static_cast<ParticleUpdate::GridField>(f));
-      }
+      if (field_needed[f] || lumped_step_fields[f] || contact)
+        centre_of_mass.allocate(static_cast<ParticleUpdate::GridField>(f));
 
     {
       Point<dim>            lower_corner, upper_corner;
@@ -563,14 +550,14 @@ namespace fmpm
   Simulator<dim>::setup_boundary_conditions()
   {
     velocity_conditions.setup_nodes(dof_handler,
-                                    *lumped_mass.get_partitioner());
+                                    *centre_of_mass.mass.get_partitioner());
     known_velocity_mask.resize(dim);
     known_velocity_value.resize(dim);
     for (unsigned int d = 0; d < dim; ++d)
       if (known_velocities_read())
         {
-          known_velocity_mask[d].reinit(lumped_mass.get_partitioner());
-          known_velocity_value[d].reinit(lumped_mass.get_partitioner());
+          known_velocity_mask[d].reinit(centre_of_mass.mass.get_partitioner());
+          known_velocity_value[d].reinit(centre_of_mass.mass.get_partitioner());
         }
       else
         {

@@ -276,9 +276,9 @@ namespace fmpm
             dof_cell->get_dof_indices(dofs);
             min_fill = std::numeric_limits<double>::max();
             for (const auto dof : dofs)
-              min_fill =
-                std::min(min_fill,
-                         lumped_mass(dof) / (density0 * cell->measure()));
+              min_fill = std::min(min_fill,
+                                  centre_of_mass.mass(dof) /
+                                    (density0 * cell->measure()));
             body = static_cast<int>(p[Index::body_id]);
           }
     min_fill = Utilities::MPI::max(min_fill, mpi_communicator);

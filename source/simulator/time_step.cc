@@ -70,7 +70,7 @@ namespace fmpm
     // b(x, t) at the middle of the step: second order in time (first order
     // at t^n, measured on the manufactured solution).
     external_loads.begin_step(t + 0.5 * dt);
-    field_computed.fill(false);
+    centre_of_mass.computed.fill(false);
     for (auto &impulse : step_impulse)
       impulse = Tensor<1, dim>();
     timer.stop();
@@ -100,7 +100,7 @@ namespace fmpm
     {
       TimerOutput::Scope timer(computing_timer, "grid solve");
       momentum_time = t;
-      impose_velocity_conditions(momentum, t, nullptr);
+      impose_velocity_conditions(centre_of_mass.momentum, t, nullptr);
     }
     if (contact)
       contact->correct_extrapolated_momenta(t, Contact::Stage::extrapolated);
@@ -138,9 +138,18 @@ namespace fmpm
     const double t_end = control.time() + dt;
     {
       TimerOutput::Scope timer(computing_timer, "grid solve");
-      set_scaled_sum(updated_momentum, momentum, dt, force);
-      impose_velocity_conditions(updated_momentum, t_end, &step_impulse);
-      set_scaled_sum(force, updated_momentum, -1., momentum, 1. / dt);
+      set_scaled_sum(centre_of_mass.updated_momentum,
+                     centre_of_mass.momentum,
+                     dt,
+                     centre_of_mass.force);
+      impose_velocity_conditions(centre_of_mass.updated_momentum,
+                                 t_end,
+                                 &step_impulse);
+      set_scaled_sum(centre_of_mass.force,
+                     centre_of_mass.updated_momentum,
+                     -1.,
+                     centre_of_mass.momentum,
+                     1. / dt);
       if (contact)
         contact->update_momenta(dt, t_end);
     }
@@ -182,11 +191,12 @@ namespace fmpm
       compute_field(acceleration);
     TimerOutput::Scope timer(computing_timer, "grid solve");
     // How well v⁺ satisfies the conditions (summary.json).
-    if (field_computed[updated_velocity])
+    if (centre_of_mass.computed[updated_velocity])
       {
-        const auto &v = grid_fields[updated_velocity];
+        const auto &v = centre_of_mass.fields[updated_velocity];
         for (const auto &c : velocity_conditions.node_conditions())
-          if (lumped_mass.local_element(c.local_index) > mass_floor_value)
+          if (centre_of_mass.mass.local_element(c.local_index) >
+              mass_floor_value)
             {
               double v_n = 0;
               for (unsigned int d = 0; d < dim; ++d)
@@ -203,7 +213,7 @@ namespace fmpm
         {
           const auto  &condition = velocity_conditions.node_conditions()[c];
           const double impulse =
-            lumped_mass.local_element(condition.local_index) *
+            centre_of_mass.mass.local_element(condition.local_index) *
             (velocity_corrections[1][c] - velocity_corrections[0][c]);
           step_impulse[condition.source] += impulse * condition.normal;
           velocity_conditions.add_condition_impulse(c, impulse);
@@ -242,8 +252,9 @@ namespace fmpm
     {
       TimerOutput::Scope timer(computing_timer, "grid solve");
       momentum_time = t_end;
-      impose_velocity_conditions(momentum, t_end, nullptr);
-      field_computed[velocity] = field_computed[lumped_velocity] = false;
+      impose_velocity_conditions(centre_of_mass.momentum, t_end, nullptr);
+      centre_of_mass.computed[velocity] =
+        centre_of_mass.computed[lumped_velocity] = false;
     }
     if (contact)
       contact->correct_extrapolated_momenta(t_end,

@@ -20,37 +20,6 @@ namespace fmpm
   namespace
   {
     /**
-     * With contact the points scatter into their material's fields only;
-     * the centre-of-mass field is their sum (seed 004 Eq. 6): @p total =
-     * Σ_α @p material_field[α] on the vectors' local (owned and ghost)
-     * entries, before the ghosts are added to their owners. Summed from
-     * zero in material order (the bits of zeroing @p total and adding each
-     * field), in one pass.
-     */
-    void
-    set_material_sums(GridScalar                  &total,
-                      const std::vector<double *> &material_field)
-    {
-      total.zero_out_ghost_values();
-      const unsigned int n_local =
-        total.locally_owned_size() + total.get_partitioner()->n_ghost_indices();
-      double *const t = total.begin();
-      if (material_field.size() == 2)
-        {
-          const double *const a = material_field[0];
-          const double *const b = material_field[1];
-          for (unsigned int i = 0; i < n_local; ++i)
-            t[i] = (0. + a[i]) + b[i];
-          return;
-        }
-      for (unsigned int i = 0; i < n_local; ++i)
-        t[i] = 0.;
-      for (const double *const field : material_field)
-        for (unsigned int i = 0; i < n_local; ++i)
-          t[i] += field[i];
-    }
-
-    /**
      * One point's m += M S (with @p with_mass) and p += (M V) S over its
      * support entries j < n, in entry order (Eq. 1.6, p = SᵀMV; @p MV =
      * M V).
@@ -236,11 +205,11 @@ namespace fmpm
       velocity_column[d] = points.column(Index::velocity + d);
     if (extrapolate_here)
       {
-        lumped_mass = 0;
-        momentum    = 0;
-        m           = lumped_mass.begin();
+        centre_of_mass.mass     = 0;
+        centre_of_mass.momentum = 0;
+        m                       = centre_of_mass.mass.begin();
         for (unsigned int d = 0; d < dim; ++d)
-          p[d] = momentum.block(d).begin();
+          p[d] = centre_of_mass.momentum.block(d).begin();
         supports_extrapolated = true;
       }
     auto extrapolate_point = [&](const unsigned int k,
@@ -257,7 +226,7 @@ namespace fmpm
                                        m,
                                        p);
     };
-    const auto   &partitioner = *lumped_mass.get_partitioner();
+    const auto   &partitioner = *centre_of_mass.mass.get_partitioner();
     const double *F_column[dim][dim], *l0_column[dim];
     for (unsigned int a = 0; a < dim; ++a)
       {
@@ -519,10 +488,10 @@ namespace fmpm
     const bool contact = contact_active();
     if (!contact && !extrapolated)
       {
-        lumped_mass = 0;
-        momentum    = 0;
+        centre_of_mass.mass     = 0;
+        centre_of_mass.momentum = 0;
         if (with_forces)
-          force = 0;
+          centre_of_mass.force = 0;
       }
     if (assemble_full)
       full_mass_matrix = 0;
@@ -565,17 +534,17 @@ namespace fmpm
           }
       }
 
-    const auto &partitioner        = *lumped_mass.get_partitioner();
+    const auto &partitioner        = *centre_of_mass.mass.get_partitioner();
     const bool  uniform_body_force = !external_loads.has_point_body_force();
     const Tensor<1, dim> gravity   = external_loads.gravity();
 
     // Raw views of the ghosted grid vectors (owned and ghost entries).
-    double *const m = lumped_mass.begin();
+    double *const m = centre_of_mass.mass.begin();
     double       *p[dim], *f[dim];
     for (unsigned int d = 0; d < dim; ++d)
       {
-        p[d] = momentum.block(d).begin();
-        f[d] = force.block(d).begin();
+        p[d] = centre_of_mass.momentum.block(d).begin();
+        f[d] = centre_of_mass.force.block(d).begin();
       }
     const unsigned int *const cached_node = supports.node.data();
     const SupportReader<dim> support_of(supports, transfer, points.cell.data());
@@ -848,27 +817,15 @@ namespace fmpm
     if (contact)
       {
         // m = Σ_α m^α, p = Σ_α p^α, f = Σ_α f^α0.
-        set_material_sums(lumped_mass, m_alpha);
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            std::vector<double *> p_d, f_d;
-            for (unsigned int a = 0; a < n_materials; ++a)
-              {
-                p_d.push_back(p_alpha[a * dim + d]);
-                f_d.push_back(f_alpha[a * dim + d]);
-              }
-            set_material_sums(momentum.block(d), p_d);
-            if (with_forces)
-              set_material_sums(force.block(d), f_d);
-          }
+        centre_of_mass.set_to_sum(material_fields, true, true, with_forces);
       }
-    lumped_mass.compress(VectorOperation::add);
-    momentum.compress(VectorOperation::add);
+    centre_of_mass.mass.compress(VectorOperation::add);
+    centre_of_mass.momentum.compress(VectorOperation::add);
     if (with_forces)
-      force.compress(VectorOperation::add);
+      centre_of_mass.force.compress(VectorOperation::add);
     if (assemble_full)
       full_mass_matrix.compress(VectorOperation::add);
-    lumped_mass.update_ghost_values();
+    centre_of_mass.mass.update_ghost_values();
     for (auto &field : material_fields)
       {
         field.mass.compress(VectorOperation::add);
@@ -905,15 +862,12 @@ namespace fmpm
     if (contact_active())
       {
         this->contact->invalidate_geometry(false);
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            std::vector<double *> p_d;
-            for (auto &field : this->contact->material_fields())
-              p_d.push_back(field.momentum.block(d).begin());
-            set_material_sums(momentum.block(d), p_d);
-          }
+        centre_of_mass.set_to_sum(this->contact->material_fields(),
+                                  false,
+                                  true,
+                                  false);
       }
-    momentum.compress(VectorOperation::add);
+    centre_of_mass.momentum.compress(VectorOperation::add);
     if (contact_active())
       for (auto &field : this->contact->material_fields())
         {
@@ -993,7 +947,7 @@ namespace fmpm
             for (unsigned int d = 0; d < dim; ++d)
               views[a][f][d] =
                 (contact ? this->contact->material_fields()[a].fields[f] :
-                           grid_fields[f])
+                           centre_of_mass.fields[f])
                   .block(d)
                   .begin();
         }
@@ -1035,9 +989,9 @@ namespace fmpm
       }
     else if (re_extrapolate)
       {
-        momentum = 0;
+        centre_of_mass.momentum = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          momentum_target.push_back(momentum.block(d).begin());
+          momentum_target.push_back(centre_of_mass.momentum.block(d).begin());
       }
 
     // Point k's share of p = SᵀMV^{n+1} (Eq. 5 with contact) and of the
@@ -1228,7 +1182,7 @@ namespace fmpm
       for (unsigned int a = 0; a < dim; ++a)
         v_a[a] = v.block(a).begin();
     };
-    view_velocities(grid_fields[field]);
+    view_velocities(centre_of_mass.fields[field]);
     SupportReader<dim> support_of(supports, transfer, points.cell.data());
     // Computed supports: S and G of the batch's points (by place in the
     // batch).
@@ -1249,9 +1203,9 @@ namespace fmpm
       {
         // (With contact f is set from the f^α0 after the sweep.)
         if (!contact)
-          force = 0;
+          centre_of_mass.force = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          f[d] = force.block(d).begin();
+          f[d] = centre_of_mass.force.block(d).begin();
         if (contact)
           for (auto &material_field : this->contact->material_fields())
             {
@@ -1573,14 +1527,11 @@ namespace fmpm
     if (with_forces)
       {
         if (contact) // f = Σ_α f^α0
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              std::vector<double *> f_d;
-              for (unsigned int a = 0; a < f_alpha.size() / dim; ++a)
-                f_d.push_back(f_alpha[a * dim + d]);
-              set_material_sums(force.block(d), f_d);
-            }
-        force.compress(VectorOperation::add);
+          centre_of_mass.set_to_sum(this->contact->material_fields(),
+                                    false,
+                                    false,
+                                    true);
+        centre_of_mass.force.compress(VectorOperation::add);
         if (contact)
           for (auto &material_field : this->contact->material_fields())
             material_field.force.compress(VectorOperation::add);

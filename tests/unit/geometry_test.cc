@@ -14,8 +14,6 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/numbers.h>
 
-#include <gtest/gtest.h>
-
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -24,6 +22,7 @@
 #include <sstream>
 
 #include "scene_helpers.h"
+#include <gtest/gtest.h>
 
 using namespace fmpm_tests;
 
@@ -46,7 +45,8 @@ namespace
   {
     const std::string scene =
       "set Dimension = " + std::to_string(dim) +
-      "\nsubsection Mesh\n set Lower corner = " + (dim == 2 ? "0, 0" : "0, 0, 0") +
+      "\nsubsection Mesh\n set Lower corner = " +
+      (dim == 2 ? "0, 0" : "0, 0, 0") +
       "\n set Upper corner = " + (dim == 2 ? "1, 1" : "1, 1, 1") +
       "\n set Subdivisions = " +
       (dim == 2 ? std::to_string(n) + ", " + std::to_string(n) :
@@ -190,7 +190,7 @@ TEST(Geometry, ClosedSurfaceHasItsEnclosedVolume)
 
   const std::string binary = "output-geometry-sphere-binary.stl";
   {
-    std::ofstream out(binary, std::ios::binary);
+    std::ofstream     out(binary, std::ios::binary);
     const std::string header(80, ' ');
     out.write(header.data(), 80);
     const std::uint32_t n = triangles.size();
@@ -224,7 +224,8 @@ TEST(Geometry, ClosedSurfaceHasItsEnclosedVolume)
       }
     out << "endsolid open\n";
   }
-  const std::string message = error_of([&] { fill<3>("surface(file)", open, 4); });
+  const std::string message =
+    error_of([&] { fill<3>("surface(file)", open, 4); });
   EXPECT_NE(message.find("Body 0/File name = <" + open +
                          "> is not a closed surface: the edge"),
             std::string::npos)

@@ -10,9 +10,9 @@
 
 #include <fmpm/grid_transfer.h>
 #include <fmpm/grid_vectors.h>
-#include <fmpm/mass_matrix/fmpm.h>
-#include <fmpm/mass_matrix/full.h>
+#include <fmpm/mass_matrix/full_solve.h>
 #include <fmpm/mass_matrix/interface.h>
+#include <fmpm/mass_matrix/series.h>
 
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>

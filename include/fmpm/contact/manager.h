@@ -9,7 +9,8 @@
 #include <fmpm/contact/normals.h>
 #include <fmpm/contact/parameters.h>
 #include <fmpm/grid_vectors.h>
-#include <fmpm/mass_matrix/full.h>
+#include <fmpm/mass_matrix/full_solve.h>
+#include <fmpm/nodal_field.h>
 #include <fmpm/particle_update/interface.h>
 #include <fmpm/simulator_access.h>
 
@@ -37,14 +38,11 @@ namespace fmpm
       increment
     };
 
-    /** One velocity field per material (seed 004 Eqs. 5-6). */
+    /** One velocity field per material (seed 004 Eqs. 5-6): m^α, p^α, f^α0,
+     * p^α+ and the fields of NodalField, and what contact adds. */
     template <int dim>
-    struct MaterialField
+    struct MaterialField : public NodalField<dim>
     {
-      GridScalar      mass;                // m^α
-      GridVectorField momentum;            // p^α0, then p^α (Eq. 26)
-      GridVectorField force;               // f^α0 (Eq. 29)
-      GridVectorField updated_momentum;    // p^α+ (Eq. 31)
       GridVectorField volume_gradient;     // g^α = Σ G V (Eq. 11)
       GridVectorField position_moment;     // Σ S M X: x^α = S^{+α}X (Eq. 11)
       GridVectorField displacement_moment; // Σ S M u (interface laws)
@@ -56,12 +54,6 @@ namespace fmpm
       // The exact solve: m̃^α_ii, the weak nodes and the CG's fields.
       GridScalar                    full_mass_diagonal, weak;
       MassMatrix::FullMassWorkspace solve_workspace;
-      std::array<GridVectorField, ParticleUpdate::n_grid_fields> fields;
-      std::array<bool, ParticleUpdate::n_grid_fields>            computed{};
-      /** The owned nodes where each field may be nonzero (lumped solves on
-       * the material's nodes only). */
-      std::array<std::vector<unsigned int>, ParticleUpdate::n_grid_fields>
-        written_nodes;
     };
 
     /**

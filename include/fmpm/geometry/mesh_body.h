@@ -63,9 +63,10 @@ namespace fmpm
       BoundingBox<dim>   box;
       /** A grid of buckets over the box: the points in each bucket, and the
        * mesh cells whose bounding box meets it. */
-      unsigned int                                       n_buckets;
-      std::vector<std::vector<unsigned int>>             bucket_points;
-      std::vector<std::vector<typename Triangulation<dim>::active_cell_iterator>>
+      unsigned int                           n_buckets;
+      std::vector<std::vector<unsigned int>> bucket_points;
+      std::vector<
+        std::vector<typename Triangulation<dim>::active_cell_iterator>>
         bucket_cells;
 
       std::array<unsigned int, dim>

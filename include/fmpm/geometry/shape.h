@@ -107,8 +107,7 @@ namespace fmpm
     /** The ellipsoid sum_d ((x_d - center_d)/semi_axes_d)^2 <= 1. */
     template <int dim>
     std::unique_ptr<Shape<dim>>
-    make_ellipsoid(const Point<dim>     &center,
-                   const Tensor<1, dim> &semi_axes);
+    make_ellipsoid(const Point<dim> &center, const Tensor<1, dim> &semi_axes);
 
     /** The points within @p radius of the segment from @p p0 to @p p1 whose
      * projection lies on it (a rectangle in 2D). */
@@ -130,8 +129,7 @@ namespace fmpm
     /** Vertices "x y" (or "x, y"), one a line, '#' comments, from
      * @p file_name (2D polygons). */
     std::vector<Point<2>>
-    read_polygon_file(const std::string &file_name,
-                      const std::string &where);
+    read_polygon_file(const std::string &file_name, const std::string &where);
 
     /** The region where the FunctionParser expression is <= 0. */
     template <int dim>
@@ -150,7 +148,7 @@ namespace fmpm
     };
     template <int dim>
     std::unique_ptr<Shape<dim>>
-    make_combination(Combination                               combination,
+    make_combination(Combination                                combination,
                      std::vector<std::unique_ptr<Shape<dim>>> &&parts);
 
     /** @p shape rotated by @p angle (radians) about @p axis (3D; ignored in
