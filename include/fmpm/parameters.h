@@ -355,9 +355,9 @@ namespace fmpm
     std::vector<double> half_lengths{0.25, 0.25, 0.25};
     unsigned int        material        = 0;
     unsigned int        points_per_cell = 2;
-    std::vector<double> velocity{0, 0, 0};
-    /** Initial velocity: numbers separated by ',' or expressions by ';'. */
-    std::string velocity_expression;
+    /** Initial velocity: numbers separated by ',' or expressions by ';'
+     * (the default's first dim). */
+    std::string velocity_expression = "0, 0, 0";
     /** "name=value, ..." for the expressions. */
     std::string function_constants;
     /** Start with the stress in equilibrium with gravity (lithostatic). */

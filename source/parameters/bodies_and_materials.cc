@@ -99,7 +99,7 @@ namespace fmpm
                       "placed at the centres of a regular subdivision of "
                       "each cell. Units: none.");
     prm.declare_entry("Initial velocity",
-                      list_text(defaults.velocity, dim),
+                      first_components(defaults.velocity_expression, dim),
                       Patterns::Anything(),
                       "Initial velocity of the points: either dim numbers "
                       "separated by ',', or dim FunctionParser "

@@ -11,6 +11,22 @@
 
 namespace fmpm
 {
+  namespace
+  {
+    /** 'Mesh/Periodic directions' as the scene writes it: "x, z". */
+    std::string
+    periodic_directions_text(const std::array<bool, 3> &periodic)
+    {
+      std::string text;
+      for (unsigned int d = 0; d < 3; ++d)
+        if (periodic[d])
+          text += (text.empty() ? "" : ", ") + std::string(1, 'x' + d);
+      return text;
+    }
+  } // namespace
+
+
+
   void
   MeshParameters::declare_parameters(ParameterHandler  &prm,
                                      const unsigned int dim)
@@ -66,7 +82,7 @@ namespace fmpm
                         "hexahedral mesh. 0 keeps the mesh. Units: none.");
       prm.declare_entry(
         "Periodic directions",
-        "",
+        periodic_directions_text(defaults.periodic),
         Patterns::List(Patterns::Selection("x|y|z"), 0, 3, ","),
         "Axes along which the box is periodic, e.g. 'x' or 'x, z' ('Type = "
         "box' only): the two faces across each axis (boundary ids 0 and 1 "

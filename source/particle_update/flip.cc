@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
+#include <fmpm/parameter_entries.h>
 #include <fmpm/particle_update/flip.h>
 
 namespace fmpm
@@ -11,9 +12,10 @@ namespace fmpm
     void
     Flip<dim>::declare_parameters(ParameterHandler &prm)
     {
+      const Flip<dim> defaults;
       prm.declare_entry(
         "Position update psi",
-        "1",
+        format_number(defaults.psi),
         Patterns::Double(0, 1),
         "psi of [Nairn2023-FMPM] Eq. 2.28: 1 (default) the second-order "
         "position update X += (v_p - a dt/2) dt, which moves the points with "
