@@ -15,7 +15,8 @@ namespace fmpm
   {
     const MovingWallParameters defaults;
     prm.declare_entry("Boundary ids",
-                      list_text(defaults.boundary_ids, defaults.boundary_ids.size()),
+                      list_text(defaults.boundary_ids,
+                                defaults.boundary_ids.size()),
                       Patterns::List(Patterns::Integer(0, 255)),
                       "Boundary ids whose nodes move with the wall; "
                       "leave empty to use 'Box lower/upper corner'. "

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
-// Time/Strain update, Shape function, Deformation gradient, Particle update, Mass matrix.
+// Time/Strain update, Shape function, Deformation gradient, Particle update,
+// Mass matrix.
 
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/parameters.h>
