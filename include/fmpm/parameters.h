@@ -5,6 +5,7 @@
 #define fmpm_parameters_h
 
 #include <fmpm/contact/parameters.h>
+#include <fmpm/parameter_entries.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
@@ -20,45 +21,6 @@
 namespace fmpm
 {
   using namespace dealii;
-
-  /**
-   * @brief The names of a Patterns::Selection, in the order of the values of
-   * @p Enum (0, 1, ...): the choice is resolved to the enum when parsed.
-   */
-  template <typename Enum, std::size_t n>
-  struct SelectionNames
-  {
-    const char *names[n];
-
-    /** "a|b|c" for Patterns::Selection. */
-    std::string
-    pattern() const
-    {
-      std::string text;
-      for (const char *name : names)
-        text += (text.empty() ? "" : "|") + std::string(name);
-      return text;
-    }
-
-    /** The name of @p value, as the parameter file writes it. */
-    std::string
-    name(const Enum value) const
-    {
-      return names[static_cast<std::size_t>(value)];
-    }
-
-    /** The value named @p name (one of the pattern's names). */
-    Enum
-    value(const std::string &name) const
-    {
-      for (std::size_t i = 0; i < n; ++i)
-        if (name == names[i])
-          return static_cast<Enum>(i);
-      AssertThrow(false,
-                  ExcMessage("<" + name + "> is not one of " + pattern()));
-      return static_cast<Enum>(0);
-    }
-  };
 
   /**
    * @brief The parts of a scene that must be known before the full set of
@@ -400,9 +362,9 @@ namespace fmpm
     std::vector<double> half_lengths{0.25, 0.25, 0.25};
     unsigned int        material        = 0;
     unsigned int        points_per_cell = 2;
-    std::vector<double> velocity{0, 0, 0};
-    /** Initial velocity: numbers separated by ',' or expressions by ';'. */
-    std::string velocity_expression;
+    /** Initial velocity: numbers separated by ',' or expressions by ';'
+     * (the default's first dim). */
+    std::string velocity_expression = "0, 0, 0";
     /** "name=value, ..." for the expressions. */
     std::string function_constants;
     /** Start with the stress in equilibrium with gravity (lithostatic). */
@@ -568,6 +530,14 @@ namespace fmpm
     /** @brief Read the values and check them across parameters. */
     void
     parse_parameters(ParameterHandler &prm);
+
+    /** @brief 'Body force' with its 'Rotating frame'. */
+    static void
+    declare_body_force_parameters(ParameterHandler  &prm,
+                                  const unsigned int dim);
+    /** @brief Reads what declare_body_force_parameters() declares. */
+    void
+    parse_body_force_parameters(ParameterHandler &prm);
   };
 
   /**
@@ -601,17 +571,6 @@ namespace fmpm
   version_text();
 
   /**
-   * @brief A number as error messages print it: the shortest text that reads
-   * back as the same double, in the form of printf's %g with a short
-   * exponent ("0.3", "-5", "2.1e11", "-1e308", "1e-5"), so that a value is
-   * echoed as the user wrote it rather than with std::to_string's six fixed
-   * decimals (a 300-digit "-1e308", or "0.000000" for 1e-9). Computed
-   * values (a stable time step) pass @p max_digits = 6 to round.
-   */
-  std::string
-  format_number(const double value, const unsigned int max_digits = 17);
-
-  /**
    * @brief The scene's size (dimension and the counts of the numbered
    * subsections Body N, Material N, Moving wall N, Traction N): the first
    * pass of read_scene(), which ignores every other parameter.
@@ -619,10 +578,6 @@ namespace fmpm
   SceneSize
   read_scene_size(
     const std::vector<std::pair<std::string, std::string>> &sources);
-
-  /** @brief "Body 0", "Material 2", ...: names of numbered subsections. */
-  std::string
-  numbered_subsection(const std::string &name, const unsigned int index);
 } // namespace fmpm
 
 #endif

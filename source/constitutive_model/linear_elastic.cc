@@ -203,8 +203,8 @@ namespace fmpm
         "Poisson's ratio nu of the material. A number in (-1, 0.5).");
       prm.declare_entry(
         "Strain measure",
-        "incremental",
-        Patterns::Selection("incremental|jaumann|kirchhoff|total"),
+        strain_measure_names.name(defaults.strain_measure),
+        Patterns::Selection(strain_measure_names.pattern()),
         "'incremental': sigma += dt C : sym(L) (classic MPM, no stress from "
         "rigid rotation, but a stress does not turn with the material); "
         "'jaumann': sigma += dt (C : sym(L) + W sigma - sigma W), W = "
@@ -225,11 +225,7 @@ namespace fmpm
     {
       elastic_constants.parse_parameters(prm);
       elastic_constants.get_youngs_and_poisson(youngs_modulus, poissons_ratio);
-      const std::string measure = prm.get("Strain measure");
-      strain_measure = measure == "incremental" ? StrainMeasure::incremental :
-                       measure == "jaumann"     ? StrainMeasure::jaumann :
-                       measure == "kirchhoff"   ? StrainMeasure::kirchhoff :
-                                                  StrainMeasure::total;
+      strain_measure = strain_measure_names.value(prm.get("Strain measure"));
     }
 
 

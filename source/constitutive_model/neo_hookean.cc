@@ -27,8 +27,8 @@ namespace fmpm
         "ln J': mu = G). A number > 0.");
       prm.declare_entry(
         "Energy form",
-        "J^2",
-        Patterns::Selection("J^2|ln J"),
+        energy_form_names.name(defaults.energy_form),
+        Patterns::Selection(energy_form_names.pattern()),
         "'J^2': W = G/2 (I1 J^(-2/3) - 3) + K/2 ((J^2 - 1)/2 - ln J) "
         "([NHS2020-contact] Eq. 18), Kirchhoff stress tau = G dev(b_bar) + "
         "K/2 (J^2 - 1) I with b_bar = J^(-2/3) b; 'ln J': W = mu/2 (I1 - 3) "
@@ -47,8 +47,7 @@ namespace fmpm
     {
       elastic_constants.parse_parameters(prm);
       elastic_constants.get_bulk_and_shear(bulk_modulus, shear_modulus);
-      energy_form = prm.get("Energy form") == "ln J" ? EnergyForm::log_j :
-                                                       EnergyForm::j_squared;
+      energy_form = energy_form_names.value(prm.get("Energy form"));
     }
 
 

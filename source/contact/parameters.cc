@@ -70,6 +70,23 @@ namespace fmpm
                                allowed));
         return law;
       }
+
+
+
+      /** 'Pair laws' as the scene writes it: "a b: name numbers; ...". */
+      std::string
+      pair_laws_text(const std::vector<Parameters::PairLaw> &pair_laws)
+      {
+        std::string text;
+        for (const auto &pair : pair_laws)
+          {
+            text += (text.empty() ? "" : "; ") + std::to_string(pair.a) + " " +
+                    std::to_string(pair.b) + ": " + pair.law.name;
+            for (const double number : pair.law.coefficients)
+              text += " " + format_number(number);
+          }
+        return text;
+      }
     } // namespace
 
 
@@ -77,11 +94,12 @@ namespace fmpm
     void
     Parameters::declare_parameters(ParameterHandler &prm)
     {
+      const Parameters defaults;
       prm.enter_subsection("Contact");
       prm.declare_entry(
         "Model name",
-        "none",
-        Patterns::Selection("none|multimaterial"),
+        model_names.name(defaults.multimaterial),
+        Patterns::Selection(model_names.pattern()),
         "'none': all bodies share one velocity field (bodies that touch "
         "stick, as in Sulsky's colliding disks). 'multimaterial': one "
         "velocity field per material ([NHS2020-contact] Eqs. 5-6) and contact "
@@ -89,23 +107,23 @@ namespace fmpm
         "Bodies of one material share a field. Units: none.");
       prm.declare_entry(
         "Normals",
-        "logistic regression",
+        defaults.normals_name,
         Patterns::Selection(normal_method_names()),
         "Contact normal and contact test of a node ([NHS2020-contact] "
         "§2.3, §3.1; a plugin system): " +
           normal_method_documentation() + "Units: none.");
       prm.declare_entry("Specified normal",
-                        "0, 1",
+                        list_text(defaults.specified_normal, 2),
                         Patterns::List(Patterns::Double(), 2, 3),
                         "The normal of 'Normals = specified'. Units: none.");
       prm.declare_entry("Critical separation",
-                        "0.8",
+                        format_number(defaults.critical_separation),
                         Patterns::Double(0),
                         "delta_c of 'contact position' (Eq. 16). Units: cells "
                         "(the local cell size at the node).");
       prm.declare_entry(
         "Touching tolerance",
-        "0.001",
+        format_number(defaults.touching_tolerance),
         Patterns::Double(0, 1),
         "'logistic regression' and 'd fit': materials whose separation d is "
         "below this count as touching (bodies in contact have d = 0 up to "
@@ -115,7 +133,7 @@ namespace fmpm
         "Units: cells (the local cell size at the node).");
       prm.declare_entry(
         "Gap closing",
-        "true",
+        bool_text(defaults.gap_closing),
         Patterns::Bool(),
         "'logistic regression' and 'd fit': true gives a gap d above the "
         "'Touching tolerance' that the approach closes within the step, d + "
@@ -127,7 +145,7 @@ namespace fmpm
         "FMPM(k) keeps more energy with it (doc/studies/"
         "two_disks_contact_energy.md). Units: none.");
       prm.declare_entry("Law",
-                        "coulomb",
+                        defaults.default_law.name,
                         Patterns::Selection(law_names()),
                         "The contact law of every pair of materials unless "
                         "'Pair laws' overrides it (a plugin system): "
@@ -136,12 +154,12 @@ namespace fmpm
                         "'imperfect' (a bonded interface with the interface "
                         "stiffnesses). Units: none.");
       prm.declare_entry("Friction coefficient",
-                        "0.3",
+                        format_number(defaults.friction_coefficient),
                         Patterns::Double(0),
                         "mu of 'Law = coulomb'. Units: none.");
       prm.declare_entry(
         "Interface normal stiffness",
-        "1e12",
+        format_number(defaults.interface_normal_stiffness),
         Patterns::Double(0),
         "D_n of 'Law = imperfect': the normal traction of a bonded interface "
         "per unit opening, D_n [u]_n, in tension and compression "
@@ -150,13 +168,13 @@ namespace fmpm
         "transmits nothing (a debonded interface). Units: Pa/m.");
       prm.declare_entry(
         "Interface tangential stiffness",
-        "1e12",
+        format_number(defaults.interface_tangential_stiffness),
         Patterns::Double(0),
         "D_t of 'Law = imperfect': the shear traction per unit slip, "
         "D_t [u]_t (the same limits as the normal stiffness). Units: Pa/m.");
       prm.declare_entry(
         "Pair laws",
-        "",
+        pair_laws_text(defaults.pair_laws),
         Patterns::Anything(),
         "Overrides by material index, separated by ';': 'a b: law', e.g. "
         "'0 1: coulomb 0.2; 1 2: perfect; 0 2: imperfect 1e9 5e8' (a law's "
@@ -164,15 +182,15 @@ namespace fmpm
         "interface stiffnesses). Units: none.");
       prm.declare_entry(
         "Corrections per step",
-        "2",
+        std::to_string(defaults.corrections_per_step),
         Patterns::Integer(1, 2),
         "2: after the extrapolation and after the momentum "
         "update ([NHS2020-contact] §3.2); 1: after the momentum update "
         "only (the 'LR once' comparison). Units: none.");
       prm.declare_entry(
         "Three or more materials",
-        "lumped",
-        Patterns::Selection("lumped|pairwise|explicit"),
+        three_or_more_names.name(defaults.three_or_more),
+        Patterns::Selection(three_or_more_names.pattern()),
         "Nodes with 3+ materials ([NHS2020-contact] §3.4): 'lumped' treats "
         "each material against the sum of the others (Eq. 50; the paper's "
         "recommendation); 'pairwise' corrects every pair in turn (conserves "
@@ -182,8 +200,8 @@ namespace fmpm
         "lumped (the algorithm at the paper's Fig. 4). Units: none.");
       prm.declare_entry(
         "XPIC contact term",
-        "corrected",
-        Patterns::Selection("corrected|uncorrected|series"),
+        xpic_contact_term_names.name(defaults.xpic_contact_term),
+        Patterns::Selection(xpic_contact_term_names.pattern()),
         "Multimaterial XPIC(k)/FMPM(k) (mass matrix 'fmpm' of order k): "
         "'corrected' projects each material with S^{+a} and adds the "
         "contact term (I - S S^{+a})^{k-1} S dv^a of the first correction "
@@ -194,8 +212,9 @@ namespace fmpm
         "3.1.1, method 2 with 'net incremental'). Units: none.");
       prm.declare_entry(
         "Contact in mass-matrix iterations",
-        "net incremental",
-        Patterns::Selection("net incremental|once per step"),
+        iteration_names[defaults.net_incremental ? 0 : 1],
+        Patterns::Selection(std::string(iteration_names[0]) + "|" +
+                            iteration_names[1]),
         "With the FMPM(k) mass matrix: 'net incremental' applies the contact "
         "laws also to each increment of the series of each material "
         "(Nairn 2026, 'net incremental contact'; the velocity conditions "
@@ -212,7 +231,7 @@ namespace fmpm
                                  const unsigned int n_materials)
     {
       prm.enter_subsection("Contact");
-      multimaterial = prm.get("Model name") == "multimaterial";
+      multimaterial = model_names.value(prm.get("Model name"));
       normals_name  = prm.get("Normals");
       {
         const auto values = Utilities::string_to_double(
@@ -265,17 +284,13 @@ namespace fmpm
              std::max(ab[0], ab[1]),
              parse_law(entry.substr(colon + 1), *this, where)});
         }
-      corrections_per_step    = prm.get_integer("Corrections per step");
-      const std::string three = prm.get("Three or more materials");
-      three_or_more           = three == "lumped"   ? ThreeOrMore::lumped :
-                                three == "pairwise" ? ThreeOrMore::pairwise :
-                                                      ThreeOrMore::explicit_pairs;
-      const std::string term  = prm.get("XPIC contact term");
-      xpic_contact_term = term == "uncorrected" ? XpicContactTerm::uncorrected :
-                          term == "series"      ? XpicContactTerm::series :
-                                                  XpicContactTerm::corrected;
+      corrections_per_step = prm.get_integer("Corrections per step");
+      three_or_more =
+        three_or_more_names.value(prm.get("Three or more materials"));
+      xpic_contact_term =
+        xpic_contact_term_names.value(prm.get("XPIC contact term"));
       net_incremental =
-        prm.get("Contact in mass-matrix iterations") == "net incremental";
+        prm.get("Contact in mass-matrix iterations") == iteration_names[0];
       prm.leave_subsection();
     }
 

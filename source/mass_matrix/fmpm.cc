@@ -2,6 +2,7 @@
 // Copyright (C) 2026 by the fmpm authors
 
 #include <fmpm/mass_matrix/fmpm.h>
+#include <fmpm/parameter_entries.h>
 #include <fmpm/simulator.h>
 
 #include <algorithm>
@@ -16,9 +17,10 @@ namespace fmpm
     void
     Fmpm<dim>::declare_parameters(ParameterHandler &prm)
     {
+      const Fmpm<dim> defaults;
       prm.declare_entry(
         "Order",
-        "2",
+        std::to_string(defaults.k),
         Patterns::Integer(1, 1000),
         "The order k of the series m~_k^-1 ([Nairn2023-FMPM] Eq. "
         "1.23): 1 is the lumped mass matrix, larger k "
@@ -26,7 +28,7 @@ namespace fmpm
         "Units: none.");
       prm.declare_entry(
         "Increment tolerance",
-        "0",
+        format_number(defaults.tolerance),
         Patterns::Double(0, 1),
         "Adaptive order: the series ends after the sweep whose increment "
         "Delta v(l) = v(l+1) - v(l) has an l2 norm over all nodes and "
@@ -38,7 +40,7 @@ namespace fmpm
         "keeps the full order). Units: none.");
       prm.declare_entry(
         "Period",
-        "1",
+        std::to_string(defaults.period),
         Patterns::Integer(1),
         "Periodic FMPM(k) (NairnMPM's periodic XPIC, Nairn 2026): the "
         "series and the configured particle update every 'Period' steps "
@@ -47,7 +49,7 @@ namespace fmpm
         "Not with multimaterial contact. Units: steps.");
       prm.declare_entry(
         "Period time",
-        "0",
+        format_number(defaults.period_time),
         Patterns::Double(0),
         "As 'Period', in simulated time: the series in the step that "
         "crosses each multiple of this time (and the first step); 0: use "

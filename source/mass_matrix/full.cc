@@ -2,6 +2,7 @@
 // Copyright (C) 2026 by the fmpm authors
 
 #include <fmpm/mass_matrix/full.h>
+#include <fmpm/parameter_entries.h>
 #include <fmpm/simulator.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -19,21 +20,22 @@ namespace fmpm
     void
     Full<dim>::declare_parameters(ParameterHandler &prm)
     {
+      const Full<dim> defaults;
       prm.declare_entry("Tolerance",
-                        "1e-10",
+                        format_number(defaults.tolerance),
                         Patterns::Double(0, 1),
                         "Relative residual |p - m~ v| / |p| at which CG stops "
                         "(all components together; for accelerations "
                         "|f - m~ a| dt / (|p| + |f| dt), so that a dt is as "
                         "accurate as the velocities). Units: none.");
       prm.declare_entry("Maximum iterations",
-                        "1000",
+                        std::to_string(defaults.max_iterations),
                         Patterns::Integer(1),
                         "CG iterations after which the solve counts as "
                         "failed and the step falls back to the lumped mass "
                         "matrix. Units: none.");
       prm.declare_entry("Weak node threshold",
-                        "0.1",
+                        format_number(defaults.weak_node_threshold),
                         Patterns::Double(0, 1),
                         "Remedy for a nearly singular full mass matrix: nodes "
                         "whose diagonal m~_ii is below this fraction of the "
@@ -43,7 +45,7 @@ namespace fmpm
                         "0 solves the exact full system everywhere. "
                         "Units: none.");
       prm.declare_entry("Lumped fraction",
-                        "0",
+                        format_number(defaults.lumped_fraction),
                         Patterns::Double(0, 1),
                         "Remedy for a nearly singular full mass matrix (few "
                         "points per cell, body edges): solve ((1 - delta) m~ "

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
+#include <fmpm/parameter_entries.h>
 #include <fmpm/particle_update/flip.h>
 
 namespace fmpm

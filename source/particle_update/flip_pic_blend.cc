@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
+#include <fmpm/parameter_entries.h>
 #include <fmpm/particle_update/flip_pic_blend.h>
 
 namespace fmpm
@@ -12,8 +13,9 @@ namespace fmpm
     void
     FlipPicBlend<dim>::declare_parameters(ParameterHandler &prm)
     {
+      const FlipPicBlend<dim> defaults;
       prm.declare_entry("FLIP fraction",
-                        "0.95",
+                        format_number(defaults.alpha),
                         Patterns::Double(0, 1),
                         "Fraction alpha of FLIP in the blend (1: FLIP velocity "
                         "update, 0: PIC). Units: none.");

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
+#include <fmpm/parameter_entries.h>
 #include <fmpm/particle_update/fmpm.h>
 
 namespace fmpm
@@ -11,9 +12,10 @@ namespace fmpm
     void
     Fmpm<dim>::declare_parameters(ParameterHandler &prm)
     {
+      const Fmpm<dim> defaults;
       prm.declare_entry(
         "Position update psi",
-        "1",
+        format_number(defaults.psi),
         Patterns::Double(0, 1),
         "psi of [Nairn2023-FMPM] Eq. 2.28 with the FMPM acceleration A dt = v_p - V "
         "(Eq. 2.41): X += (v_p - psi (v_p - V)/2) dt. 1 is Table 2.1's "

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
+#include <fmpm/parameter_entries.h>
 #include <fmpm/particle_update/xpic.h>
 
 namespace fmpm
@@ -11,9 +12,10 @@ namespace fmpm
     void
     Xpic<dim>::declare_parameters(ParameterHandler &prm)
     {
+      const Xpic<dim> defaults;
       prm.declare_entry(
         "Position update psi",
-        "1",
+        format_number(defaults.psi),
         Patterns::Double(0, 1),
         "X += (v_m + (1 - psi) a dt + psi dV/2) dt with dV = V(n+1) - V(n): "
         "1 is Table 2.1's XPIC(k) position update, 0 moves the points with "

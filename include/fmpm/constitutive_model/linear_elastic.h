@@ -6,6 +6,7 @@
 
 #include <fmpm/constitutive_model/elastic_constants.h>
 #include <fmpm/constitutive_model/interface.h>
+#include <fmpm/parameter_entries.h>
 
 namespace fmpm
 {
@@ -74,6 +75,8 @@ namespace fmpm
         total
       };
       StrainMeasure strain_measure = StrainMeasure::incremental;
+      static constexpr SelectionNames<StrainMeasure, 4> strain_measure_names{
+        {"incremental", "jaumann", "kirchhoff", "total"}};
       /** The constants as the scene sets them (E, ν or K, G). */
       ElasticConstants elastic_constants;
     };

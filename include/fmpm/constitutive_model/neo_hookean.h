@@ -6,6 +6,7 @@
 
 #include <fmpm/constitutive_model/elastic_constants.h>
 #include <fmpm/constitutive_model/interface.h>
+#include <fmpm/parameter_entries.h>
 
 namespace fmpm
 {
@@ -82,6 +83,8 @@ namespace fmpm
         log_j
       };
       EnergyForm energy_form = EnergyForm::j_squared;
+      static constexpr SelectionNames<EnergyForm, 2> energy_form_names{
+        {"J^2", "ln J"}};
       /** The constants as the scene sets them (K, G or E, ν). */
       ElasticConstants elastic_constants;
     };

@@ -4,6 +4,8 @@
 #ifndef fmpm_contact_parameters_h
 #define fmpm_contact_parameters_h
 
+#include <fmpm/parameter_entries.h>
+
 #include <deal.II/base/parameter_handler.h>
 
 #include <string>
@@ -38,15 +40,17 @@ namespace fmpm
      * mean is the law's). */
     struct Law
     {
-      std::string         name = "coulomb";
-      std::vector<double> coefficients{0.3};
+      std::string         name;
+      std::vector<double> coefficients;
     };
 
     /** @brief The subsection Contact. */
     struct Parameters
     {
       /** 'Model name = multimaterial'. */
-      bool multimaterial = false;
+      bool                                     multimaterial = false;
+      static constexpr SelectionNames<bool, 2> model_names{
+        {"none", "multimaterial"}};
       /** 'Normals': the name of a registered normal method
        * (NormalMethodInterface). */
       std::string         normals_name = "logistic regression";
@@ -64,7 +68,13 @@ namespace fmpm
        * step gets contact for the approach beyond d/Δt (true), or DF and LR
        * pairs are in contact only when they touch (false). */
       bool gap_closing = true;
-      Law  default_law;
+      /** μ of 'coulomb', D_n and D_t of 'imperfect' (the numbers of a law
+       * named without numbers). */
+      double friction_coefficient           = 0.3;
+      double interface_normal_stiffness     = 1e12;
+      double interface_tangential_stiffness = 1e12;
+      /** 'Law' with the numbers default_coefficients() gives it. */
+      Law default_law{"coulomb", {friction_coefficient}};
       /** Overrides of 'Pair laws': (material a, material b, law). */
       struct PairLaw
       {
@@ -72,12 +82,7 @@ namespace fmpm
         Law          law;
       };
       std::vector<PairLaw> pair_laws;
-      /** μ of 'coulomb', D_n and D_t of 'imperfect' (the numbers of a law
-       * named without numbers). */
-      double       friction_coefficient           = 0.3;
-      double       interface_normal_stiffness     = 1e12;
-      double       interface_tangential_stiffness = 1e12;
-      unsigned int corrections_per_step           = 2;
+      unsigned int         corrections_per_step = 2;
       /** 'Three or more materials' ([NHS2020-contact] §3.4). */
       enum class ThreeOrMore
       {
@@ -89,12 +94,19 @@ namespace fmpm
          * together, three or more lumped (the algorithm at Fig. 4). */
         explicit_pairs
       };
+      static constexpr SelectionNames<ThreeOrMore, 3> three_or_more_names{
+        {"lumped", "pairwise", "explicit"}};
       ThreeOrMore three_or_more = ThreeOrMore::lumped;
       /** 'XPIC contact term'. */
       XpicContactTerm xpic_contact_term = XpicContactTerm::corrected;
+      static constexpr SelectionNames<XpicContactTerm, 3>
+        xpic_contact_term_names{{"corrected", "uncorrected", "series"}};
       /** 'Contact in mass-matrix iterations = net incremental': the laws
        * also correct each increment of the FMPM(k)/XPIC(k) series. */
       bool net_incremental = true;
+      /** The names of net_incremental = true and false, in this order. */
+      static constexpr const char *iteration_names[2] = {"net incremental",
+                                                         "once per step"};
 
       static void
       declare_parameters(ParameterHandler &prm);
