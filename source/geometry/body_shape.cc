@@ -127,8 +127,25 @@ namespace fmpm
 
 
 
+    template <int dim>
+    std::vector<std::unique_ptr<Shape<dim>>>
+    create_body_shapes(const std::vector<BodyParameters> &bodies)
+    {
+      std::vector<std::unique_ptr<Shape<dim>>> shapes;
+      for (unsigned int b = 0; b < bodies.size(); ++b)
+        shapes.push_back(
+          create_body_shape<dim>(bodies[b], numbered_subsection("Body", b)));
+      return shapes;
+    }
+
+
+
     template std::unique_ptr<Shape<2>>
     create_body_shape<2>(const BodyParameters &, const std::string &);
+    template std::vector<std::unique_ptr<Shape<2>>>
+    create_body_shapes<2>(const std::vector<BodyParameters> &);
+    template std::vector<std::unique_ptr<Shape<3>>>
+    create_body_shapes<3>(const std::vector<BodyParameters> &);
     template std::unique_ptr<Shape<3>>
     create_body_shape<3>(const BodyParameters &, const std::string &);
   } // namespace Geometry

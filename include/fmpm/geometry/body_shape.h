@@ -41,6 +41,11 @@ namespace fmpm
     template <int dim>
     std::unique_ptr<Shape<dim>>
     create_body_shape(const BodyParameters &body, const std::string &where);
+
+    /** The regions of the scene's bodies, in the order of their numbers. */
+    template <int dim>
+    std::vector<std::unique_ptr<Shape<dim>>>
+    create_body_shapes(const std::vector<BodyParameters> &bodies);
   } // namespace Geometry
 } // namespace fmpm
 

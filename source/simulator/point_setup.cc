@@ -1,0 +1,393 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// The material points of the scene's bodies at set-up, and their initial
+// geostatic stress.
+
+#include <fmpm/function_parser.h>
+#include <fmpm/geometry/body_shape.h>
+#include <fmpm/geometry/mesh_body.h>
+#include <fmpm/simulator.h>
+
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/lac/trilinos_sparsity_pattern.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <map>
+
+namespace fmpm
+{
+  template <int dim>
+  void
+  Simulator<dim>::create_material_points()
+  {
+    using Index                 = PropertyIndex<dim>;
+    const unsigned int n_bodies = parameters.bodies.size();
+
+    // One FEValues per distinct number of points per cell: the points are
+    // the midpoints of a regular subdivision of the reference cell, their
+    // volume the JxW of that midpoint rule.
+    std::map<unsigned int, std::unique_ptr<FEValues<dim>>> fe_values_for_ppc;
+    for (const auto &body : parameters.bodies)
+      if (fe_values_for_ppc.find(body.points_per_cell) ==
+          fe_values_for_ppc.end())
+        fe_values_for_ppc[body.points_per_cell] =
+          std::make_unique<FEValues<dim>>(mapping,
+                                          fe,
+                                          QIterated<dim>(QMidpoint<1>(),
+                                                         body.points_per_cell),
+                                          update_quadrature_points |
+                                            update_JxW_values);
+
+    // Initial velocity of each body as a function of position.
+    std::vector<std::unique_ptr<FunctionParser<dim>>> initial_velocity;
+    for (unsigned int b = 0; b < n_bodies; ++b)
+      {
+        const std::string where =
+          numbered_subsection("Body", b) + "/Initial velocity";
+        initial_velocity.push_back(std::make_unique<FunctionParser<dim>>(dim));
+        parse_function(
+          *initial_velocity.back(),
+          where,
+          parameters.bodies[b].velocity_expression,
+          to_function_expressions(parameters.bodies[b].velocity_expression),
+          FunctionParser<dim>::default_variable_names(),
+          parse_function_constants(parameters.bodies[b].function_constants,
+                                   numbered_subsection("Body", b) +
+                                     "/Function constants"),
+          false,
+          std::to_string(dim) + " numbers or expressions in x, y" +
+            (dim == 3 ? ", z" : ""));
+      }
+
+    const auto                    shapes = Geometry::create_body_shapes<dim>(parameters.bodies);
+    std::vector<BoundingBox<dim>> body_boxes;
+    for (const auto &shape : shapes)
+      body_boxes.push_back(shape->bounding_box());
+
+    // Two passes over the same points: the first counts them (the store is
+    // then allocated once, at its size), the second writes each point
+    // straight into the store. Cells outer, bodies inner: the global order
+    // (and so the ids) is the same on any number of ranks. A point inside
+    // an earlier body belongs to that body: the first pass counts the
+    // points of body b left to an earlier body e at [b n_bodies + e].
+    std::vector<unsigned long long> n_overlapping(n_bodies * n_bodies, 0);
+    bool                            count_overlaps = true;
+    std::vector<std::pair<unsigned int, Point<dim>>> mesh_points;
+    const auto for_each_new_point = [&](const auto &on_point) {
+      for (const auto &cell : triangulation.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const BoundingBox<dim> cell_box = cell->bounding_box();
+            for (unsigned int b = 0; b < n_bodies; ++b)
+              {
+                const BodyParameters &body = parameters.bodies[b];
+                if (cell_box.get_neighbor_type(body_boxes[b]) ==
+                    NeighborType::not_neighbors)
+                  continue;
+                // A body from a volume mesh brings its own points; the
+                // others keep the regular points inside their shape.
+                const auto on_candidate = [&](const Point<dim> &x,
+                                              const Point<dim> &reference,
+                                              const double      volume,
+                                              const double      half_length) {
+                  unsigned int earlier = 0;
+                  while (earlier < b && !shapes[earlier]->inside(x))
+                    ++earlier;
+                  if (earlier < b)
+                    {
+                      if (count_overlaps)
+                        ++n_overlapping[b * n_bodies + earlier];
+                      return;
+                    }
+                  on_point(cell, b, x, reference, volume, half_length);
+                };
+                if (body.from_mesh)
+                  {
+                    const auto &region =
+                      static_cast<const Geometry::MeshRegion<dim> &>(
+                        *shapes[b]);
+                    mesh_points.clear();
+                    region.points_in_cell(cell, mapping, mesh_points);
+                    for (const auto &[index, reference] : mesh_points)
+                      on_candidate(region.positions[index],
+                                   reference,
+                                   region.volumes[index],
+                                   0.5 *
+                                     std::pow(region.volumes[index], 1. / dim));
+                    continue;
+                  }
+                FEValues<dim> &fe_values =
+                  *fe_values_for_ppc[body.points_per_cell];
+                fe_values.reinit(cell);
+                const Quadrature<dim> &quadrature = fe_values.get_quadrature();
+                for (unsigned int q = 0; q < quadrature.size(); ++q)
+                  if (shapes[b]->inside(fe_values.quadrature_point(q)))
+                    on_candidate(fe_values.quadrature_point(q),
+                                 quadrature.point(q),
+                                 fe_values.JxW(q),
+                                 -1);
+              }
+          }
+    };
+    unsigned int n_new_points = 0;
+    for_each_new_point([&](const auto &,
+                           const unsigned int,
+                           const Point<dim> &,
+                           const Point<dim> &,
+                           const double,
+                           const double) { ++n_new_points; });
+    count_overlaps = false;
+    Utilities::MPI::sum(n_overlapping, mpi_communicator, n_overlapping);
+    if (!parameters.test_mode &&
+        Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      for (unsigned int b = 0; b < n_bodies; ++b)
+        for (unsigned int earlier = 0; earlier < b; ++earlier)
+          if (n_overlapping[b * n_bodies + earlier] > 0)
+            std::cerr << "fmpm: warning: " << numbered_subsection("Body", b)
+                      << " overlaps " << numbered_subsection("Body", earlier)
+                      << ": " << n_overlapping[b * n_bodies + earlier]
+                      << " of its points lie inside "
+                      << numbered_subsection("Body", earlier)
+                      << " and are not created (overlapping bodies keep the "
+                         "earlier body's points)."
+                      << std::endl;
+
+    // The points go straight into the store (not through the handler);
+    // their ids are set below, before the store is put in cell order.
+    points.initialize(particle_properties.n_properties(),
+                      MaterialPoints<dim>::plane_strain_zero_slots(),
+                      MaterialPoints<dim>::invariant_core_slots());
+    points.reserve(n_new_points);
+    /** The cells with new points, in creation order, and their counts. */
+    std::vector<std::pair<typename Triangulation<dim>::active_cell_iterator,
+                          unsigned int>>
+                                    cell_runs;
+    std::vector<unsigned long long> points_per_body(n_bodies, 0);
+    std::vector<double>             p(particle_properties.n_properties());
+    // half_length < 0: the point's share of a regular subdivision of its
+    // cell.
+    for_each_new_point([&](const auto        &cell,
+                           const unsigned int b,
+                           const Point<dim>  &x,
+                           const Point<dim>  &reference,
+                           const double       volume,
+                           const double       half_length) {
+      const BodyParameters     &body     = parameters.bodies[b];
+      const MaterialParameters &material = parameters.materials[body.material];
+      std::fill(p.begin(), p.end(), 0.);
+      p[Index::mass]           = material.density * volume;
+      p[Index::volume]         = volume;
+      p[Index::initial_volume] = volume;
+      for (unsigned int d = 0; d < dim; ++d)
+        p[Index::velocity + d] = initial_velocity[b]->value(x, d);
+      for (unsigned int i = 0; i < 3; ++i)
+        p[Index::deformation_gradient + 4 * i] = 1.0;
+      p[Index::material_id] = body.material;
+      p[Index::body_id]     = b;
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          p[Index::initial_position + d] = x[d];
+          p[Index::initial_half_length + d] =
+            half_length < 0 ?
+              0.5 * cell->extent_in_direction(d) / body.points_per_cell :
+              half_length;
+        }
+      points.add(0, x, reference, cell, p.data());
+      if (cell_runs.empty() || cell_runs.back().first != cell)
+        cell_runs.emplace_back(cell, 0);
+      ++cell_runs.back().second;
+      ++points_per_body[b];
+    });
+
+    // Globally unique ids, the same on any number of ranks. On a mesh
+    // that is not adapted, the ids count the points in the order of the
+    // active cells of a serial run: coarse cell by coarse cell, and within
+    // a coarse cell in the order of its children. p4est partitions each
+    // coarse cell's children in that order, rank after rank, but orders
+    // the coarse cells its own way (in 3D not as deal.II does): so every
+    // coarse cell's first id is the sum of the points of the coarse cells
+    // before it (on all ranks) and of its own points on the ranks before
+    // this one. An adapted mesh has no such order; there every rank learns
+    // the number of points of every cell (by CellId) and numbers the cells
+    // in the order of their CellId strings, the points of a cell in
+    // creation order.
+    std::vector<types::particle_index> &ids = points.id;
+    if (!parameters.refinement.adaptive())
+      {
+        const unsigned int              n_coarse = triangulation.n_cells(0);
+        std::vector<unsigned long long> local_count(n_coarse, 0);
+        std::vector<unsigned int>       coarse_index(cell_runs.size());
+        for (unsigned int r = 0; r < cell_runs.size(); ++r)
+          {
+            typename Triangulation<dim>::cell_iterator coarse =
+              cell_runs[r].first;
+            while (coarse->level() > 0)
+              coarse = coarse->parent();
+            coarse_index[r] = coarse->index();
+            local_count[coarse_index[r]] += cell_runs[r].second;
+          }
+        std::vector<unsigned long long> on_earlier_ranks(n_coarse, 0);
+        const int                       ierr = MPI_Exscan(local_count.data(),
+                                    on_earlier_ranks.data(),
+                                    n_coarse,
+                                    MPI_UNSIGNED_LONG_LONG,
+                                    MPI_SUM,
+                                    mpi_communicator);
+        AssertThrowMPI(ierr);
+        // MPI_Exscan leaves rank 0's result undefined.
+        if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+          std::fill(on_earlier_ranks.begin(), on_earlier_ranks.end(), 0);
+        std::vector<unsigned long long> total(n_coarse);
+        Utilities::MPI::sum(local_count, mpi_communicator, total);
+        std::vector<unsigned long long> next_id(n_coarse);
+        unsigned long long              before = 0;
+        for (unsigned int c = 0; c < n_coarse; ++c)
+          {
+            next_id[c] = before + on_earlier_ranks[c];
+            before += total[c];
+          }
+        unsigned int i = 0;
+        for (unsigned int r = 0; r < cell_runs.size(); ++r)
+          for (unsigned int j = 0; j < cell_runs[r].second; ++j)
+            ids[i++] = next_id[coarse_index[r]]++;
+      }
+    else
+      {
+        // The points of a cell are consecutive in the store.
+        std::vector<std::pair<std::string, unsigned int>> cell_counts;
+        for (const auto &run : cell_runs)
+          cell_counts.emplace_back(run.first->id().to_string(), run.second);
+        std::vector<std::pair<std::string, unsigned int>> all_counts;
+        for (const auto &rank_counts :
+             Utilities::MPI::all_gather(mpi_communicator, cell_counts))
+          all_counts.insert(all_counts.end(),
+                            rank_counts.begin(),
+                            rank_counts.end());
+        std::sort(all_counts.begin(), all_counts.end());
+        std::map<std::string, unsigned long long> first_id_of_cell;
+        unsigned long long                        next = 0;
+        for (const auto &entry : all_counts)
+          {
+            first_id_of_cell[entry.first] = next;
+            next += entry.second;
+          }
+        unsigned int i = 0;
+        for (unsigned int r = 0; r < cell_runs.size(); ++r)
+          {
+            unsigned long long id = first_id_of_cell[cell_counts[r].first];
+            for (unsigned int j = 0; j < cell_runs[r].second; ++j)
+              ids[i++] = id++;
+          }
+      }
+
+    // Every body must have produced points.
+    Utilities::MPI::sum(points_per_body, mpi_communicator, points_per_body);
+    for (unsigned int b = 0; b < n_bodies; ++b)
+      AssertThrow(points_per_body[b] > 0,
+                  ExcMessage(numbered_subsection("Body", b) +
+                             " contains no material point: its shape lies "
+                             "outside the mesh or is smaller than one point "
+                             "spacing. Check its Center and Half lengths "
+                             "against the Mesh subsection."));
+
+    points.rebin();
+    n_global_material_points =
+      Utilities::MPI::sum<unsigned long long>(points.n_points(),
+                                              mpi_communicator);
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::initialize_stress_from_gravity()
+  {
+    using Index = PropertyIndex<dim>;
+    Tensor<1, dim> g;
+    for (unsigned int d = 0; d < dim; ++d)
+      g[d] = parameters.gravity[d];
+    for (unsigned int b = 0; b < parameters.bodies.size(); ++b)
+      {
+        if (!parameters.bodies[b].initial_stress_from_gravity)
+          continue;
+        AssertThrow(g.norm() > 0,
+                    ExcMessage(numbered_subsection("Body", b) +
+                               "/Initial stress from gravity = true needs a "
+                               "non-zero Body force/Gravity."));
+        const Tensor<1, dim> down = g / g.norm();
+        // The top surface: the smallest ĝ·x over the body's point domains.
+        double top = std::numeric_limits<double>::max();
+        for (unsigned int k = 0; k < points.n_points(); ++k)
+          {
+            const PointRecord p = points.record(k);
+            if (static_cast<unsigned int>(p[Index::body_id]) != b)
+              continue;
+            double half = 0;
+            for (unsigned int d = 0; d < dim; ++d)
+              half += std::abs(down[d]) * p[Index::initial_half_length + d];
+            top = std::min(top, down * points.position[k] - half);
+          }
+        top = Utilities::MPI::min(top, mpi_communicator);
+
+        // Uniaxial strain along ĝ, ε = σ_gg / M with the constrained
+        // modulus M = ρ c_p², so that σ_gg = −ρ|g| depth; the model gives
+        // the lateral stresses (ν/(1−ν) σ_gg for linear elasticity).
+        const unsigned int material = parameters.bodies[b].material;
+        const double       density  = parameters.materials[material].density;
+        const double       c =
+          constitutive_models[material]->wave_speed(density, 1.0);
+        const double                           M = density * c * c;
+        ConstitutiveModel::StressUpdateInputs  inputs;
+        ConstitutiveModel::StressUpdateOutputs outputs;
+        inputs.time_step         = 1;
+        inputs.reference_density = density;
+        inputs.resize(1);
+        for (unsigned int k = 0; k < points.n_points(); ++k)
+          {
+            const PointRecord p = points.record(k);
+            if (static_cast<unsigned int>(p[Index::body_id]) != b)
+              continue;
+            const double depth   = down * points.position[k] - top;
+            const double epsilon = -density * g.norm() * depth / M;
+            Tensor<2, 3> strain;
+            for (unsigned int i = 0; i < dim; ++i)
+              for (unsigned int j = 0; j < dim; ++j)
+                strain[i][j] = epsilon * down[i] * down[j];
+            const Tensor<2, 3> F = unit_symmetric_tensor<3>() + strain;
+            inputs.set_deformation_gradient(0, F);
+            inputs.set_velocity_gradient(0, strain);
+            inputs.set_old_stress(0, get_symmetric_tensor3(p, Index::stress));
+            inputs.old_strain_energy_density[0] =
+              p[Index::strain_energy_density];
+            inputs.old_volume_ratio[0] =
+              p[Index::volume] / p[Index::initial_volume];
+            inputs.properties[0] = p;
+            constitutive_models[material]->update_stress(inputs, outputs);
+            // (In 2D the plane-strain zero entries are not stored.)
+            for (unsigned int a = 0; a < 3; ++a)
+              for (unsigned int c = 0; c < 3; ++c)
+                if (dim == 3 || (a < 2) == (c < 2))
+                  p[Index::deformation_gradient + 3 * a + c] = F[a][c];
+            for (unsigned int c = 0; c < (dim == 3 ? 6 : 4); ++c)
+              p[Index::stress + c] = outputs.cauchy_stress[c][0];
+            p[Index::strain_energy_density] = outputs.strain_energy_density[0];
+            p[Index::volume] = determinant(F) * p[Index::initial_volume];
+          }
+      }
+  }
+
+
+
+  template class Simulator<2>;
+  template class Simulator<3>;
+} // namespace fmpm
