@@ -69,7 +69,7 @@ namespace fmpm
             (dim == 3 ? ", z" : ""));
       }
 
-    const auto                    shapes = Geometry::create_body_shapes<dim>(parameters.bodies);
+    const auto shapes = Geometry::create_body_shapes<dim>(parameters.bodies);
     std::vector<BoundingBox<dim>> body_boxes;
     for (const auto &shape : shapes)
       body_boxes.push_back(shape->bounding_box());
