@@ -8,6 +8,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -154,6 +155,16 @@ namespace fmpm
         lambda[j] = 1e-7 * cell_size * cell_size;
       lambda[dim] = 0;
 
+      // The centred positions with the offset's 1, once per fit.
+      thread_local std::vector<std::array<double, n>> centred;
+      centred.resize(n_points);
+      for (unsigned int p = 0; p < n_points; ++p)
+        {
+          for (unsigned int d = 0; d < dim; ++d)
+            centred[p][d] = x[p][d] - origin[d];
+          centred[p][dim] = 1;
+        }
+
       double phi[n] = {};
       for (unsigned int iteration = 0; iteration <= max_iterations; ++iteration)
         {
@@ -166,11 +177,8 @@ namespace fmpm
             b[j] = -lambda[j] * phi[j];
           for (unsigned int p = 0; p < n_points; ++p)
             {
-              double xp[n];
-              for (unsigned int d = 0; d < dim; ++d)
-                xp[d] = x[p][d] - origin[d];
-              xp[dim]    = 1;
-              double psi = 0.5, f = 0;
+              const double *const xp  = centred[p].data();
+              double              psi = 0.5, f = 0;
               if (iteration > 0)
                 {
                   double s = 0;
