@@ -1035,10 +1035,13 @@ namespace
 
 
   // FLIP's first-order position update (psi = 0), which these contact
-  // runs were measured with: with the default psi = 1 the sandwich's axial
-  // stress is off by 0.12 % (bound 0.01 %), the spring bar's energy changes
-  // by 1.8 % (bound 1 %) and NairnMPM's two disks end at E/E0 = 1.0026
-  // (doc/choosing_a_method.md, known failures).
+  // runs were measured with. The errors grow with psi, nearly linearly:
+  // the sandwich's axial stress is off by 0.0001 %, 0.007 %, 0.12 % at
+  // psi = 0, 0.5, 1 (bound 0.01 %), the spring bar's energy changes by
+  // 0.60 %, 1.12 %, 1.77 % (bound 1 %), and NairnMPM's two disks end at
+  // E/E0 = 1.00025 (psi = 0) and 1.0026 (psi = 1): the −psi a Δt/2 term of
+  // the position update, as in large compression (doc/choosing_a_method.md,
+  // known failures).
   const std::string flip_first_order_position_update =
     "subsection Particle update\n subsection Flip\n"
     "  set Position update psi = 0\n end\nend\n";
