@@ -468,9 +468,12 @@ namespace fmpm
     /** Set the initial stress of bodies that ask for it (gravity). */
     void
     initialize_stress_from_gravity();
-    /** Compute a nodal field (once per step) with BCs, ghosts, constraints. */
+    /** Compute a nodal field (once per step) with BCs, ghosts, constraints;
+     * in a 'grid solve' section of its own unless the caller's covers it
+     * (@p timed false). */
     void
-    compute_field(const ParticleUpdate::GridField field);
+    compute_field(const ParticleUpdate::GridField field,
+                  const bool                      timed = true);
     /** The solver of the nodal fields at the current step's times. */
     FieldSolver<dim>
     field_solver() const;

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -578,12 +579,15 @@ namespace fmpm
 
   template <int dim>
   void
-  Simulator<dim>::compute_field(const ParticleUpdate::GridField field)
+  Simulator<dim>::compute_field(const ParticleUpdate::GridField field,
+                                const bool                      timed)
   {
     using namespace ParticleUpdate;
     if (centre_of_mass.computed[field])
       return;
-    TimerOutput::Scope timer(computing_timer, "grid solve");
+    std::optional<TimerOutput::Scope> timer;
+    if (timed)
+      timer.emplace(computing_timer, "grid solve");
     centre_of_mass.allocate(field);
     const FieldSolver<dim> solver          = field_solver();
     GridVectorField       &target          = centre_of_mass.fields[field];
