@@ -1039,8 +1039,15 @@ namespace
   // the sandwich's axial stress is off by 0.0001 %, 0.007 %, 0.12 % at
   // psi = 0, 0.5, 1 (bound 0.01 %), the spring bar's energy changes by
   // 0.60 %, 1.12 %, 1.77 % (bound 1 %), and NairnMPM's two disks end at
-  // E/E0 = 1.00025 (psi = 0) and 1.0026 (psi = 1): the −psi a Δt/2 term of
-  // the position update, as in large compression (doc/choosing_a_method.md,
+  // E/E0 = 1.00025 (psi = 0) and 1.0026 (psi = 1). Why: the spring's force
+  // and the LR contact test depend on the point positions, and FLIP's
+  // velocity takes the force at the start of the step. For such a
+  // position-driven oscillator of frequency ω, V⁺ = V + aΔt with X⁺ = X +
+  // (V − psi aΔt/2 + aΔt)Δt advances (X, V) by a matrix of determinant
+  // 1 + psi ω²Δt²/2: energy grows each step (the bar: ωΔt = 3.6e-3, 1,168
+  // steps, +0.74 %); psi = 0 is symplectic Euler (determinant 1). The
+  // bulk's stress comes from F, which USAVG+ updates with the averaged
+  // velocity that psi = 1 moves the points with (doc/choosing_a_method.md,
   // known failures).
   const std::string flip_first_order_position_update =
     "subsection Particle update\n subsection Flip\n"
