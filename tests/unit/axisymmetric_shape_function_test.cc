@@ -1,0 +1,527 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// Copyright (C) 2026 by the fmpm authors
+
+// Checks the axisymmetric shape functions of
+// fmpm::ShapeFunction::Axisymmetric (Nairn and Guilkey 2015; NairnMPM's
+// GIMP_Theory Eqs. 5.5, 5.8, 5.9): the radial closed forms against Gauss
+// quadrature of their defining integrals and their classic limit; for every
+// type at random points, near-axis and cut domains included, the identities
+// Σ S = 1, Σ S x_i = the r-weighted centroid, Σ G = 0, Σ G ⊗ x_i = I,
+// Σ T r_i = 1 and Σ T = ∫dA/∫r dA; the 2D supports against quadrature of
+// the defining integrals over the mesh's own shape functions; no node at
+// r < 0; and a uniform radial expansion v_r = a r whose hoop rate
+// Σ v_r,i T_ip equals L_rr.
+
+#include <fmpm/axisymmetric_shape_function.h>
+#include <fmpm/grid_transfer.h>
+
+#include <deal.II/base/partitioner.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/lac/affine_constraints.h>
+
+#include <map>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace
+{
+  using namespace dealii;
+  using fmpm::ShapeFunction::Type;
+  namespace Axisymmetric = fmpm::ShapeFunction::Axisymmetric;
+
+  /** A uniform n_r x n_z mesh of cells of size h from (r_0, 0). */
+  struct RzMesh
+  {
+    RzMesh(const double       r_0,
+           const unsigned int n_r,
+           const unsigned int n_z,
+           const double       h_)
+      : triangulation(MPI_COMM_WORLD)
+      , fe(1)
+      , dof_handler(triangulation)
+      , h(h_)
+    {
+      GridGenerator::subdivided_hyper_rectangle(triangulation,
+                                                {n_r, n_z},
+                                                Point<2>(r_0, 0),
+                                                Point<2>(r_0 + n_r * h,
+                                                         n_z * h));
+      dof_handler.distribute_dofs(fe);
+      const IndexSet owned = dof_handler.locally_owned_dofs();
+      IndexSet       relevant;
+      DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+      constraints.reinit(relevant);
+      constraints.close();
+      partitioner =
+        std::make_shared<Utilities::MPI::Partitioner>(owned,
+                                                      relevant,
+                                                      MPI_COMM_WORLD);
+      transfer.reinit(dof_handler, constraints, *partitioner);
+      DoFTools::map_dofs_to_support_points(MappingQ<2>(1),
+                                           dof_handler,
+                                           support_points);
+    }
+
+    unsigned int
+    cell_of(const Point<2> &x) const
+    {
+      return GridTools::find_active_cell_around_point(MappingQ<2>(1),
+                                                      triangulation,
+                                                      x)
+        .first->active_cell_index();
+    }
+
+    parallel::distributed::Triangulation<2>      triangulation;
+    FE_Q<2>                                      fe;
+    DoFHandler<2>                                dof_handler;
+    AffineConstraints<double>                    constraints;
+    std::shared_ptr<Utilities::MPI::Partitioner> partitioner;
+    fmpm::GridTransfer<2>                        transfer;
+    std::map<types::global_dof_index, Point<2>>  support_points;
+    const double                                 h;
+  };
+
+  /** ∫_lo^hi f by a 12-point Gauss rule on the pieces between @p breaks. */
+  template <typename Function>
+  double
+  integrate_1d(const double        lo,
+               const double        hi,
+               std::vector<double> breaks,
+               const Function     &f)
+  {
+    const QGauss<1> gauss(12);
+    breaks.push_back(lo);
+    breaks.push_back(hi);
+    std::sort(breaks.begin(), breaks.end());
+    double sum = 0;
+    for (unsigned int k = 0; k + 1 < breaks.size(); ++k)
+      {
+        const double a = std::max(breaks[k], lo),
+                     b = std::min(breaks[k + 1], hi);
+        if (!(b > a))
+          continue;
+        for (unsigned int q = 0; q < gauss.size(); ++q)
+          sum += gauss.weight(q) * (b - a) * f(a + gauss.point(q)[0] * (b - a));
+      }
+    return sum;
+  }
+
+
+
+  // The radial factors against Gauss quadrature of their defining integrals
+  // S = ∫N r/∫r, G = ∫N' r/∫r, T = ∫N/∫r over [max(r_p − l, 0), r_p + l],
+  // near the axis (cut and touching domains) and far from it.
+  TEST(AxisymmetricShapeFunction, RadialClosedFormsEqualQuadrature)
+  {
+    std::mt19937                           generator(5);
+    std::uniform_real_distribution<double> unit(0, 1);
+    const double                           h         = 0.5;
+    unsigned int                           n_checked = 0;
+    for (const double r_0 : {0.0, 3.0, 1000.0})
+      for (unsigned int k = 0; k < 200; ++k)
+        {
+          const double l   = h * (0.02 + 0.48 * unit(generator));
+          const double r_p = r_0 + (k % 4 == 0 ? l : 2.5 * h * unit(generator));
+          const double a = std::max(r_p - l, 0.0), b = r_p + l;
+          const double r_area =
+            integrate_1d(a, b, {}, [](const double r) { return r; });
+          for (int i = -1; i <= 7; ++i)
+            {
+              const double r_i = r_0 + i * h;
+              auto         N   = [&](const double r) {
+                return std::max(0.0, 1 - std::abs(r - r_i) / h);
+              };
+              auto dN = [&](const double r) {
+                return std::abs(r - r_i) >= h ? 0.0 :
+                                                (r < r_i ? 1 / h : -1 / h);
+              };
+              const std::vector<double> breaks{r_i - h, r_i, r_i + h};
+              const auto   w = Axisymmetric::gimp_radial(r_p, r_i, h, l);
+              const double S =
+                integrate_1d(a,
+                             b,
+                             breaks,
+                             [&](const double r) { return N(r) * r; }) /
+                r_area;
+              const double G =
+                integrate_1d(a,
+                             b,
+                             breaks,
+                             [&](const double r) { return dN(r) * r; }) /
+                r_area;
+              const double T = integrate_1d(a, b, breaks, N) / r_area;
+              EXPECT_NEAR(w.S, S, 1e-12) << r_p << " " << l << " " << r_i;
+              EXPECT_NEAR(w.G * h, G * h, 1e-12)
+                << r_p << " " << l << " " << r_i;
+              EXPECT_NEAR(w.T * r_p, T * r_p, 1e-12)
+                << r_p << " " << l << " " << r_i;
+              ++n_checked;
+            }
+        }
+    EXPECT_EQ(n_checked, 3u * 200 * 9);
+  }
+
+
+
+  // As the domain shrinks the GIMP factors tend to the classic ones N(r_p),
+  // N'(r_p), N(r_p)/r_p, at second order in l (away from the nodes' kinks).
+  TEST(AxisymmetricShapeFunction, ClassicLimitAsTheDomainShrinks)
+  {
+    const double h = 1;
+    for (const double r_p : {0.3, 1.37, 2.81, 40.6})
+      for (int i = -1; i <= 42; ++i)
+        {
+          const double r_i     = i * h;
+          const auto   classic = Axisymmetric::classic_radial(r_p, r_i, h);
+          double       previous_error = 0;
+          for (const double l : {1e-2, 5e-3})
+            {
+              const auto   w     = Axisymmetric::gimp_radial(r_p, r_i, h, l);
+              const double error = std::abs(w.S - classic.S) +
+                                   std::abs(w.G - classic.G) * h +
+                                   std::abs(w.T - classic.T) * r_p;
+              EXPECT_LT(error, 2 * l * l / (h * std::min(r_p, h)))
+                << r_p << " " << r_i << " " << l;
+              if (previous_error > 1e-14)
+                {
+                  EXPECT_NEAR(previous_error / error, 4, 0.1)
+                    << r_p << " " << r_i;
+                }
+              previous_error = error;
+            }
+        }
+  }
+
+
+
+  /** The r-weighted centroid ∫x r dA/∫r dA and ∫dA/∫r dA of a point's
+   * domain, from the geometry alone. */
+  void
+  domain_moments(const Type          type,
+                 const Point<2>     &x,
+                 const Tensor<2, 2> &F,
+                 const Tensor<1, 2> &l0,
+                 Point<2>           &centroid,
+                 double             &area_over_r_area)
+  {
+    centroid = x;
+    if (type == Type::classic)
+      area_over_r_area = 1 / x[0];
+    else if (type == Type::cpdi)
+      {
+        Tensor<2, 2> s;
+        for (unsigned int c = 0; c < 2; ++c)
+          for (unsigned int j = 0; j < 2; ++j)
+            s[c][j] = F[c][j] * l0[j];
+        Axisymmetric::keep_cpdi_domain_off_axis(x[0], s);
+        // x = x_p + s ξ, r = r_p + s_0j ξ_j over ξ ∈ [−1, 1]²:
+        // ∫ξ_j r dξ = 4 s_0j / 3, ∫r dξ = 4 r_p.
+        Tensor<1, 2> first_row;
+        first_row[0] = s[0][0];
+        first_row[1] = s[0][1];
+        centroid += s * first_row / (3 * x[0]);
+        area_over_r_area = 1 / x[0];
+      }
+    else
+      {
+        const Tensor<1, 2> l =
+          fmpm::ShapeFunction::gimp_half_lengths<2>(type, F, l0);
+        const double a = std::max(x[0] - l[0], 0.0), b = x[0] + l[0];
+        centroid[0]      = 2. / 3 * (b * b * b - a * a * a) / (b * b - a * a);
+        area_over_r_area = 2 / (a + b);
+      }
+  }
+
+
+
+  // Σ S = 1, Σ S x_i = centroid, Σ G = 0, Σ G ⊗ x_i = I, Σ T r_i = 1,
+  // Σ T = ∫dA/∫r dA for every type at random points of a mesh from the axis
+  // (a quarter of them in the first column of cells, where GIMP domains are
+  // cut) and of one far from it; no support node at r < 0.
+  TEST(AxisymmetricShapeFunction, IdentitiesForEveryType)
+  {
+    std::mt19937                           generator(11);
+    std::uniform_real_distribution<double> unit(0, 1), amount(-0.25, 0.25);
+    unsigned int                           n_checked = 0;
+    for (const double r_0 : {0.0, 50.0})
+      {
+        const double                    h = 0.125;
+        RzMesh                          setup(r_0, 8, 8, h);
+        std::vector<Axisymmetric::Node> support;
+        for (unsigned int p = 0; p < 60; ++p)
+          {
+            Point<2>           x(r_0 + (r_0 == 0 && p % 4 == 0 ?
+                                          h * (0.05 + 0.95 * unit(generator)) :
+                                          h * (1 + 6 * unit(generator))),
+                       h * (1 + 6 * unit(generator)));
+            const Tensor<1, 2> l0({0.25 * h, 0.2 * h});
+            Tensor<2, 2>       F;
+            for (unsigned int i = 0; i < 2; ++i)
+              for (unsigned int j = 0; j < 2; ++j)
+                F[i][j] = (i == j ? 1 : 0) + amount(generator);
+            const unsigned int cell = setup.cell_of(x);
+            for (const Type type :
+                 {Type::classic, Type::ugimp, Type::cpgimp, Type::cpdi})
+              {
+                const auto status = Axisymmetric::compute_support(
+                  type, setup.transfer, cell, x, F, l0, support);
+                ASSERT_EQ(status, Axisymmetric::Status::ok)
+                  << fmpm::ShapeFunction::parameter_name(type) << " at " << x;
+                Point<2> centroid;
+                double   area_over_r_area;
+                domain_moments(type, x, F, l0, centroid, area_over_r_area);
+                double       sum_S = 0, sum_T = 0, sum_T_r = 0;
+                Tensor<1, 2> sum_G, sum_S_x;
+                Tensor<2, 2> sum_G_x;
+                for (const auto &node : support)
+                  {
+                    const Point<2> &x_i = setup.support_points.at(node.dof);
+                    EXPECT_GE(x_i[0], 0.0);
+                    sum_S += node.S;
+                    sum_S_x += node.S * x_i;
+                    sum_G += node.G;
+                    sum_G_x += outer_product(node.G, x_i);
+                    sum_T += node.T;
+                    sum_T_r += node.T * x_i[0];
+                  }
+                const std::string where =
+                  fmpm::ShapeFunction::parameter_name(type) + " at " +
+                  std::to_string(x[0]) + ", " + std::to_string(x[1]);
+                const double scale = r_0 + 1;
+                EXPECT_NEAR(sum_S, 1, 1e-13 * scale) << where;
+                EXPECT_NEAR((sum_S_x - centroid).norm(), 0, 1e-13 * scale)
+                  << where;
+                EXPECT_NEAR(sum_G.norm() * h, 0, 1e-13 * scale) << where;
+                EXPECT_NEAR((sum_G_x - unit_symmetric_tensor<2>()).norm(),
+                            0,
+                            1e-12 * scale)
+                  << where;
+                EXPECT_NEAR(sum_T_r, 1, 1e-13 * scale) << where;
+                EXPECT_NEAR(sum_T / area_over_r_area, 1, 1e-13 * scale)
+                  << where;
+                ++n_checked;
+              }
+          }
+      }
+    EXPECT_EQ(n_checked, 2u * 60 * 4);
+  }
+
+
+
+  // The supports against the defining integrals S = ∫N_i r/∫r,
+  // G = ∫∇N_i r/∫r, T = ∫N_i/∫r evaluated with the mesh's own shape
+  // functions at Gauss points: GIMP over the cut box split at the grid
+  // lines; CPDI over the parallelogram with N_i interpolated from the
+  // corners by the parallelogram's bilinear functions.
+  TEST(AxisymmetricShapeFunction, SupportsEqualQuadratureOfDefiningIntegrals)
+  {
+    const double                           h = 0.25;
+    RzMesh                                 setup(0, 8, 8, h);
+    std::mt19937                           generator(3);
+    std::uniform_real_distribution<double> unit(0, 1), amount(-0.2, 0.2);
+    const QGauss<2>                        gauss(6);
+    unsigned int                           n_checked = 0;
+    for (unsigned int p = 0; p < 30; ++p)
+      {
+        const Point<2>     x(h * (p % 3 == 0 ? 0.1 + 0.9 * unit(generator) :
+                                               1 + 6 * unit(generator)),
+                         h * (1 + 6 * unit(generator)));
+        const Tensor<1, 2> l0({0.25 * h, 0.25 * h});
+        Tensor<2, 2>       F;
+        for (unsigned int i = 0; i < 2; ++i)
+          for (unsigned int j = 0; j < 2; ++j)
+            F[i][j] = (i == j ? 1 : 0) + amount(generator);
+        const unsigned int home = setup.cell_of(x);
+        for (const Type type : {Type::ugimp, Type::cpgimp, Type::cpdi})
+          {
+            std::vector<Axisymmetric::Node> support;
+            ASSERT_EQ(Axisymmetric::compute_support(
+                        type, setup.transfer, home, x, F, l0, support),
+                      Axisymmetric::Status::ok);
+            struct Sums
+            {
+              double       S = 0, T = 0;
+              Tensor<1, 2> G;
+            };
+            std::map<types::global_dof_index, Sums> expected;
+            double                                  r_area = 0;
+            fmpm::GridTransfer<2>::Location         location;
+            std::array<double, 4>                   N;
+            std::array<Tensor<1, 2>, 4>             dN;
+            if (type == Type::cpdi)
+              {
+                Tensor<2, 2> s;
+                for (unsigned int c = 0; c < 2; ++c)
+                  for (unsigned int j = 0; j < 2; ++j)
+                    s[c][j] = F[c][j] * l0[j];
+                Axisymmetric::keep_cpdi_domain_off_axis(x[0], s);
+                // N_i at the corners, then its bilinear interpolant.
+                std::map<types::global_dof_index, std::array<double, 4>> corner;
+                for (unsigned int alpha = 0; alpha < 4; ++alpha)
+                  {
+                    const Tensor<1, 2> r(
+                      {(alpha & 1) ? 1. : -1., (alpha & 2) ? 1. : -1.});
+                    ASSERT_EQ(
+                      setup.transfer.locate(home, x + s * r, home, location),
+                      fmpm::GridTransfer<2>::LocateStatus::found);
+                    const auto &cell = setup.transfer.cell_data(location.cell);
+                    fmpm::GridTransfer<2>::values(location.xi, N);
+                    for (unsigned int i = 0; i < 4; ++i)
+                      corner[setup.transfer.dof_index(cell, i)][alpha] += N[i];
+                  }
+                const double       det                 = determinant(s);
+                const Tensor<2, 2> s_inverse_transpose = transpose(invert(s));
+                for (unsigned int q = 0; q < gauss.size(); ++q)
+                  {
+                    const Point<2>     xi_ref = gauss.point(q);
+                    const Tensor<1, 2> xi(
+                      {2 * xi_ref[0] - 1, 2 * xi_ref[1] - 1});
+                    const double r = (x + s * xi)[0];
+                    const double w = gauss.weight(q) * 4 * det;
+                    r_area += w * r;
+                    for (const auto &[dof, values] : corner)
+                      for (unsigned int alpha = 0; alpha < 4; ++alpha)
+                        {
+                          const double r0 = (alpha & 1) ? 1. : -1.;
+                          const double r1 = (alpha & 2) ? 1. : -1.;
+                          const double M =
+                            0.25 * (1 + r0 * xi[0]) * (1 + r1 * xi[1]);
+                          const Tensor<1, 2> dM_dxi(
+                            {0.25 * r0 * (1 + r1 * xi[1]),
+                             0.25 * r1 * (1 + r0 * xi[0])});
+                          expected[dof].S += w * values[alpha] * M * r;
+                          expected[dof].T += w * values[alpha] * M;
+                          expected[dof].G += w * values[alpha] * r *
+                                             (s_inverse_transpose * dM_dxi);
+                        }
+                  }
+              }
+            else
+              {
+                const Tensor<1, 2> l =
+                  fmpm::ShapeFunction::gimp_half_lengths<2>(type, F, l0);
+                const double lo[2] = {std::max(x[0] - l[0], 0.0), x[1] - l[1]};
+                const double hi[2] = {x[0] + l[0], x[1] + l[1]};
+                // The pieces between grid lines per direction.
+                std::vector<double> cuts[2];
+                for (unsigned int d = 0; d < 2; ++d)
+                  {
+                    cuts[d].push_back(lo[d]);
+                    for (int k = -2; k <= 40; ++k)
+                      if (k * h > lo[d] && k * h < hi[d])
+                        cuts[d].push_back(k * h);
+                    cuts[d].push_back(hi[d]);
+                  }
+                for (unsigned int i0 = 0; i0 + 1 < cuts[0].size(); ++i0)
+                  for (unsigned int i1 = 0; i1 + 1 < cuts[1].size(); ++i1)
+                    for (unsigned int q = 0; q < gauss.size(); ++q)
+                      {
+                        const double   dr = cuts[0][i0 + 1] - cuts[0][i0];
+                        const double   dz = cuts[1][i1 + 1] - cuts[1][i1];
+                        const Point<2> y(cuts[0][i0] + gauss.point(q)[0] * dr,
+                                         cuts[1][i1] + gauss.point(q)[1] * dz);
+                        const double   w = gauss.weight(q) * dr * dz;
+                        ASSERT_EQ(
+                          setup.transfer.locate(home, y, home, location),
+                          fmpm::GridTransfer<2>::LocateStatus::found);
+                        const auto &cell =
+                          setup.transfer.cell_data(location.cell);
+                        fmpm::GridTransfer<2>::values_and_gradients(cell,
+                                                                    location.xi,
+                                                                    N,
+                                                                    dN);
+                        r_area += w * y[0];
+                        for (unsigned int i = 0; i < 4; ++i)
+                          {
+                            auto &e =
+                              expected[setup.transfer.dof_index(cell, i)];
+                            e.S += w * N[i] * y[0];
+                            e.T += w * N[i];
+                            e.G += w * y[0] * dN[i];
+                          }
+                      }
+              }
+            for (const auto &node : support)
+              {
+                const auto found = expected.find(node.dof);
+                ASSERT_NE(found, expected.end());
+                const Sums &e = found->second;
+                EXPECT_NEAR(node.S, e.S / r_area, 1e-12);
+                EXPECT_NEAR(node.G[0] * h, e.G[0] / r_area * h, 1e-12);
+                EXPECT_NEAR(node.G[1] * h, e.G[1] / r_area * h, 1e-12);
+                EXPECT_NEAR(node.T * x[0], e.T / r_area * x[0], 1e-12);
+                expected.erase(found);
+                ++n_checked;
+              }
+            // Nodes the support leaves out carry nothing.
+            for (const auto &[dof, e] : expected)
+              EXPECT_NEAR(std::abs(e.S) + std::abs(e.T) * x[0] + e.G.norm() * h,
+                          0,
+                          1e-13);
+          }
+      }
+    EXPECT_GT(n_checked, 30u * 3 * 4);
+  }
+
+
+
+  // A mesh that reaches beyond the axis (r from −2h): no node at r < 0 in
+  // any support, and the identities still hold for points near the axis.
+  TEST(AxisymmetricShapeFunction, NodesBeyondTheAxisAreDropped)
+  {
+    const double h = 0.5;
+    RzMesh       setup(-2 * h, 8, 6, h);
+    for (const Type type :
+         {Type::classic, Type::ugimp, Type::cpgimp, Type::cpdi})
+      for (const double r_p : {0.02, 0.125, 0.2, 0.3, 0.6})
+        {
+          const Point<2>                  x(r_p, 1.3);
+          const Tensor<1, 2>              l0({0.25 * h, 0.25 * h});
+          Tensor<2, 2>                    F({{1.1, 0.1}, {-0.05, 0.95}});
+          std::vector<Axisymmetric::Node> support;
+          ASSERT_EQ(
+            Axisymmetric::compute_support(
+              type, setup.transfer, setup.cell_of(x), x, F, l0, support),
+            Axisymmetric::Status::ok);
+          double sum_S = 0, sum_T_r = 0;
+          for (const auto &node : support)
+            {
+              EXPECT_GE(setup.support_points.at(node.dof)[0], 0.0);
+              sum_S += node.S;
+              sum_T_r += node.T * setup.support_points.at(node.dof)[0];
+            }
+          EXPECT_NEAR(sum_S, 1, 1e-13);
+          EXPECT_NEAR(sum_T_r, 1, 1e-13);
+        }
+    // A point on the axis has no hoop term (classic) and a GIMP domain
+    // wholly at r < 0 none either.
+    std::vector<Axisymmetric::Node> support;
+    const Point<2>                  on_axis(0, 1.3);
+    EXPECT_EQ(Axisymmetric::compute_support(Type::classic,
+                                            setup.transfer,
+                                            setup.cell_of(Point<2>(0.01, 1.3)),
+                                            on_axis,
+                                            unit_symmetric_tensor<2>(),
+                                            Tensor<1, 2>({0.1, 0.1}),
+                                            support),
+              Axisymmetric::Status::on_axis);
+    EXPECT_EQ(Axisymmetric::compute_support(Type::ugimp,
+                                            setup.transfer,
+                                            setup.cell_of(Point<2>(-0.3, 1.3)),
+                                            Point<2>(-0.3, 1.3),
+                                            unit_symmetric_tensor<2>(),
+                                            Tensor<1, 2>({0.1, 0.1}),
+                                            support),
+              Axisymmetric::Status::on_axis);
+  }
+} // namespace
