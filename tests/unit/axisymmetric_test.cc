@@ -10,10 +10,13 @@
 // Σ T r_i = 1 and Σ T = ∫dA/∫r dA; the 2D supports against quadrature of
 // the defining integrals over the mesh's own shape functions; no node at
 // r < 0; and a uniform radial expansion v_r = a r whose hoop rate
-// Σ v_r,i T_ip equals L_rr.
+// Σ v_r,i T_ip equals L_rr, whose Cayley and first-order updates give
+// F_33 = F_11, and the linear-elastic stress σ_θθ = σ_rr for it.
 
 #include <fmpm/axisymmetric_shape_function.h>
+#include <fmpm/constitutive_model/linear_elastic.h>
 #include <fmpm/grid_transfer.h>
+#include <fmpm/transfer/kinematics.h>
 
 #include <deal.II/base/partitioner.h>
 #include <deal.II/base/quadrature_lib.h>
@@ -26,6 +29,7 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/affine_constraints.h>
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <random>
@@ -523,5 +527,188 @@ namespace
                                             Tensor<1, 2>({0.1, 0.1}),
                                             support),
               Axisymmetric::Status::on_axis);
+  }
+
+
+  // A uniform radial expansion v_r = a r with v_z = b z, nodal values on a
+  // mesh from the axis: every type's support gives L = diag(a, b, a)
+  // (L_33 = Σ v_r,i T_ip, Kinematics::hoop_rate()) at random points, near
+  // the axis included. One batch of them through the axisymmetric Cayley
+  // update for n steps: F = diag(c_a^n, c_b^n, c_a^n) with
+  // c = (1 + xΔt/2)/(1 − xΔt/2) (F_33 = F_11), J = F_11 F_22 F_33; the
+  // first-order increments give ΔF_33 = ΔF_11 = 1 + aΔt. The linear-elastic
+  // stress of the step then has σ_θθ = σ_rr = Δt(λ(2a + b) + 2μa) and
+  // σ_zz = Δt(λ(2a + b) + 2μb) (incremental), and σ_θθ = σ_rr from the
+  // total strain of F.
+  TEST(AxisymmetricKinematics, UniformRadialExpansion)
+  {
+    const double       h = 0.125, a = 0.8, b = -0.3, dt = 0.01;
+    RzMesh             mesh(0, 8, 8, h);
+    const unsigned int n_local = mesh.partitioner->locally_owned_size() +
+                                 mesh.partitioner->n_ghost_indices();
+    std::vector<double> v_r(n_local), v_z(n_local);
+    for (unsigned int i = 0; i < n_local; ++i)
+      {
+        const Point<2> &x_i =
+          mesh.support_points.at(mesh.partitioner->local_to_global(i));
+        v_r[i] = a * x_i[0];
+        v_z[i] = b * x_i[1];
+      }
+    const double *const v[2] = {v_r.data(), v_z.data()};
+
+    std::mt19937                           generator(23);
+    std::uniform_real_distribution<double> unit(0, 1), amount(-0.2, 0.2);
+    fmpm::Kinematics::BatchEntries         L        = {};
+    unsigned int                           n_points = 0;
+    for (unsigned int p = 0; p < 12; ++p)
+      {
+        const Point<2> x(h * (p % 3 == 0 ? 0.05 + 0.95 * unit(generator) :
+                                           1 + 6 * unit(generator)),
+                         h * (1 + 6 * unit(generator)));
+        Tensor<2, 2>   F;
+        for (unsigned int i = 0; i < 2; ++i)
+          for (unsigned int j = 0; j < 2; ++j)
+            F[i][j] = (i == j ? 1 : 0) + amount(generator);
+        for (const Type type :
+             {Type::classic, Type::ugimp, Type::cpgimp, Type::cpdi})
+          {
+            std::vector<Axisymmetric::Node> support;
+            ASSERT_EQ(Axisymmetric::compute_support(type,
+                                                    mesh.transfer,
+                                                    mesh.cell_of(x),
+                                                    x,
+                                                    F,
+                                                    Tensor<1, 2>(
+                                                      {0.25 * h, 0.25 * h}),
+                                                    support),
+                      Axisymmetric::Status::ok);
+            std::vector<unsigned int> node;
+            std::vector<double>       T;
+            std::vector<Tensor<1, 2>> G;
+            for (const auto &entry : support)
+              {
+                node.push_back(entry.local_index);
+                T.push_back(entry.T);
+                G.push_back(entry.G);
+              }
+            const unsigned int q = n_points++;
+            fmpm::Kinematics::velocity_gradient<2>(
+              node.data(), G.data(), 0, node.size(), v, L, q);
+            fmpm::Kinematics::hoop_rate(
+              node.data(), T.data(), 0, node.size(), v_r.data(), L, q);
+            const std::string where =
+              fmpm::ShapeFunction::parameter_name(type) + " at " +
+              std::to_string(x[0]) + ", " + std::to_string(x[1]);
+            EXPECT_NEAR(L[0][q], a, 1e-13) << where;
+            EXPECT_NEAR(L[1][q], 0, 1e-13) << where;
+            EXPECT_NEAR(L[3][q], 0, 1e-13) << where;
+            EXPECT_NEAR(L[4][q], b, 1e-13) << where;
+            EXPECT_NEAR(L[8][q], a, 1e-13) << where;
+          }
+      }
+
+    // n Cayley steps from F = I with the gathered rates.
+    constexpr unsigned int capacity =
+      fmpm::ConstitutiveModel::StressUpdateInputs::capacity;
+    ASSERT_LE(n_points, capacity);
+    fmpm::Kinematics::BatchEntries F_old = {}, F_new = {};
+    double                         J[capacity];
+    for (unsigned int q = 0; q < n_points; ++q)
+      F_old[0][q] = F_old[4][q] = F_old[8][q] = 1;
+    const unsigned int n_steps = 50;
+    for (unsigned int step = 0; step < n_steps; ++step)
+      {
+        std::array<const double *, 9> columns;
+        for (unsigned int c = 0; c < 9; ++c)
+          columns[c] = F_old[c];
+        fmpm::Kinematics::axisymmetric_cayley_update(
+          n_points, dt, L, columns, F_new, J);
+        std::copy(&F_new[0][0], &F_new[0][0] + 9 * capacity, &F_old[0][0]);
+      }
+    const double c_a =
+      std::pow((1 + 0.5 * a * dt) / (1 - 0.5 * a * dt), n_steps);
+    const double c_b =
+      std::pow((1 + 0.5 * b * dt) / (1 - 0.5 * b * dt), n_steps);
+    for (unsigned int q = 0; q < n_points; ++q)
+      {
+        EXPECT_NEAR(F_old[0][q], c_a, 1e-11);
+        EXPECT_NEAR(F_old[4][q], c_b, 1e-11);
+        EXPECT_NEAR(F_old[8][q], c_a, 1e-11);
+        EXPECT_NEAR(F_old[8][q], F_old[0][q], 1e-12);
+        EXPECT_NEAR(std::abs(F_old[1][q]) + std::abs(F_old[3][q]), 0, 1e-12);
+        EXPECT_NEAR(J[q], c_a * c_b * c_a, 1e-11);
+      }
+    // Second order: c_a^n is exp(a n Δt) up to O(Δt²).
+    EXPECT_NEAR(c_a, std::exp(a * n_steps * dt), 1e-4);
+
+    // First-order increments.
+    {
+      fmpm::Kinematics::BatchEntries dF = {};
+      fmpm::Kinematics::axisymmetric_increments(
+        fmpm::DeformationGradientUpdate::first_order,
+        fmpm::MethodParameters(),
+        L,
+        dt,
+        n_points,
+        dF);
+      for (unsigned int q = 0; q < n_points; ++q)
+        {
+          EXPECT_NEAR(dF[8][q], 1 + a * dt, 1e-14);
+          EXPECT_NEAR(dF[8][q], dF[0][q], 1e-14);
+          EXPECT_NEAR(dF[4][q], 1 + b * dt, 1e-14);
+          EXPECT_EQ(dF[2][q], 0.);
+          EXPECT_EQ(dF[6][q], 0.);
+        }
+    }
+
+    // The linear-elastic stress of one step from zero stress.
+    fmpm::ConstitutiveModel::LinearElastic<2> model;
+    model.youngs_modulus = 200;
+    model.poissons_ratio = 0.3;
+    const double mu      = 200 / (2 * 1.3);
+    const double lambda  = 200 * 0.3 / (1.3 * 0.4);
+    for (const auto measure :
+         {fmpm::ConstitutiveModel::LinearElastic<2>::StrainMeasure::incremental,
+          fmpm::ConstitutiveModel::LinearElastic<2>::StrainMeasure::total})
+      {
+        model.strain_measure = measure;
+        fmpm::ConstitutiveModel::StressUpdateInputs  inputs;
+        fmpm::ConstitutiveModel::StressUpdateOutputs outputs;
+        inputs.resize(n_points);
+        inputs.time_step = dt;
+        for (unsigned int q = 0; q < n_points; ++q)
+          {
+            for (unsigned int c = 0; c < 9; ++c)
+              {
+                inputs.velocity_gradient[c][q]    = L[c][q];
+                inputs.deformation_gradient[c][q] = F_old[c][q];
+              }
+            inputs.volume_ratio[q] = J[q];
+          }
+        model.update_stress(inputs, outputs);
+        for (unsigned int q = 0; q < n_points; ++q)
+          {
+            const SymmetricTensor<2, 3> sigma = outputs.stress_tensor(q);
+            EXPECT_NEAR(sigma[2][2],
+                        sigma[0][0],
+                        1e-12 * std::abs(sigma[0][0]));
+            EXPECT_NEAR(sigma[0][1], 0, 1e-12 * std::abs(sigma[0][0]));
+            if (measure == fmpm::ConstitutiveModel::LinearElastic<
+                             2>::StrainMeasure::incremental)
+              {
+                EXPECT_NEAR(sigma[0][0],
+                            dt * (lambda * (2 * a + b) + 2 * mu * a),
+                            1e-11);
+                EXPECT_NEAR(sigma[1][1],
+                            dt * (lambda * (2 * a + b) + 2 * mu * b),
+                            1e-11);
+              }
+            else
+              EXPECT_NEAR(sigma[0][0],
+                          lambda * (2 * (c_a - 1) + c_b - 1) +
+                            2 * mu * (c_a - 1),
+                          1e-9);
+          }
+      }
   }
 } // namespace
