@@ -711,4 +711,75 @@ namespace
           }
       }
   }
+
+
+  // Points filling the cylinder r < R, 0 < z < H (2x2 per cell, volume per
+  // radian V_p = A_p⟨r_p⟩ = 4 l_r l_z r_p) under the uniform stress
+  // σ_rr = σ_θθ = p, σ_zz = q (the Lamé disk under radial pressure, in
+  // equilibrium): the internal forces f_i = −Σ_p V_p (σ G_ip + σ_θθ T_ip e_r)
+  // (Eq. 5.13) vanish at every node inside the body and on the axis, and
+  // balance the traction per radian σ_rr R h at the nodes of r = R
+  // (f_r = −σ_rr R h); without
+  // the hoop term they would not vanish. Σ_ip ρ V_p S_ip = ρ R² H / 2, the
+  // mass per radian.
+  TEST(AxisymmetricShapeFunction, UniformHoopStressIsInEquilibrium)
+  {
+    const double       h = 0.25, p = -2.5, q = 1.5, rho = 3;
+    const unsigned int n_r = 6, n_z = 5;
+    const double       R = n_r * h, H = n_z * h;
+    RzMesh             mesh(0, n_r + 2, n_z + 2, h);
+    for (const Type type : {Type::ugimp, Type::cpgimp, Type::cpdi})
+      {
+        std::map<types::global_dof_index, Tensor<1, 2>> force,
+          force_without_hoop;
+        double             mass = 0;
+        const Tensor<1, 2> l({0.25 * h, 0.25 * h});
+        for (unsigned int i = 0; i < 2 * n_r; ++i)
+          for (unsigned int j = 0; j < 2 * n_z; ++j)
+            {
+              const Point<2> x((i + 0.5) * 0.5 * h, (j + 0.5) * 0.5 * h);
+              const double   V = 4 * l[0] * l[1] * x[0];
+              std::vector<Axisymmetric::Node> support;
+              ASSERT_EQ(
+                Axisymmetric::compute_support(type,
+                                              mesh.transfer,
+                                              mesh.cell_of(x),
+                                              x,
+                                              unit_symmetric_tensor<2>(),
+                                              l,
+                                              support),
+                Axisymmetric::Status::ok);
+              for (const auto &node : support)
+                {
+                  Tensor<1, 2> stress_term;
+                  stress_term[0] = p * node.G[0];
+                  stress_term[1] = q * node.G[1];
+                  force_without_hoop[node.dof] -= V * stress_term;
+                  stress_term[0] += p * node.T;
+                  force[node.dof] -= V * stress_term;
+                  mass += rho * V * node.S;
+                }
+            }
+        const std::string where = fmpm::ShapeFunction::parameter_name(type);
+        EXPECT_NEAR(mass / (rho * R * R * H / 2), 1, 1e-14) << where;
+        double largest_without_hoop = 0;
+        for (const auto &[dof, f] : force)
+          {
+            const Point<2> &x_i = mesh.support_points.at(dof);
+            const bool      on_z_faces =
+              std::abs(x_i[1]) < 1e-12 || std::abs(x_i[1] - H) < 1e-12;
+            Tensor<1, 2> expected;
+            if (std::abs(x_i[0] - R) < 1e-12 && !on_z_faces)
+              expected[0] = -p * R * h;
+            if (!on_z_faces)
+              EXPECT_NEAR((f - expected).norm(), 0, 1e-14)
+                << where << " at node " << x_i;
+            if (!on_z_faces && x_i[0] < R - 1e-12)
+              largest_without_hoop =
+                std::max(largest_without_hoop,
+                         force_without_hoop.at(dof).norm());
+          }
+        EXPECT_GT(largest_without_hoop, 0.1 * std::abs(p) * h * h) << where;
+      }
+  }
 } // namespace
