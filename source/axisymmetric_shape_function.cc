@@ -4,6 +4,12 @@
 #include <fmpm/axisymmetric_shape_function.h>
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/grid/tria_accessor.h>
+#include <deal.II/grid/tria_iterator.h>
+
+#include <limits>
+#include <sstream>
 
 namespace fmpm
 {
@@ -230,6 +236,35 @@ namespace fmpm
               }
           }
         return Status::ok;
+      }
+
+
+
+      void
+      check_mesh(const parallel::TriangulationBase<2> &triangulation,
+                 const std::string                    &where)
+      {
+        double smallest_r = std::numeric_limits<double>::max();
+        double largest_h  = 0;
+        for (const auto &cell : triangulation.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              for (const unsigned int v : cell->vertex_indices())
+                smallest_r = std::min(smallest_r, cell->vertex(v)[0]);
+              largest_h = std::max(largest_h, cell->diameter());
+            }
+        smallest_r =
+          Utilities::MPI::min(smallest_r, triangulation.get_communicator());
+        largest_h =
+          Utilities::MPI::max(largest_h, triangulation.get_communicator());
+        std::ostringstream message;
+        message << where
+                << " = axisymmetric: the mesh reaches r = " << smallest_r
+                << " < 0 (x is the radius r, y the axial coordinate z). "
+                   "Allowed: meshes at r >= 0 that start on the axis r = 0 "
+                   "(on a grid line) or beyond it.";
+        AssertThrow(smallest_r >= -1e-12 * largest_h,
+                    ExcMessage(message.str()));
       }
     } // namespace Axisymmetric
   }   // namespace ShapeFunction

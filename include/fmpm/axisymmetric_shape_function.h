@@ -9,9 +9,11 @@
 
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
+#include <deal.II/distributed/tria_base.h>
 
 #include <algorithm>
 #include <array>
+#include <string>
 #include <vector>
 
 namespace fmpm
@@ -296,6 +298,16 @@ namespace fmpm
                       const Tensor<2, 2>    &F,
                       const Tensor<1, 2>    &l0,
                       std::vector<Node>     &support);
+
+      /**
+       * @brief The mesh rule of axisymmetric analysis: no vertex at r < 0
+       * (the mesh starts at r = 0, the axis on a grid line, or beyond it).
+       * Throws an error that names @p where (the parameter that set the
+       * geometry) and the smallest r found (over all MPI ranks).
+       */
+      void
+      check_mesh(const parallel::TriangulationBase<2> &triangulation,
+                 const std::string                    &where);
     } // namespace Axisymmetric
   }   // namespace ShapeFunction
 } // namespace fmpm

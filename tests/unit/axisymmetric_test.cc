@@ -782,4 +782,29 @@ namespace
         EXPECT_GT(largest_without_hoop, 0.1 * std::abs(p) * h * h) << where;
       }
   }
+
+
+  // The mesh rule: a mesh from the axis or beyond passes; one that reaches
+  // r < 0 stops with an error naming the parameter and the r found.
+  TEST(AxisymmetricShapeFunction, MeshMustNotReachBelowTheAxis)
+  {
+    RzMesh from_axis(0, 2, 2, 0.5), beyond(3, 2, 2, 0.5), across(-1, 4, 2, 0.5);
+    EXPECT_NO_THROW(
+      Axisymmetric::check_mesh(from_axis.triangulation, "Geometry/Geometry"));
+    EXPECT_NO_THROW(
+      Axisymmetric::check_mesh(beyond.triangulation, "Geometry/Geometry"));
+    try
+      {
+        Axisymmetric::check_mesh(across.triangulation, "Geometry/Geometry");
+        ADD_FAILURE() << "a mesh reaching r = -1 passed";
+      }
+    catch (const std::exception &error)
+      {
+        const std::string what = error.what();
+        EXPECT_NE(what.find("Geometry/Geometry = axisymmetric"),
+                  std::string::npos)
+          << what;
+        EXPECT_NE(what.find("r = -1 < 0"), std::string::npos) << what;
+      }
+  }
 } // namespace
