@@ -15,6 +15,7 @@
 
 #include <fmpm/axisymmetric_shape_function.h>
 #include <fmpm/constitutive_model/linear_elastic.h>
+#include <fmpm/constitutive_model/neo_hookean.h>
 #include <fmpm/grid_transfer.h>
 #include <fmpm/transfer/kinematics.h>
 
@@ -805,6 +806,56 @@ namespace
                   std::string::npos)
           << what;
         EXPECT_NE(what.find("r = -1 < 0"), std::string::npos) << what;
+      }
+  }
+
+
+  // The 2D neo-Hookean kernels read the hoop stretch F_33: for block
+  // diagonal F = diag-block(F_rz, F_33) (a radial expansion with shear in
+  // the r–z plane) both energy forms give the stress and energy of the 3D
+  // kernels (an independent path: the full 3x3 F, J = det F), σ_θθ = σ_rr
+  // when F = diag(c, d, c), and σ_θθ ≠ σ_zz of plane strain.
+  TEST(AxisymmetricKinematics, NeoHookeanReadsTheHoopStretch)
+  {
+    using Model = fmpm::ConstitutiveModel::NeoHookean<2>;
+    for (const auto form :
+         {Model::EnergyForm::j_squared, Model::EnergyForm::log_j})
+      {
+        fmpm::ConstitutiveModel::NeoHookean<2> model_2d;
+        fmpm::ConstitutiveModel::NeoHookean<3> model_3d;
+        model_2d.bulk_modulus = model_3d.bulk_modulus = 5e6;
+        model_2d.shear_modulus = model_3d.shear_modulus = 1.5e6;
+        model_2d.energy_form                            = form;
+        model_3d.energy_form =
+          static_cast<fmpm::ConstitutiveModel::NeoHookean<3>::EnergyForm>(form);
+        fmpm::ConstitutiveModel::StressUpdateInputs  inputs;
+        fmpm::ConstitutiveModel::StressUpdateOutputs out_2d, out_3d;
+        const std::vector<Tensor<2, 3>>              F{
+          Tensor<2, 3>({{1.2, 0, 0}, {0, 0.9, 0}, {0, 0, 1.2}}),
+          Tensor<2, 3>({{1.05, 0.1, 0}, {-0.05, 0.97, 0}, {0, 0, 1.3}}),
+          Tensor<2, 3>({{0.8, 0, 0}, {0, 1.1, 0}, {0, 0, 0.8}})};
+        inputs.resize(F.size());
+        for (unsigned int q = 0; q < F.size(); ++q)
+          {
+            inputs.set_deformation_gradient(q, F[q]);
+            inputs.volume_ratio[q] = determinant(F[q]);
+          }
+        model_2d.update_stress(inputs, out_2d);
+        model_3d.update_stress(inputs, out_3d);
+        for (unsigned int q = 0; q < F.size(); ++q)
+          {
+            const SymmetricTensor<2, 3> s2 = out_2d.stress_tensor(q),
+                                        s3 = out_3d.stress_tensor(q);
+            EXPECT_LT((s2 - s3).norm(), 1e-12 * s3.norm()) << q;
+            EXPECT_NEAR(out_2d.strain_energy_density[q],
+                        out_3d.strain_energy_density[q],
+                        1e-12 * std::abs(out_3d.strain_energy_density[q]));
+            if (F[q][0][1] == 0)
+              {
+                EXPECT_NEAR(s2[2][2], s2[0][0], 1e-12 * s3.norm()) << q;
+                EXPECT_GT(std::abs(s2[2][2] - s2[1][1]), 1e-3 * s3.norm());
+              }
+          }
       }
   }
 } // namespace
