@@ -45,6 +45,94 @@ namespace fmpm
                                  T});
         }
 
+        /**
+         * S, G, T of the cut box over the cells of the patch of @p home:
+         * on each piece box ∩ cell (axis-aligned cells) a 2x3 Gauss rule
+         * (3 points in r: N_i r is quadratic in r and linear in z there, so
+         * the rule is exact). The pieces must cover the box.
+         */
+        Status
+        gimp_quadrature(const GridTransfer<2> &transfer,
+                        const unsigned int     home,
+                        const Point<2>        &x,
+                        const Tensor<1, 2>    &l,
+                        std::vector<Node>     &support)
+        {
+          const double lo[2] = {std::max(x[0] - l[0], 0.0), x[1] - l[1]};
+          const double hi[2] = {x[0] + l[0], x[1] + l[1]};
+          // ∫ r dA over the box.
+          const double r_area =
+            0.5 * (hi[0] * hi[0] - lo[0] * lo[0]) * (hi[1] - lo[1]);
+          const double box_area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
+          // Gauss-Legendre on [0, 1]: 3 points in r, 2 in z.
+          constexpr double            r_point[3]  = {0.5 - 0.3872983346207417,
+                                                     0.5,
+                                                     0.5 + 0.3872983346207417};
+          constexpr double            r_weight[3] = {5. / 18, 8. / 18, 5. / 18};
+          constexpr double            z_point[2]  = {0.5 - 0.28867513459481287,
+                                                     0.5 + 0.28867513459481287};
+          double                      covered     = 0;
+          std::array<double, 4>       N;
+          std::array<Tensor<1, 2>, 4> dN;
+          for (const unsigned int index : transfer.patch(home))
+            {
+              const auto &cell = transfer.cell_data(index);
+              double      a[2], b[2];
+              bool        overlaps = true;
+              for (unsigned int d = 0; d < 2; ++d)
+                {
+                  a[d]     = std::max(lo[d], cell.lower()[d]);
+                  b[d]     = std::min(hi[d], cell.upper()[d]);
+                  overlaps = overlaps && b[d] > a[d];
+                }
+              if (!overlaps)
+                continue;
+              if (!cell.is_axis_aligned)
+                return Status::needs_axis_aligned_cells;
+              covered += (b[0] - a[0]) * (b[1] - a[1]);
+              double                      S[4] = {}, T[4] = {};
+              std::array<Tensor<1, 2>, 4> G;
+              for (unsigned int i = 0; i < 3; ++i)
+                for (unsigned int j = 0; j < 2; ++j)
+                  {
+                    const Point<2> y(a[0] + r_point[i] * (b[0] - a[0]),
+                                     a[1] + z_point[j] * (b[1] - a[1]));
+                    const double   w =
+                      r_weight[i] * 0.5 * (b[0] - a[0]) * (b[1] - a[1]);
+                    GridTransfer<2>::values_and_gradients(
+                      cell,
+                      GridTransfer<2>::reference_point(cell, y, Point<2>()),
+                      N,
+                      dN);
+                    for (unsigned int k = 0; k < 4; ++k)
+                      {
+                        S[k] += w * N[k] * y[0];
+                        G[k] += (w * y[0]) * dN[k];
+                        T[k] += w * N[k];
+                      }
+                  }
+              for (unsigned int k = 0; k < 4; ++k)
+                {
+                  // Nodes at r < 0 are dropped (their weights vanish).
+                  if ((k & 1 ? cell.upper()[0] : cell.lower()[0]) < 0)
+                    continue;
+                  add_node(support,
+                           transfer,
+                           cell,
+                           k,
+                           S[k] / r_area,
+                           G[k] / r_area,
+                           T[k] / r_area);
+                }
+            }
+          if (covered < box_area * (1 - 1e-12))
+            {
+              support.clear();
+              return Status::beyond_neighbors;
+            }
+          return Status::ok;
+        }
+
         Status
         status_of(const GridTransfer<2>::LocateStatus s)
         {
@@ -146,7 +234,8 @@ namespace fmpm
                       const Point<2>        &x,
                       const Tensor<2, 2>    &F,
                       const Tensor<1, 2>    &l0,
-                      std::vector<Node>     &support)
+                      std::vector<Node>     &support,
+                      const bool             allow_closed_form)
       {
         using Transfer = GridTransfer<2>;
         support.clear();
@@ -216,8 +305,9 @@ namespace fmpm
                 const Tensor<1, 2> l = gimp_half_lengths<2>(type, F, l0);
                 if (!(x[0] + l[0] > 0))
                   return Status::on_axis;
-                if (!transfer.cell_data(cell_index).uniform_patch)
-                  return Status::needs_uniform_patch;
+                if (!allow_closed_form ||
+                    !transfer.cell_data(cell_index).uniform_patch)
+                  return gimp_quadrature(transfer, cell_index, x, l, support);
                 UniformGimpPatch patch;
                 patch.reinit(transfer, cell_index);
                 if (!patch.applies(x, l))

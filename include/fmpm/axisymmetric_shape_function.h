@@ -35,9 +35,12 @@ namespace fmpm
      * - classic: S = N_i(x_p), G = ∇N_i(x_p), T = N_i(x_p)/r_p (r_p > 0).
      * - ugimp, cpgimp: the box x_p ± l (l as ShapeFunction's GIMP) is cut at
      *   the axis: Ω_p = [max(r_p − l_r, 0), r_p + l_r] × [z_p ± l_z], the
-     *   averages over the part at r ≥ 0 (as NairnMPM). The box is a product,
-     *   so S, G, T are products of exact 1D integrals (gimp_radial(), and
-     *   gimp_1d() in z).
+     *   averages over the part at r ≥ 0 (as NairnMPM). On a uniform patch
+     *   the box is a product, so S, G, T are products of exact 1D integrals
+     *   (gimp_radial(), and gimp_1d() in z); on other axis-aligned cells
+     *   (refined meshes, hanging nodes) a Gauss rule on the box's pieces in
+     *   the cells of the patch, exact (N_i r is quadratic in r, linear in z
+     *   on a cell).
      * - cpdi: N_i interpolated from the corners x_α = x_p + s r_α of the
      *   parallelogram s = F diag(l⁰) by its bilinear functions M_α; the
      *   r-weighted integrals of M_α give per corner (r_α ∈ {±1}²)
@@ -81,9 +84,8 @@ namespace fmpm
         /** The point (classic, cpdi) or its whole domain (GIMP) lies at
          * r ≤ 0: no hoop term. */
         on_axis,
-        /** GIMP off a uniform patch (GridTransfer's uniform_patch): the
-         * closed forms do not hold there. */
-        needs_uniform_patch
+        /** GIMP over a cell that is not an axis-aligned box. */
+        needs_axis_aligned_cells
       };
 
       /** The radial factors of one node: S^r, G^r = ∂S/∂r part, T^r. */
@@ -280,7 +282,9 @@ namespace fmpm
       /**
        * @brief The axisymmetric support of one point (see the namespace):
        * classic on any cell, cpdi on any mesh (corners located with
-       * GridTransfer::locate()), ugimp and cpgimp on uniform patches.
+       * GridTransfer::locate()), ugimp and cpgimp on axis-aligned cells
+       * (the closed forms on uniform patches unless @p allow_closed_form is
+       * false).
        *
        * @param type the shape function
        * @param transfer the grid's transfer data
@@ -289,6 +293,8 @@ namespace fmpm
        * @param F the deformation gradient's r–z block
        * @param l0 the initial half-lengths
        * @param support the nodes, written here
+       * @param allow_closed_form GIMP: the closed forms on uniform patches
+       *        (false: always the quadrature, for tests)
        */
       Status
       compute_support(const Type             type,
@@ -297,7 +303,8 @@ namespace fmpm
                       const Point<2>        &x,
                       const Tensor<2, 2>    &F,
                       const Tensor<1, 2>    &l0,
-                      std::vector<Node>     &support);
+                      std::vector<Node>     &support,
+                      const bool             allow_closed_form = true);
 
       /**
        * @brief The mesh rule of axisymmetric analysis: no vertex at r < 0

@@ -50,7 +50,8 @@ namespace
     RzMesh(const double       r_0,
            const unsigned int n_r,
            const unsigned int n_z,
-           const double       h_)
+           const double       h_,
+           const bool         refine_near_axis = false)
       : triangulation(MPI_COMM_WORLD)
       , fe(1)
       , dof_handler(triangulation)
@@ -61,11 +62,20 @@ namespace
                                                 Point<2>(r_0, 0),
                                                 Point<2>(r_0 + n_r * h,
                                                          n_z * h));
+      // Refined cells in the inner half in r: hanging nodes between.
+      if (refine_near_axis)
+        {
+          for (const auto &cell : triangulation.active_cell_iterators())
+            if (cell->center()[0] < r_0 + 0.5 * n_r * h)
+              cell->set_refine_flag();
+          triangulation.execute_coarsening_and_refinement();
+        }
       dof_handler.distribute_dofs(fe);
       const IndexSet owned = dof_handler.locally_owned_dofs();
       IndexSet       relevant;
       DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
       constraints.reinit(relevant);
+      DoFTools::make_hanging_node_constraints(dof_handler, constraints);
       constraints.close();
       partitioner =
         std::make_shared<Utilities::MPI::Partitioner>(owned,
@@ -857,5 +867,92 @@ namespace
               }
           }
       }
+  }
+
+
+  // GIMP by the quadrature on axis-aligned cells: on a uniform mesh it
+  // equals the closed forms node by node (near the axis too); on a mesh
+  // refined near the axis (hanging nodes), where the closed forms do not
+  // apply, Σ S = 1, Σ S x_i = centroid, Σ G = 0, Σ G ⊗ x_i = I, Σ T r_i = 1
+  // hold.
+  TEST(AxisymmetricShapeFunction, GimpQuadratureOnAxisAlignedCells)
+  {
+    std::mt19937                           generator(29);
+    std::uniform_real_distribution<double> unit(0, 1), amount(-0.2, 0.2);
+    const double                           h = 0.25;
+    RzMesh       uniform(0, 8, 8, h), refined(0, 8, 8, h, true);
+    unsigned int n_checked = 0;
+    for (unsigned int p = 0; p < 40; ++p)
+      {
+        const Point<2> x(h * (p % 4 == 0 ? 0.05 + 0.95 * unit(generator) :
+                                           1 + 6 * unit(generator)),
+                         h * (1 + 6 * unit(generator)));
+        Tensor<2, 2>   F;
+        for (unsigned int i = 0; i < 2; ++i)
+          for (unsigned int j = 0; j < 2; ++j)
+            F[i][j] = (i == j ? 1 : 0) + amount(generator);
+        // Half-lengths for the finest cells of the refined mesh.
+        const Tensor<1, 2> l0({0.1 * h, 0.12 * h});
+        for (const Type type : {Type::ugimp, Type::cpgimp})
+          {
+            std::vector<Axisymmetric::Node> closed, quadrature;
+            const unsigned int              cell = uniform.cell_of(x);
+            ASSERT_EQ(Axisymmetric::compute_support(
+                        type, uniform.transfer, cell, x, F, l0, closed),
+                      Axisymmetric::Status::ok);
+            ASSERT_EQ(
+              Axisymmetric::compute_support(
+                type, uniform.transfer, cell, x, F, l0, quadrature, false),
+              Axisymmetric::Status::ok);
+            std::map<types::global_dof_index, const Axisymmetric::Node *>
+              by_dof;
+            for (const auto &node : quadrature)
+              by_dof[node.dof] = &node;
+            for (const auto &node : closed)
+              {
+                ASSERT_EQ(by_dof.count(node.dof), 1u);
+                const auto &other = *by_dof[node.dof];
+                EXPECT_NEAR(node.S, other.S, 1e-13);
+                EXPECT_NEAR((node.G - other.G).norm() * h, 0, 1e-13);
+                EXPECT_NEAR((node.T - other.T) * x[0], 0, 1e-13);
+                by_dof.erase(node.dof);
+              }
+            for (const auto &[dof, node] : by_dof)
+              EXPECT_NEAR(std::abs(node->S) + node->G.norm() * h +
+                            std::abs(node->T) * x[0],
+                          0,
+                          1e-13);
+
+            std::vector<Axisymmetric::Node> support;
+            ASSERT_EQ(
+              Axisymmetric::compute_support(
+                type, refined.transfer, refined.cell_of(x), x, F, l0, support),
+              Axisymmetric::Status::ok)
+              << x;
+            Point<2> centroid;
+            double   area_over_r_area;
+            domain_moments(type, x, F, l0, centroid, area_over_r_area);
+            double       sum_S = 0, sum_T_r = 0;
+            Tensor<1, 2> sum_G, sum_S_x;
+            Tensor<2, 2> sum_G_x;
+            for (const auto &node : support)
+              {
+                const Point<2> &x_i = refined.support_points.at(node.dof);
+                sum_S += node.S;
+                sum_S_x += node.S * x_i;
+                sum_G += node.G;
+                sum_G_x += outer_product(node.G, x_i);
+                sum_T_r += node.T * x_i[0];
+              }
+            EXPECT_NEAR(sum_S, 1, 1e-13) << x;
+            EXPECT_NEAR((sum_S_x - centroid).norm(), 0, 1e-13) << x;
+            EXPECT_NEAR(sum_G.norm() * h, 0, 1e-12) << x;
+            EXPECT_NEAR((sum_G_x - unit_symmetric_tensor<2>()).norm(), 0, 1e-12)
+              << x;
+            EXPECT_NEAR(sum_T_r, 1, 1e-13) << x;
+            ++n_checked;
+          }
+      }
+    EXPECT_EQ(n_checked, 80u);
   }
 } // namespace
