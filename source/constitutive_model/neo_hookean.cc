@@ -114,11 +114,13 @@ namespace fmpm
     namespace
     {
       /**
-       * Plane strain (F₃₃ = 1, no out-of-plane shear) for @p n points: J is
-       * the 2x2 block's determinant and b̄ = J^{-2/3} F Fᵀ has four
-       * entries; otherwise the same Eq. 18 as stress_and_energy(). Three
-       * loops, so that the two without log and exp vectorize (restrict-
-       * qualified parameters; a constant count for full batches).
+       * 2D (no out-of-plane shear) for @p n points: J is the 2x2 block's
+       * determinant times F₃₃ (1 in plane strain, the hoop stretch in
+       * axisymmetric analysis; ×1 leaves plane strain's bits) and
+       * b̄ = J^{-2/3} F Fᵀ has four entries (b̄_zz = J^{-2/3} F₃₃²); otherwise
+       * the same Eq. 18 as stress_and_energy(). Three loops, so that the two
+       * without log and exp vectorize (restrict- qualified parameters; a
+       * constant count for full batches).
        */
       template <typename Count>
       inline void
@@ -129,6 +131,7 @@ namespace fmpm
                                const double *__restrict F_xy,
                                const double *__restrict F_yx,
                                const double *__restrict F_yy,
+                               const double *__restrict F_zz,
                                double *__restrict J,
                                double *__restrict log_J,
                                double *__restrict J_m23,
@@ -141,7 +144,7 @@ namespace fmpm
                                double *__restrict W)
       {
         for (unsigned int q = 0; q < n; ++q)
-          J[q] = F_xx[q] * F_yy[q] - F_xy[q] * F_yx[q];
+          J[q] = (F_xx[q] * F_yy[q] - F_xy[q] * F_yx[q]) * F_zz[q];
         for (unsigned int q = 0; q < n; ++q)
           {
             log_J[q] = std::log(J[q]);
@@ -155,7 +158,7 @@ namespace fmpm
               J_m23[q] * (F_yx[q] * F_yx[q] + F_yy[q] * F_yy[q]);
             const double b_xy =
               J_m23[q] * (F_xx[q] * F_yx[q] + F_xy[q] * F_yy[q]);
-            const double b_zz   = J_m23[q];
+            const double b_zz   = J_m23[q] * (F_zz[q] * F_zz[q]);
             const double I1_bar = b_xx + b_yy + b_zz;
             // τ = G b̄ + (K (J² − 1)/2 − G Ī₁/3) I, σ = τ/J.
             const double pressure_part =
@@ -192,6 +195,7 @@ namespace fmpm
                                  F[1],
                                  F[3],
                                  F[4],
+                                 F[8],
                                  J,
                                  log_J,
                                  J_m23,
@@ -291,8 +295,9 @@ namespace fmpm
        * The 'ln J' form for @p n points ([BonetWood2008] §6.4.3):
        * σ = (μ (b − I) + λ ln J I)/J with b = F Fᵀ, and
        * W = μ/2 (tr b − 3) − μ ln J + λ/2 (ln J)². @p F and @p sigma are
-       * entry blocks (entry c of point q at [c capacity + q]). In plane
-       * strain (dim = 2) J is the 2x2 block's determinant and b_zz = 1.
+       * entry blocks (entry c of point q at [c capacity + q]). In 2D J is
+       * the 2x2 block's determinant times F₃₃ and b_zz = F₃₃² (F₃₃ = 1 in
+       * plane strain).
        * Log in its own loop, so that the other loops vectorize.
        */
       template <int dim, typename Count>
@@ -309,8 +314,9 @@ namespace fmpm
       {
         constexpr unsigned int stride = StressUpdateInputs::capacity;
         for (unsigned int q = 0; q < n; ++q)
-          J[q] = dim == 2 ? F[0 * stride + q] * F[4 * stride + q] -
-                              F[1 * stride + q] * F[3 * stride + q] :
+          J[q] = dim == 2 ? (F[0 * stride + q] * F[4 * stride + q] -
+                             F[1 * stride + q] * F[3 * stride + q]) *
+                              F[8 * stride + q] :
                             volume_ratio[q];
         for (unsigned int q = 0; q < n; ++q)
           log_J[q] = std::log(J[q]);
@@ -321,7 +327,8 @@ namespace fmpm
             double b_xx = F_xx * F_xx + F_xy * F_xy;
             double b_yy = F_yx * F_yx + F_yy * F_yy;
             double b_xy = F_xx * F_yx + F_xy * F_yy;
-            double b_zz = 1, b_xz = 0, b_yz = 0;
+            double b_zz = F[8 * stride + q] * F[8 * stride + q], b_xz = 0,
+                   b_yz = 0;
             if constexpr (dim == 3)
               {
                 const double F_xz = F[2 * stride + q], F_yz = F[5 * stride + q],

@@ -27,8 +27,9 @@ namespace fmpm
      *   \f$\mu = G\f$, \f$\lambda = K - 2G/3\f$.
      *
      * The Cauchy stress is \f$\sigma = \tau/J\f$. Both depend on F only
-     * through b and J: objective. In 2D (plane strain) b_zz = 1 is part of
-     * I_1 and of σ_zz.
+     * through b and J: objective. In 2D b_zz = F_33² is part of I_1 and of
+     * σ_zz (F_33 = 1 in plane strain, the hoop stretch in axisymmetric
+     * analysis).
      *
      * @ingroup ConstitutiveModels
      */

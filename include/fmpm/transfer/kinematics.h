@@ -316,6 +316,145 @@ namespace fmpm
           L[8][q] = zz;
         }
     }
+
+    /**
+     * The hoop rate of an axisymmetric point, L_33 = L_θθ = Σ_j v_r,j T_pj
+     * (Nairn and Guilkey 2015; GIMP_Theory Eq. 5.7: the hoop function T
+     * takes the place of G for ∂/∂θ), over the support entries
+     * [begin, end), into L[8][q]. @p v_r: the nodal radial velocities.
+     */
+    template <typename Count>
+    inline void
+    hoop_rate(const unsigned int *const node,
+              const double *const       T,
+              const unsigned int        begin,
+              const Count               end,
+              const double *const       v_r,
+              BatchEntries             &L,
+              const unsigned int        q)
+    {
+      double rate = 0;
+      for (unsigned int j = begin; j < end; ++j)
+        rate += T[j] * v_r[node[j]];
+      L[8][q] = rate;
+    }
+
+    /**
+     * The axisymmetric Cayley update of @p n points: the r–z block as
+     * plane_strain_cayley_update() and the hoop stretch
+     * F_33^{n+1} = ΔF_33 F_33^n with ΔF_33 = (1 + L_33Δt/2)/(1 − L_33Δt/2)
+     * (L is block diagonal, so its Cayley transform is too);
+     * J = det(F^{n+1}_{2x2}) F_33^{n+1}.
+     */
+    template <typename Count>
+    inline void
+    axisymmetric_cayley_update(const Count  n,
+                               const double dt,
+                               const double *__restrict L_xx,
+                               const double *__restrict L_xy,
+                               const double *__restrict L_yx,
+                               const double *__restrict L_yy,
+                               const double *__restrict L_hoop,
+                               const double *__restrict F_xx_old,
+                               const double *__restrict F_xy_old,
+                               const double *__restrict F_yx_old,
+                               const double *__restrict F_yy_old,
+                               const double *__restrict F_hoop_old,
+                               double *__restrict F_xx,
+                               double *__restrict F_xy,
+                               double *__restrict F_yx,
+                               double *__restrict F_yy,
+                               double *__restrict F_hoop,
+                               double *__restrict J)
+    {
+      alignas(
+        64) double F_hoop_new[ConstitutiveModel::StressUpdateInputs::capacity];
+      for (unsigned int q = 0; q < n; ++q)
+        {
+          const double half = 0.5 * (L_hoop[q] * dt);
+          F_hoop_new[q]     = (1.0 + half) / (1.0 - half) * F_hoop_old[q];
+        }
+      plane_strain_cayley_update(n,
+                                 dt,
+                                 L_xx,
+                                 L_xy,
+                                 L_yx,
+                                 L_yy,
+                                 F_xx_old,
+                                 F_xy_old,
+                                 F_yx_old,
+                                 F_yy_old,
+                                 F_hoop_new,
+                                 F_xx,
+                                 F_xy,
+                                 F_yx,
+                                 F_yy,
+                                 F_hoop,
+                                 J);
+    }
+
+    /**
+     * axisymmetric_cayley_update() of a batch (as cayley_update<2>(), with
+     * the hoop entries L[8] and F_old[8]), with a constant count for a full
+     * batch.
+     */
+    inline void
+    axisymmetric_cayley_update(const unsigned int                   n_points,
+                               const double                         dt,
+                               const BatchEntries                  &L,
+                               const std::array<const double *, 9> &F_old,
+                               BatchEntries                        &F,
+                               double                              *J)
+    {
+      auto update = [&](const auto count) {
+        axisymmetric_cayley_update(count,
+                                   dt,
+                                   L[0],
+                                   L[1],
+                                   L[3],
+                                   L[4],
+                                   L[8],
+                                   F_old[0],
+                                   F_old[1],
+                                   F_old[3],
+                                   F_old[4],
+                                   F_old[8],
+                                   F[0],
+                                   F[1],
+                                   F[3],
+                                   F[4],
+                                   F[8],
+                                   J);
+      };
+      constexpr unsigned int capacity =
+        ConstitutiveModel::StressUpdateInputs::capacity;
+      if (n_points == capacity)
+        update(std::integral_constant<unsigned int, capacity>());
+      else
+        update(n_points);
+    }
+
+    /**
+     * The increments ΔF of the other methods (first order, Taylor,
+     * subcycles) for axisymmetric points: increments<3>() of the block
+     * diagonal L (r–z block and L_33; the out-of-plane shears are zero, so
+     * ΔF is block diagonal too, its zeros exact), after which
+     * F^{n+1} = ΔF F^n on the r–z block and F_33^{n+1} = ΔF_33 F_33^n.
+     */
+    inline void
+    axisymmetric_increments(const DeformationGradientUpdate update,
+                            const MethodParameters         &method,
+                            const BatchEntries             &L,
+                            const double                    dt,
+                            const unsigned int              n_points,
+                            BatchEntries                   &dF)
+    {
+      for (unsigned int q = 0; q < n_points; ++q)
+        Assert(L[2][q] == 0 && L[5][q] == 0 && L[6][q] == 0 && L[7][q] == 0,
+               ExcMessage("An axisymmetric velocity gradient has no "
+                          "out-of-plane shear."));
+      increments<3>(update, method, L, dt, n_points, dF);
+    }
   } // namespace Kinematics
 } // namespace fmpm
 
