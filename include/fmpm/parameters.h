@@ -369,6 +369,9 @@ namespace fmpm
     std::string function_constants;
     /** Start with the stress in equilibrium with gravity (lithostatic). */
     bool initial_stress_from_gravity = false;
+    /** Initial Cauchy stress: expressions in x, y(, z) separated by ';'
+     * (xx; yy; xy in 2D, xx; yy; zz; xy; xz; yz in 3D); empty: none. */
+    std::string initial_stress_expression;
 
     /** Declare the entries of one 'Body N' (the caller enters it). */
     static void

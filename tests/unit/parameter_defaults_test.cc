@@ -164,6 +164,7 @@ namespace
       EXPECT_FIELD(velocity_expression);
       EXPECT_FIELD(function_constants);
       EXPECT_FIELD(initial_stress_from_gravity);
+      EXPECT_FIELD(initial_stress_expression);
     }
     {
       const fmpm::RotatingFrameParameters &parsed = all.rotating_frame;
