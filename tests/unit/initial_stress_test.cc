@@ -102,9 +102,8 @@ end
 // the same column falls onto its base and oscillates.
 TEST(InitialStress, GeostaticColumnStaysAtRest)
 {
-  const double rho = 100, g = 10, H = 1, W = 0.25, T = 0.2;
-  const ColumnRun geostatic =
-    run_column("K0*rho*g*(y - H); rho*g*(y - H); 0");
+  const double    rho = 100, g = 10, H = 1, W = 0.25, T = 0.2;
+  const ColumnRun geostatic = run_column("K0*rho*g*(y - H); rho*g*(y - H); 0");
   const ColumnRun from_zero = run_column("");
   // Speed a point gains falling freely for 1% of the run.
   EXPECT_LT(geostatic.max_speed, 0.01 * g * T);
@@ -114,9 +113,8 @@ TEST(InitialStress, GeostaticColumnStaysAtRest)
   // ρ g H²/(2M) (M = E(1−ν)/((1+ν)(1−2ν))); released suddenly it swings
   // with kinetic energies of the order of the weight times that
   // displacement, and its stress is far from the geostatic one.
-  const double M = 1e6 * 0.7 / (1.3 * 0.4);
-  const double settlement_work =
-    rho * W * H * g * (rho * g * H * H / (2 * M));
+  const double M               = 1e6 * 0.7 / (1.3 * 0.4);
+  const double settlement_work = rho * W * H * g * (rho * g * H * H / (2 * M));
   EXPECT_GT(from_zero.max_kinetic_energy, 0.1 * settlement_work);
   EXPECT_LT(geostatic.max_kinetic_energy, 1e-3 * settlement_work);
   EXPECT_GT(from_zero.max_stress_change, 0.1 * rho * g * H);
@@ -173,7 +171,7 @@ end
       for (unsigned int a = 0; a < 3; ++a)
         for (unsigned int c = 0; c < 3; ++c)
           F[a][c] = p[Index::deformation_gradient + 3 * a + c];
-      F[2][2] = 1; // plane strain
+      F[2][2]                  = 1; // plane strain
       const double       J     = determinant(F);
       const Tensor<2, 3> b     = F * transpose(F);
       const Tensor<2, 3> I     = unit_symmetric_tensor<3>();
@@ -203,7 +201,7 @@ end
 // varies in space but is in equilibrium (div σ = 0), so it stays.
 TEST(InitialStress, LinearElasticStrainEnergy)
 {
-  const double      E = 1e6, nu = 0.3;
+  const double E = 1e6, nu = 0.3;
   const std::string scene = R"(
 set Dimension = 2
 subsection Mesh
