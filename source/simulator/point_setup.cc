@@ -44,7 +44,8 @@ namespace fmpm
       const std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
                           &constitutive_models,
       const unsigned int   n_properties,
-      MaterialPoints<dim> &points)
+      MaterialPoints<dim> &points,
+      const MPI_Comm       communicator)
     {
       using Index = PropertyIndex<dim>;
       // The stress components a scene gives: xx, yy, xy in 2D (plane strain:
@@ -107,17 +108,30 @@ namespace fmpm
             return F;
           };
 
-          // The model's tangent at F = I by finite differences (inverted in
-          // place below: the compliance of the Newton iterations).
-          std::vector<double> scratch(n_properties, 0.);
-          RecordColumns       scratch_columns(make_array_view(scratch));
-          const double        h = 1e-7;
-          FullMatrix<double>  compliance(n, n);
+          // A failure (a model that cannot hold the stress, a point it
+          // cannot reach) stops every rank with its message.
+          std::string failure;
+          // The model's tangent at F = I by finite differences, from the
+          // state of a fresh point of the body (F = I, no stress, the
+          // model's initial history); inverted in place below: the
+          // compliance of the Newton iterations.
+          unsigned int first = 0;
+          while (first < points.n_points() &&
+                 static_cast<unsigned int>(
+                   points.record(first)[Index::body_id]) != b)
+            ++first;
+          std::vector<double> fresh(n_properties, 0.), scratch(n_properties);
+          if (first < points.n_points())
+            for (unsigned int s = 0; s < n_properties; ++s)
+              fresh[s] = points.record(first)[s];
+          RecordColumns      scratch_columns(make_array_view(scratch));
+          const double       h = 1e-7;
+          FullMatrix<double> compliance(n, n);
           for (unsigned int a = 0; a < n; ++a)
             {
               Vector<double> strain(n);
               strain[a] = h;
-              std::fill(scratch.begin(), scratch.end(), 0.);
+              scratch   = fresh;
               stress_at(strain, scratch_columns.record());
               for (unsigned int c = 0; c < n; ++c)
                 compliance(c, a) = outputs.cauchy_stress[given[c]][0] / h;
@@ -125,20 +139,23 @@ namespace fmpm
           double tangent_scale = 0;
           for (unsigned int a = 0; a < n; ++a)
             tangent_scale = std::max(tangent_scale, std::abs(compliance(a, a)));
-          AssertThrow(tangent_scale > 0 && std::abs(compliance.determinant()) >
-                                             1e-10 * std::pow(tangent_scale, n),
-                      ExcMessage(where + ": the model of Material " +
-                                 std::to_string(material) +
-                                 " cannot hold a general stress at rest (its "
-                                 "stiffness at zero strain is singular, e.g. "
-                                 "a fluid without shear modulus): give the "
-                                 "body no 'Initial stress' or another "
-                                 "material."));
-          compliance.gauss_jordan();
+          const bool singular =
+            !(tangent_scale > 0 && std::abs(compliance.determinant()) >
+                                     1e-10 * std::pow(tangent_scale, n));
+          if (first < points.n_points() && singular)
+            failure = where + ": the model of Material " +
+                      std::to_string(material) +
+                      " cannot hold a general stress at rest (its "
+                      "stiffness at zero strain is singular, e.g. "
+                      "a fluid without shear modulus): give the "
+                      "body no 'Initial stress' or another material.";
+          else if (first < points.n_points())
+            compliance.gauss_jordan();
 
           Vector<double> target(n), strain(n), residual(n), correction(n);
           Vector<double> values(n);
-          for (unsigned int k = 0; k < points.n_points(); ++k)
+          for (unsigned int k = first; k < points.n_points() && failure.empty();
+               ++k)
             {
               const PointRecord p = points.record(k);
               if (static_cast<unsigned int>(p[Index::body_id]) != b)
@@ -169,17 +186,19 @@ namespace fmpm
                       strain += correction;
                     }
                 }
-              std::ostringstream position;
-              position << x;
-              AssertThrow(converged,
-                          ExcMessage(
-                            where + ": the model of Material " +
+              if (!converged)
+                {
+                  std::ostringstream position;
+                  position << x;
+                  failure = where + ": the model of Material " +
                             std::to_string(material) +
                             " reaches no strain with the given stress at the "
                             "point at (" +
                             position.str() +
                             ") (it exceeds the model's range, e.g. its "
-                            "yield stress or a tension it cannot hold)."));
+                            "yield stress or a tension it cannot hold).";
+                  break;
+                }
               // The converged strain, now on the point's own state.
               const Tensor<2, 3> F = stress_at(strain, p);
               for (unsigned int a = 0; a < 3; ++a)
@@ -192,6 +211,9 @@ namespace fmpm
                 outputs.strain_energy_density[0];
               p[Index::volume] = determinant(F) * p[Index::initial_volume];
             }
+          for (const std::string &message :
+               Utilities::MPI::all_gather(communicator, failure))
+            AssertThrow(message.empty(), ExcMessage(message));
         }
     }
   } // namespace
@@ -488,7 +510,8 @@ namespace fmpm
     initialize_stress_from_functions(parameters,
                                      constitutive_models,
                                      particle_properties.n_properties(),
-                                     points);
+                                     points,
+                                     mpi_communicator);
     Tensor<1, dim> g;
     for (unsigned int d = 0; d < dim; ++d)
       g[d] = parameters.gravity[d];

@@ -253,6 +253,59 @@ end
 
 
 
+// A model with history (Mie-Grueneisen with J2 plasticity, below its yield
+// stress): each point starts at the given stress, held by a box fixed on
+// all its sides.
+TEST(InitialStress, MieGruneisenStartsAtTheGivenStress)
+{
+  const std::string scene = R"(
+set Dimension = 2
+subsection Mesh
+  set Lower corner = 0, 0
+  set Upper corner = 1, 1
+  set Subdivisions = 4, 4
+end
+subsection Boundary conditions
+  set Fixed boundary ids = 0, 1, 2, 3
+end
+subsection Time
+  set Maximum number of steps = 3
+  set End time = 1
+end
+subsection Material 0
+  set Model name = mie gruneisen
+  set Density    = 8930
+  subsection Mie gruneisen
+    set Bulk modulus  = 137e9
+    set Shear modulus = 46e9
+    set Yield stress  = 400e6
+  end
+end
+subsection Body 0
+  set Center = 0.5, 0.5
+  set Half lengths = 0.5, 0.5
+  set Initial stress = -1e8; -2e8; 5e7
+end
+)" + fmpm_tests::output_overrides("output-initial-stress-mie-gruneisen");
+  ParameterHandler  prm;
+  auto              simulator = make_simulator<2>({}, scene, prm);
+  simulator->run();
+  const auto &points = simulator->get_material_points();
+  ASSERT_GT(points.n_points(), 0u);
+  for (unsigned int k = 0; k < points.n_points(); ++k)
+    {
+      const auto p = points.record(k);
+      EXPECT_NEAR(p[Index::stress + 0], -1e8, 1e-6 * 2e8);
+      EXPECT_NEAR(p[Index::stress + 1], -2e8, 1e-6 * 2e8);
+      EXPECT_NEAR(p[Index::stress + 3], 5e7, 1e-6 * 2e8);
+      // Compressed: J < 1.
+      EXPECT_LT(p[Index::volume], p[Index::initial_volume]);
+    }
+  EXPECT_GT(simulator->get_history().front().strain_energy, 0);
+}
+
+
+
 // A model that cannot hold the stress is refused, naming the body.
 TEST(InitialStress, RefusesWrongComponentCount)
 {
