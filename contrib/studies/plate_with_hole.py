@@ -43,7 +43,7 @@ def heywood(d_over_w):
     return (2 + (1 - d_over_w) ** 3) / (1 - d_over_w)
 
 
-def override_text(n, directory, shape_function):
+def override_text(n, directory, shape_function, traction):
     spacing = MESH_EXTENT / n / 2
     return "\n".join([
         "subsection Mesh",
@@ -56,6 +56,7 @@ def override_text(n, directory, shape_function):
         "  subsection Traction 0",
         # The last column of points only.
         "    set Box lower corner = %.12g, 0" % (HALF_WIDTH - 0.75 * spacing),
+        "    set Function constants = s0=%.12g" % traction,
         "  end",
         "end",
         "subsection Output",
@@ -72,6 +73,11 @@ def last_particles(directory):
 
 def measure(directory, n):
     import numpy as np
+    traction = SIGMA0
+    with open(os.path.join(directory, "override.prm")) as f:
+        for line in f:
+            if "s0=" in line:
+                traction = float(line.split("s0=")[1])
     spacing = MESH_EXTENT / n / 2
     x, y, sxx = [], [], []
     with open(last_particles(directory)) as f:
@@ -79,7 +85,7 @@ def measure(directory, n):
             x.append(float(row["x"]))
             y.append(float(row["y"]))
             sxx.append(float(row["stress_xx"]))
-    x, y, sxx = np.array(x), np.array(y), np.array(sxx) / SIGMA0
+    x, y, sxx = np.array(x), np.array(y), np.array(sxx) / traction
     first_column = (x < spacing) & (y < 2 * RADIUS)
     yc, sc = y[first_column], sxx[first_column]
     nearest = sc[np.argmin(yc)]
@@ -100,6 +106,11 @@ def main():
     parser.add_argument("--shape-functions", nargs="+",
                         default=["classic", "ugimp"])
     parser.add_argument("--plot-only", action="store_true")
+    parser.add_argument("--traction", type=float, default=SIGMA0,
+                        help="far-field traction sigma0 (Pa); a smaller one "
+                        "keeps the loaded edge's points from crossing a "
+                        "cell face on fine meshes (linear: the ratio is the "
+                        "same)")
     arguments = parser.parse_args()
     os.makedirs(arguments.output, exist_ok=True)
 
@@ -112,7 +123,8 @@ def main():
             if not arguments.plot_only:
                 override = os.path.join(directory, "override.prm")
                 with open(override, "w") as f:
-                    f.write(override_text(n, directory, shape_function))
+                    f.write(override_text(n, directory, shape_function,
+                                          arguments.traction))
                 start = time.time()
                 with open(os.path.join(directory, "log.txt"), "w") as log:
                     subprocess.run([arguments.fmpm, SCENE, override],
