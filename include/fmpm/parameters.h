@@ -357,11 +357,13 @@ namespace fmpm
     /** 'Body N/File name': the polygon, surface or volume mesh file. */
     std::string file_name;
     /** Whether the body is the volume mesh of 'File name' (Shape = mesh). */
-    bool                from_mesh = false;
-    std::vector<double> center{0.5, 0.5, 0.5};
-    std::vector<double> half_lengths{0.25, 0.25, 0.25};
-    unsigned int        material        = 0;
-    unsigned int        points_per_cell = 2;
+    bool from_mesh = false;
+    /** 'Body N/Physical groups': the mesh cells' groups (all if empty). */
+    std::vector<unsigned int> physical_groups;
+    std::vector<double>       center{0.5, 0.5, 0.5};
+    std::vector<double>       half_lengths{0.25, 0.25, 0.25};
+    unsigned int              material        = 0;
+    unsigned int              points_per_cell = 2;
     /** Initial velocity: numbers separated by ',' or expressions by ';'
      * (the default's first dim). */
     std::string velocity_expression = "0, 0, 0";
@@ -369,6 +371,9 @@ namespace fmpm
     std::string function_constants;
     /** Start with the stress in equilibrium with gravity (lithostatic). */
     bool initial_stress_from_gravity = false;
+    /** Initial Cauchy stress: expressions in x, y(, z) separated by ';'
+     * (xx; yy; xy in 2D, xx; yy; zz; xy; xz; yz in 3D); empty: none. */
+    std::string initial_stress_expression;
 
     /** Declare the entries of one 'Body N' (the caller enters it). */
     static void

@@ -37,7 +37,8 @@ namespace fmpm
         "normal), expression(\"f(x, y, z)\") (the region where the "
         "FunctionParser expression is <= 0, with the body's 'Function "
         "constants'), surface(file) (3D: the region enclosed by the closed "
-        "STL surface, ASCII or binary, in 'File name'; an open surface is "
+        "STL surface (ASCII or binary) or OBJ surface (a '.obj' file name) "
+        "in 'File name'; an open surface is "
         "refused); rotate(angle; [axis (3D);] [point;] shape) turns a shape "
         "counterclockwise by the angle in degrees about the point (default: "
         "the centre of its bounding box), translate(displacement; shape) "
@@ -55,6 +56,14 @@ namespace fmpm
                         "The file a 'Shape' of 'mesh', polygon(file) or "
                         "surface(file) reads, relative to the scene file's "
                         "folder. Units: none.");
+      prm.declare_entry(
+        "Physical groups",
+        "",
+        Patterns::List(Patterns::Integer(0)),
+        "Shape = mesh only: the physical groups (Gmsh physical tags, read as "
+        "the cells' material ids) whose cells make the body, e.g. '1, 3'; "
+        "one mesh file with several groups gives several bodies, each with "
+        "its own Material. Empty: all cells. Units: none.");
     }
 
 
@@ -67,6 +76,15 @@ namespace fmpm
     {
       const std::string shape = Utilities::trim(prm.get("Shape"));
       body.file_name          = prm.get("File name");
+      body.physical_groups.clear();
+      for (const auto &group :
+           Utilities::split_string_list(prm.get("Physical groups")))
+        body.physical_groups.push_back(Utilities::string_to_int(group));
+      AssertThrow(body.physical_groups.empty() || shape == "mesh",
+                  ExcMessage(where +
+                             "/Physical groups is set but Shape is not "
+                             "'mesh': physical groups pick cells of a volume "
+                             "mesh body only."));
       body.shape_formula.clear();
       body.from_mesh = false;
       bool legacy    = false;
@@ -99,7 +117,8 @@ namespace fmpm
       if (body.from_mesh)
         return make_mesh_region<dim>(body.file_name,
                                      body.points_per_cell,
-                                     where + "/File name");
+                                     where + "/File name",
+                                     body.physical_groups);
       if (!body.shape_formula.empty())
         {
           ShapeContext context;

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace fmpm
@@ -74,9 +75,11 @@ namespace fmpm
 
 
     template <int dim>
-    MeshRegion<dim>::MeshRegion(const std::string &file_name,
-                                const unsigned int n_points_1d,
-                                const std::string &where)
+    MeshRegion<dim>::MeshRegion(
+      const std::string               &file_name,
+      const unsigned int               n_points_1d,
+      const std::string               &where,
+      const std::vector<unsigned int> &physical_groups)
     {
       AssertThrow(std::filesystem::is_regular_file(file_name),
                   ExcMessage(where + " = <" + file_name +
@@ -102,6 +105,32 @@ namespace fmpm
       AssertThrow(mesh.n_active_cells() > 0,
                   ExcMessage(where + " = <" + file_name + "> holds no cell."));
 
+      // The cells of the chosen physical groups (GridIn reads a Gmsh
+      // physical tag as the cell's material id).
+      std::set<unsigned int> groups_in_file;
+      for (const auto &cell : mesh.active_cell_iterators())
+        groups_in_file.insert(cell->material_id());
+      const auto chosen = [&](const auto &cell) {
+        return physical_groups.empty() ||
+               std::find(physical_groups.begin(),
+                         physical_groups.end(),
+                         cell->material_id()) != physical_groups.end();
+      };
+      for (const unsigned int group : physical_groups)
+        if (groups_in_file.count(group) == 0)
+          {
+            std::string present;
+            for (const unsigned int g : groups_in_file)
+              present += (present.empty() ? "" : ", ") + std::to_string(g);
+            AssertThrow(false,
+                        ExcMessage(where + " = <" + file_name +
+                                   "> has no cell of physical group " +
+                                   std::to_string(group) +
+                                   " (Physical groups); its cells' groups "
+                                   "are: " +
+                                   present + "."));
+          }
+
       // One FEValues per kind of cell.
       std::map<ReferenceCell, std::unique_ptr<FE_Nothing<dim>>> elements;
       std::map<ReferenceCell, std::unique_ptr<FEValues<dim>>>   fe_values;
@@ -117,8 +146,13 @@ namespace fmpm
             kind.template get_gauss_type_quadrature<dim>(n_points_1d),
             update_quadrature_points | update_JxW_values);
         }
+      std::vector<Point<dim>> chosen_vertices;
       for (const auto &cell : mesh.active_cell_iterators())
         {
+          if (!chosen(cell))
+            continue;
+          for (const unsigned int v : cell->vertex_indices())
+            chosen_vertices.push_back(cell->vertex(v));
           FEValues<dim> &values = *fe_values[cell->reference_cell()];
           values.reinit(cell);
           for (unsigned int q = 0; q < values.n_quadrature_points; ++q)
@@ -133,7 +167,7 @@ namespace fmpm
         }
 
       // Buckets: about one cell per bucket.
-      box       = BoundingBox<dim>(mesh.get_vertices());
+      box       = BoundingBox<dim>(chosen_vertices);
       n_buckets = std::max<unsigned int>(
         1,
         std::min<unsigned int>(256, std::pow(mesh.n_active_cells(), 1. / dim)));
@@ -143,6 +177,8 @@ namespace fmpm
         bucket_points[bucket_index(bucket_of(positions[i]))].push_back(i);
       for (const auto &cell : mesh.active_cell_iterators())
         {
+          if (!chosen(cell))
+            continue;
           const BoundingBox<dim> cell_box = cell->bounding_box();
           for_each_index<dim>(bucket_of(cell_box.get_boundary_points().first),
                               bucket_of(cell_box.get_boundary_points().second),
@@ -245,11 +281,15 @@ namespace fmpm
 
     template <int dim>
     std::unique_ptr<Shape<dim>>
-    make_mesh_region(const std::string &file_name,
-                     const unsigned int n_points_1d,
-                     const std::string &where)
+    make_mesh_region(const std::string               &file_name,
+                     const unsigned int               n_points_1d,
+                     const std::string               &where,
+                     const std::vector<unsigned int> &physical_groups)
     {
-      return std::make_unique<MeshRegion<dim>>(file_name, n_points_1d, where);
+      return std::make_unique<MeshRegion<dim>>(file_name,
+                                               n_points_1d,
+                                               where,
+                                               physical_groups);
     }
 
 
@@ -259,10 +299,12 @@ namespace fmpm
     template std::unique_ptr<Shape<2>>
     make_mesh_region<2>(const std::string &,
                         const unsigned int,
-                        const std::string &);
+                        const std::string &,
+                        const std::vector<unsigned int> &);
     template std::unique_ptr<Shape<3>>
     make_mesh_region<3>(const std::string &,
                         const unsigned int,
-                        const std::string &);
+                        const std::string &,
+                        const std::vector<unsigned int> &);
   } // namespace Geometry
 } // namespace fmpm

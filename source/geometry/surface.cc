@@ -17,9 +17,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -99,6 +101,79 @@ namespace fmpm
                     ExcMessage(where + " = <" + file_name +
                                ">: the last facet has fewer than three "
                                "vertices."));
+        return triangles;
+      }
+
+
+
+      /** The triangles of a Wavefront OBJ file: its 'v x y z' vertices
+       * and 'f i j k ...' faces (1-based or negative indices, 'i/t/n'
+       * forms; a polygon face split into a fan of triangles). */
+      std::vector<Triangle>
+      read_obj(const std::string &file_name, const std::string &where)
+      {
+        std::ifstream in(file_name);
+        AssertThrow(in.good(),
+                    ExcMessage(where + " = <" + file_name +
+                               "> cannot be read: the surface file is "
+                               "missing or not readable."));
+        std::vector<Point<3>> vertices;
+        std::vector<Triangle> triangles;
+        std::string           line;
+        unsigned int          line_number = 0;
+        while (std::getline(in, line))
+          {
+            ++line_number;
+            std::istringstream words(line);
+            std::string        keyword;
+            if (!(words >> keyword))
+              continue;
+            const std::string at = where + " = <" + file_name + ">, line " +
+                                   std::to_string(line_number) + ": ";
+            if (keyword == "v")
+              {
+                Point<3> p;
+                AssertThrow(words >> p[0] >> p[1] >> p[2],
+                            ExcMessage(at + "a vertex 'v' needs three "
+                                            "numbers."));
+                vertices.push_back(p);
+              }
+            else if (keyword == "f")
+              {
+                std::vector<Point<3>> corners;
+                std::string           corner;
+                while (words >> corner)
+                  {
+                    int index = 0;
+                    try
+                      {
+                        index = std::stoi(corner.substr(0, corner.find('/')));
+                      }
+                    catch (const std::exception &)
+                      {
+                        AssertThrow(false,
+                                    ExcMessage(at + "'" + corner +
+                                               "' is not a vertex index."));
+                      }
+                    const long resolved =
+                      index < 0 ? static_cast<long>(vertices.size()) + index :
+                                  index - 1;
+                    AssertThrow(index != 0 && resolved >= 0 &&
+                                  resolved < static_cast<long>(vertices.size()),
+                                ExcMessage(at + "vertex index " + corner +
+                                           " names no vertex read so far (" +
+                                           std::to_string(vertices.size()) +
+                                           ")."));
+                    corners.push_back(vertices[resolved]);
+                  }
+                AssertThrow(corners.size() >= 3,
+                            ExcMessage(at + "a face needs at least three "
+                                            "vertices."));
+                for (unsigned int k = 1; k + 1 < corners.size(); ++k)
+                  triangles.push_back(
+                    {{corners[0], corners[k], corners[k + 1]}});
+              }
+          }
         return triangles;
       }
 
@@ -226,7 +301,14 @@ namespace fmpm
     std::unique_ptr<Shape<3>>
     make_surface(const std::string &file_name, const std::string &where)
     {
-      const std::vector<Triangle> triangles = read_stl(file_name, where);
+      std::string extension = std::filesystem::path(file_name).extension();
+      std::transform(extension.begin(),
+                     extension.end(),
+                     extension.begin(),
+                     [](const unsigned char c) { return std::tolower(c); });
+      const std::vector<Triangle> triangles = extension == ".obj" ?
+                                                read_obj(file_name, where) :
+                                                read_stl(file_name, where);
       AssertThrow(!triangles.empty(),
                   ExcMessage(where + " = <" + file_name +
                              "> holds no triangle."));

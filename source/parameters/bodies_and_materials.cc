@@ -99,7 +99,8 @@ namespace fmpm
     prm.declare_entry("Function constants",
                       defaults.function_constants,
                       Patterns::Anything(),
-                      "Constants for the 'Initial velocity' expressions, "
+                      "Constants for the 'Initial velocity' and 'Initial "
+                      "stress' expressions and the shape formula, "
                       "e.g. 'v0=0.1, beta=1.5708'. Units: as used.");
     prm.declare_entry("Initial stress from gravity",
                       bool_text(defaults.initial_stress_from_gravity),
@@ -110,6 +111,20 @@ namespace fmpm
                       "stresses of uniaxial strain, so that a column "
                       "under gravity starts at rest. Depth is measured "
                       "from the body's top surface. Units: none.");
+    prm.declare_entry(
+      "Initial stress",
+      defaults.initial_stress_expression,
+      Patterns::Anything(),
+      "Initial Cauchy stress of the points as FunctionParser expressions "
+      "in x, y, z separated by ';', with the body's 'Function constants': "
+      "xx; yy; xy in 2D (sigma_zz then follows from plane strain), "
+      "xx; yy; zz; xy; xz; yz in 3D; for example the geostatic "
+      "'K0*rho*g*(y - H); rho*g*(y - H); 0'. The points start pre-strained "
+      "by the symmetric stretch F = I + eps for which the material's model "
+      "gives this stress (found by Newton iterations), so every model "
+      "continues from it consistently and the strain energy is the "
+      "model's. Empty: no initial stress. Not together with 'Initial "
+      "stress from gravity'. Units: Pa.");
   }
 
 
@@ -126,6 +141,14 @@ namespace fmpm
     velocity_expression         = prm.get("Initial velocity");
     function_constants          = prm.get("Function constants");
     initial_stress_from_gravity = prm.get_bool("Initial stress from gravity");
+    initial_stress_expression   = prm.get("Initial stress");
+    AssertThrow(!initial_stress_from_gravity ||
+                  initial_stress_expression.find_first_not_of(" \t") ==
+                    std::string::npos,
+                ExcMessage(where +
+                           ": 'Initial stress' and 'Initial stress from "
+                           "gravity = true' both set the initial stress; "
+                           "give only one of them."));
     AssertThrow(material < size.n_materials,
                 ExcMessage(where + "/Material = " + std::to_string(material) +
                            " does not exist: the scene has 'Number of "

@@ -2,7 +2,7 @@
 // Copyright (C) 2026 by the fmpm authors
 
 // The material points of the scene's bodies at set-up, and their initial
-// geostatic stress.
+// stress (geostatic, or given as functions of position).
 
 #include <fmpm/function_parser.h>
 #include <fmpm/geometry/body_shape.h>
@@ -16,16 +16,210 @@
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/grid_tools.h>
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
+#include <deal.II/lac/vector.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 namespace fmpm
 {
+  namespace
+  {
+    /**
+     * The 'Initial stress' functions of the bodies: each point starts
+     * pre-strained by the symmetric stretch F = I + ε at which its model
+     * gives the stress (Newton iterations on the model's tangent at F = I),
+     * with the model's stress, strain energy and history at that state.
+     */
+    template <int dim>
+    void
+    initialize_stress_from_functions(
+      const Parameters &parameters,
+      const std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
+                          &constitutive_models,
+      const unsigned int   n_properties,
+      MaterialPoints<dim> &points,
+      const MPI_Comm       communicator)
+    {
+      using Index = PropertyIndex<dim>;
+      // The stress components a scene gives: xx, yy, xy in 2D (plane strain:
+      // σ_zz follows from ε_zz = 0), all six in 3D; as stored slots.
+      const std::vector<unsigned int> given =
+        dim == 2 ? std::vector<unsigned int>{0, 1, 3} :
+                   std::vector<unsigned int>{0, 1, 2, 3, 4, 5};
+      const unsigned int n = given.size();
+      for (unsigned int b = 0; b < parameters.bodies.size(); ++b)
+        {
+          const BodyParameters &body = parameters.bodies[b];
+          if (body.initial_stress_expression.find_first_not_of(" \t") ==
+              std::string::npos)
+            continue;
+          const std::string where =
+            numbered_subsection("Body", b) + "/Initial stress";
+          FunctionParser<dim> stress_function(n);
+          parse_function(
+            stress_function,
+            where,
+            body.initial_stress_expression,
+            body.initial_stress_expression,
+            FunctionParser<dim>::default_variable_names(),
+            parse_function_constants(body.function_constants,
+                                     numbered_subsection("Body", b) +
+                                       "/Function constants"),
+            false,
+            std::to_string(n) + " expressions in x, y" +
+              (dim == 3 ? ", z" : "") + " separated by ';' (" +
+              (dim == 2 ? "xx; yy; xy" : "xx; yy; zz; xy; xz; yz") + ")");
+
+          const unsigned int material = body.material;
+          const double       density  = parameters.materials[material].density;
+          const auto        &model    = *constitutive_models[material];
+          ConstitutiveModel::StressUpdateInputs  inputs;
+          ConstitutiveModel::StressUpdateOutputs outputs;
+          inputs.time_step         = 1;
+          inputs.reference_density = density;
+          inputs.resize(1);
+          inputs.old_volume_ratio[0] = 1;
+          // The model's stress at the symmetric stretch F = I + ε, reached
+          // from the unstressed state in one step (L = ε, Δt = 1).
+          const auto stress_at = [&](const Vector<double> &strain,
+                                     const PointRecord    &record) {
+            Tensor<2, 3> epsilon;
+            for (unsigned int a = 0; a < n; ++a)
+              {
+                const unsigned int i = stress_component_i[given[a]],
+                                   j = stress_component_j[given[a]];
+                epsilon[i][j] = epsilon[j][i] = strain[a];
+              }
+            const Tensor<2, 3> F = unit_symmetric_tensor<3>() + epsilon;
+            inputs.set_deformation_gradient(0, F);
+            inputs.set_velocity_gradient(0, epsilon);
+            inputs.set_old_stress(0, SymmetricTensor<2, 3>());
+            inputs.old_strain_energy_density[0] = 0;
+            inputs.properties[0]                = record;
+            outputs.failed_point                = -1;
+            model.update_stress(inputs, outputs);
+            return F;
+          };
+
+          // A failure (a model that cannot hold the stress, a point it
+          // cannot reach) stops every rank with its message.
+          std::string failure;
+          // The model's tangent at F = I by finite differences, from the
+          // state of a fresh point of the body (F = I, no stress, the
+          // model's initial history); inverted in place below: the
+          // compliance of the Newton iterations.
+          unsigned int first = 0;
+          while (first < points.n_points() &&
+                 static_cast<unsigned int>(
+                   points.record(first)[Index::body_id]) != b)
+            ++first;
+          std::vector<double> fresh(n_properties, 0.), scratch(n_properties);
+          if (first < points.n_points())
+            for (unsigned int s = 0; s < n_properties; ++s)
+              fresh[s] = points.record(first)[s];
+          RecordColumns      scratch_columns(make_array_view(scratch));
+          const double       h = 1e-7;
+          FullMatrix<double> compliance(n, n);
+          for (unsigned int a = 0; a < n; ++a)
+            {
+              Vector<double> strain(n);
+              strain[a] = h;
+              scratch   = fresh;
+              stress_at(strain, scratch_columns.record());
+              for (unsigned int c = 0; c < n; ++c)
+                compliance(c, a) = outputs.cauchy_stress[given[c]][0] / h;
+            }
+          double tangent_scale = 0;
+          for (unsigned int a = 0; a < n; ++a)
+            tangent_scale = std::max(tangent_scale, std::abs(compliance(a, a)));
+          const bool singular =
+            !(tangent_scale > 0 && std::abs(compliance.determinant()) >
+                                     1e-10 * std::pow(tangent_scale, n));
+          if (first < points.n_points() && singular)
+            failure = where + ": the model of Material " +
+                      std::to_string(material) +
+                      " cannot hold a general stress at rest (its "
+                      "stiffness at zero strain is singular, e.g. "
+                      "a fluid without shear modulus): give the "
+                      "body no 'Initial stress' or another material.";
+          else if (first < points.n_points())
+            compliance.gauss_jordan();
+
+          Vector<double> target(n), strain(n), residual(n), correction(n);
+          Vector<double> values(n);
+          for (unsigned int k = first; k < points.n_points() && failure.empty();
+               ++k)
+            {
+              const PointRecord p = points.record(k);
+              if (static_cast<unsigned int>(p[Index::body_id]) != b)
+                continue;
+              Point<dim> x;
+              for (unsigned int d = 0; d < dim; ++d)
+                x[d] = p[Index::initial_position + d];
+              stress_function.vector_value(x, values);
+              target = values;
+              compliance.vmult(strain, target);
+              const double tolerance =
+                1e-12 * (target.linfty_norm() + 1e-6 * tangent_scale);
+              bool converged = false;
+              for (unsigned int iteration = 0; iteration < 50 && !converged;
+                   ++iteration)
+                {
+                  for (unsigned int s = 0; s < scratch.size(); ++s)
+                    scratch[s] = p[s];
+                  stress_at(strain, scratch_columns.record());
+                  for (unsigned int c = 0; c < n; ++c)
+                    residual[c] =
+                      target[c] - outputs.cauchy_stress[given[c]][0];
+                  converged = outputs.failed_point < 0 &&
+                              residual.linfty_norm() <= tolerance;
+                  if (!converged)
+                    {
+                      compliance.vmult(correction, residual);
+                      strain += correction;
+                    }
+                }
+              if (!converged)
+                {
+                  std::ostringstream position;
+                  position << x;
+                  failure = where + ": the model of Material " +
+                            std::to_string(material) +
+                            " reaches no strain with the given stress at the "
+                            "point at (" +
+                            position.str() +
+                            ") (it exceeds the model's range, e.g. its "
+                            "yield stress or a tension it cannot hold).";
+                  break;
+                }
+              // The converged strain, now on the point's own state.
+              const Tensor<2, 3> F = stress_at(strain, p);
+              for (unsigned int a = 0; a < 3; ++a)
+                for (unsigned int c = 0; c < 3; ++c)
+                  if (dim == 3 || (a < 2) == (c < 2))
+                    p[Index::deformation_gradient + 3 * a + c] = F[a][c];
+              for (unsigned int c = 0; c < (dim == 3 ? 6 : 4); ++c)
+                p[Index::stress + c] = outputs.cauchy_stress[c][0];
+              p[Index::strain_energy_density] =
+                outputs.strain_energy_density[0];
+              p[Index::volume] = determinant(F) * p[Index::initial_volume];
+            }
+          for (const std::string &message :
+               Utilities::MPI::all_gather(communicator, failure))
+            AssertThrow(message.empty(), ExcMessage(message));
+        }
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   Simulator<dim>::create_material_points()
@@ -313,6 +507,11 @@ namespace fmpm
   Simulator<dim>::initialize_stress_from_gravity()
   {
     using Index = PropertyIndex<dim>;
+    initialize_stress_from_functions(parameters,
+                                     constitutive_models,
+                                     particle_properties.n_properties(),
+                                     points,
+                                     mpi_communicator);
     Tensor<1, dim> g;
     for (unsigned int d = 0; d < dim; ++d)
       g[d] = parameters.gravity[d];

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -246,6 +247,127 @@ TEST(Geometry, GmshTriangleMeshBodyHasItsVolume)
   EXPECT_NEAR(filled.volume, polygon, 1e-12);
   EXPECT_NEAR(filled.volume, numbers::PI * 0.09, 0.01 * numbers::PI * 0.09);
   EXPECT_NEAR(filled.mass, 2000 * polygon, 1e-9);
+}
+
+
+
+// A Wavefront OBJ surface: a box of six quadrilateral faces (split into
+// triangles; its sides 0.4 x 0.5 x 0.25 put no point on a face's diagonal)
+// holds its volume exactly; the shipped sphere's triangles written as OBJ
+// (negative vertex indices) give the STL's volume; a face less is refused
+// as open.
+TEST(Geometry, ObjSurfaceHasItsEnclosedVolume)
+{
+  const auto write_box = [](const std::string &file, const bool closed) {
+    std::ofstream out(file);
+    out << "# a box\n";
+    for (unsigned int v = 0; v < 8; ++v)
+      out << "v " << (v & 1 ? 0.7 : 0.3) << ' ' << (v & 2 ? 0.75 : 0.25) << ' '
+          << (v & 4 ? 0.6 : 0.35) << '\n';
+    out << "f 1/1/1 3/1/1 4/1/1 2/1/1\nf 5 6 8 7\nf 1 2 6 5\n"
+           "f 3 7 8 4\nf 1 5 7 3\n";
+    if (closed)
+      out << "f 2 4 8 6\n";
+  };
+  const std::string box = "output-geometry-box.obj";
+  write_box(box, true);
+  const Filled filled = fill<3>("surface(file)", box, 20);
+  EXPECT_NEAR(filled.volume, 0.4 * 0.5 * 0.25, 1e-12);
+
+  const auto triangles = read_ascii_stl(parameter_dir + "meshes/sphere.stl");
+  double     exact     = 0;
+  const std::string sphere = "output-geometry-sphere.obj";
+  {
+    std::ofstream out(sphere);
+    for (const auto &t : triangles)
+      {
+        exact += (t[0] * cross_product_3d(t[1], t[2])) / 6;
+        for (const auto &p : t)
+          out << "v " << p << '\n';
+        out << "f -3 -2 -1\n";
+      }
+  }
+  exact = std::abs(exact);
+  expect_volume<3>("surface(file)", exact, sphere, 20);
+
+  const std::string open = "output-geometry-open.obj";
+  write_box(open, false);
+  const std::string message =
+    error_of([&] { fill<3>("surface(file)", open, 4); });
+  EXPECT_NE(message.find("Body 0/File name = <" + open +
+                         "> is not a closed surface: the edge"),
+            std::string::npos)
+    << message;
+}
+
+
+
+// Gmsh physical groups pick the cells of a body: a rectangle of two
+// quadrilaterals tagged 1 (left) and 2 (right) gives two bodies of their own
+// materials; each body's points fill its group's area exactly, with its
+// material's density. A group the file does not have is refused, naming
+// the groups it has.
+TEST(Geometry, GmshPhysicalGroupsPickBodyAndMaterial)
+{
+  const std::string file =
+    (std::filesystem::current_path() / "geometry_two_groups.msh").string();
+  {
+    std::ofstream out(file);
+    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n"
+           "1 0.2 0.2 0\n2 0.5 0.2 0\n3 0.8 0.2 0\n"
+           "4 0.2 0.8 0\n5 0.5 0.8 0\n6 0.8 0.8 0\n$EndNodes\n"
+           "$Elements\n2\n1 3 2 1 1 1 2 5 4\n2 3 2 2 2 2 3 6 5\n"
+           "$EndElements\n";
+  }
+  const auto scene = [&](const std::string &groups_1) {
+    return "set Dimension = 2\nset Number of bodies = 2\nset Number of "
+           "materials = 2\nsubsection Mesh\n set Subdivisions = 10, 10\nend\n"
+           "subsection Material 0\n set Density = 2000\nend\n"
+           "subsection Material 1\n set Density = 500\nend\n"
+           "subsection Body 0\n set Shape = mesh\n set File name = " +
+           file +
+           "\n set Physical groups = 1\nend\n"
+           "subsection Body 1\n set Shape = mesh\n set File name = " +
+           file + "\n set Physical groups = " + groups_1 +
+           "\n set Material = 1\nend\n"
+           "subsection Time\n set Maximum number of steps = 1\n set End "
+           "time = 1e-9\nend\n" +
+           output_overrides("output-geometry");
+  };
+  ParameterHandler prm;
+  auto             simulator = make_simulator<2>({}, scene("2"), prm);
+  simulator->run();
+  using Index = fmpm::PropertyIndex<2>;
+  std::array<double, 2> volume{}, mass{};
+  const auto           &points = simulator->get_material_points();
+  for (unsigned int k = 0; k < points.n_points(); ++k)
+    {
+      const auto         p    = points.record(k);
+      const unsigned int body = p[Index::body_id];
+      volume[body] += p[Index::initial_volume];
+      mass[body] += p[Index::mass];
+      EXPECT_EQ(static_cast<unsigned int>(p[Index::material_id]), body);
+      // Body 0 is the left half, body 1 the right half.
+      EXPECT_EQ(points.position[k][0] < 0.5, body == 0);
+    }
+  for (unsigned int b = 0; b < 2; ++b)
+    {
+      volume[b] = Utilities::MPI::sum(volume[b], MPI_COMM_WORLD);
+      mass[b]   = Utilities::MPI::sum(mass[b], MPI_COMM_WORLD);
+      EXPECT_NEAR(volume[b], 0.18, 1e-12);
+    }
+  EXPECT_NEAR(mass[0], 2000 * 0.18, 1e-9);
+  EXPECT_NEAR(mass[1], 500 * 0.18, 1e-9);
+
+  const std::string m = error_of([&] {
+    ParameterHandler prm_bad;
+    make_simulator<2>({}, scene("3"), prm_bad)->run();
+  });
+  EXPECT_NE(m.find("Body 1/File name = <" + file +
+                   "> has no cell of physical group 3 (Physical groups); "
+                   "its cells' groups are: 1, 2."),
+            std::string::npos)
+    << m;
 }
 
 

@@ -164,6 +164,8 @@ namespace
       EXPECT_FIELD(velocity_expression);
       EXPECT_FIELD(function_constants);
       EXPECT_FIELD(initial_stress_from_gravity);
+      EXPECT_FIELD(initial_stress_expression);
+      EXPECT_FIELD(physical_groups);
     }
     {
       const fmpm::RotatingFrameParameters &parsed = all.rotating_frame;

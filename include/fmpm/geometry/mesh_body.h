@@ -30,11 +30,13 @@ namespace fmpm
     {
     public:
       /** Read @p file_name (its extension picks the format) and place
-       * @p n_points_1d Gauss points per direction in each cell; @p where
-       * names the parameter in errors. */
-      MeshRegion(const std::string &file_name,
-                 const unsigned int n_points_1d,
-                 const std::string &where);
+       * @p n_points_1d Gauss points per direction in each cell whose
+       * material id (Gmsh: physical tag) is one of @p physical_groups (all
+       * cells if empty); @p where names the parameter in errors. */
+      MeshRegion(const std::string               &file_name,
+                 const unsigned int               n_points_1d,
+                 const std::string               &where,
+                 const std::vector<unsigned int> &physical_groups = {});
 
       /** Whether @p x lies in one of the mesh's cells. */
       bool
@@ -78,9 +80,10 @@ namespace fmpm
     /** A MeshRegion as a Shape. */
     template <int dim>
     std::unique_ptr<Shape<dim>>
-    make_mesh_region(const std::string &file_name,
-                     const unsigned int n_points_1d,
-                     const std::string &where);
+    make_mesh_region(const std::string               &file_name,
+                     const unsigned int               n_points_1d,
+                     const std::string               &where,
+                     const std::vector<unsigned int> &physical_groups = {});
   } // namespace Geometry
 } // namespace fmpm
 
