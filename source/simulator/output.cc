@@ -134,7 +134,9 @@ namespace fmpm
                "unreliable from here on (doc/studies/cantilever.md). Use "
                "a position update that matches the strain update "
                "('Particle update/Flip/Position update psi = auto', the "
-               "default) or a smaller Time/Courant number."
+               "default), a smaller Time/Courant number, or psi = 0 where the "
+               "forces follow the positions (contact, interface springs; "
+               "doc/choosing_a_method.md)."
             << std::endl;
       }
 
