@@ -144,56 +144,6 @@ namespace fmpm
 
 
 
-      void
-      UniformGimpPatch::reinit(const GridTransfer<2> &transfer,
-                               const unsigned int     cell_index)
-      {
-        const auto &own = transfer.cell_data(cell_index);
-        Assert(own.uniform_patch,
-               ExcMessage("UniformGimpPatch needs a uniform patch."));
-        for (unsigned int d = 0; d < 2; ++d)
-          {
-            h[d]        = own.upper()[d] - own.lower()[d];
-            plane[d][0] = own.lower()[d] - h[d];
-            plane[d][1] = own.lower()[d];
-            plane[d][2] = own.upper()[d];
-            plane[d][3] = own.upper()[d] + h[d];
-          }
-        local_index.fill(numbers::invalid_unsigned_int);
-        has_cell.fill(false);
-        for (const unsigned int other : transfer.patch(cell_index))
-          {
-            const auto  &cell   = transfer.cell_data(other);
-            unsigned int column = 0, stride = 1;
-            for (unsigned int d = 0; d < 2; ++d, stride *= 3)
-              {
-                const double centre = 0.5 * (cell.lower()[d] + cell.upper()[d]);
-                column += stride * (centre < own.lower()[d] ? 0 :
-                                    centre < own.upper()[d] ? 1 :
-                                                              2);
-              }
-            has_cell[column] = true;
-            for (unsigned int i = 0; i < GridTransfer<2>::n_nodes; ++i)
-              {
-                unsigned int slot = 0;
-                for (unsigned int d = 0; d < 2; ++d)
-                  {
-                    const double       v = cell.vertex[i][d];
-                    const unsigned int p = v < own.lower()[d] - 0.5 * h[d] ? 0 :
-                                           v < own.lower()[d] + 0.5 * h[d] ? 1 :
-                                           v < own.upper()[d] + 0.5 * h[d] ? 2 :
-                                                                             3;
-                    plane[d][p]          = v;
-                    slot |= p << (2 * d);
-                  }
-                local_index[slot] = cell.local_index[i];
-                dof[slot]         = transfer.dof_index(cell, i);
-              }
-          }
-      }
-
-
-
       bool
       UniformGimpPatch::columns_if_applies(const Point<2>     &x,
                                            const Tensor<1, 2> &l,

@@ -545,8 +545,8 @@ namespace fmpm
 
     template <int dim>
     void
-    UniformGimpPatch<dim>::reinit(const GridTransfer<dim> &transfer,
-                                  const unsigned int       cell_index)
+    UniformPatchPlanes<dim>::reinit(const GridTransfer<dim> &transfer,
+                                    const unsigned int       cell_index)
     {
       const auto &own = transfer.cell_data(cell_index);
       for (unsigned int d = 0; d < dim; ++d)
@@ -560,7 +560,7 @@ namespace fmpm
       local_index.fill(numbers::invalid_unsigned_int);
       has_cell.fill(false);
       Assert(own.uniform_patch,
-             ExcMessage("UniformGimpPatch needs a uniform patch."));
+             ExcMessage("UniformPatchPlanes needs a uniform patch."));
       for (const unsigned int other : transfer.patch(cell_index))
         {
           const auto  &cell   = transfer.cell_data(other);
@@ -718,6 +718,8 @@ namespace fmpm
 
     template class UniformCpdiPatch<2>;
     template class UniformCpdiPatch<3>;
+    template struct UniformPatchPlanes<2>;
+    template struct UniformPatchPlanes<3>;
     template class UniformGimpPatch<2>;
     template class UniformGimpPatch<3>;
 

@@ -206,12 +206,10 @@ namespace fmpm
        * factors of gimp_radial() and seed 001's gimp_1d() in z. Built once
        * per cell, read by each of its points.
        */
-      class UniformGimpPatch
+      class UniformGimpPatch : private UniformPatchPlanes<2>
       {
       public:
-        /** @brief The planes and nodes of the patch of @p cell_index. */
-        void
-        reinit(const GridTransfer<2> &transfer, const unsigned int cell_index);
+        using UniformPatchPlanes<2>::reinit;
 
         /**
          * @brief Whether the closed forms hold for a point at @p x with
@@ -271,12 +269,6 @@ namespace fmpm
                            const Tensor<1, 2> &l,
                            unsigned int (&first)[2],
                            unsigned int (&last)[2]) const;
-
-        std::array<bool, 9>                     has_cell;
-        double                                  plane[2][4];
-        double                                  h[2];
-        std::array<unsigned int, 16>            local_index;
-        std::array<types::global_dof_index, 16> dof;
       };
 
       /**

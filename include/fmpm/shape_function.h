@@ -190,6 +190,32 @@ namespace fmpm
     }
 
     /**
+     * @brief The planes and nodes of the patch of one locally owned cell
+     * whose patch is uniform (GridTransfer's CellData::uniform_patch): four
+     * planes per direction (own lower − h, lower, upper, upper + h), the
+     * patch's cells by column and its nodes by plane. Shared by the closed
+     * forms on uniform patches (plane and axisymmetric GIMP).
+     */
+    template <int dim>
+    struct UniformPatchPlanes
+    {
+      /** @brief The planes and nodes of the patch of @p cell_index. */
+      void
+      reinit(const GridTransfer<dim> &transfer, const unsigned int cell_index);
+
+      static constexpr unsigned int n_slots = 1u << (2 * dim); // 4^dim
+      /** Whether the patch has the cell in columns (c_0, c_1[, c_2]), at
+       * Σ c_d 3^d. */
+      std::array<bool, dim == 2 ? 9 : 27> has_cell;
+      /** Plane coordinates per direction, and the cell size h. */
+      double plane[dim][4];
+      double h[dim];
+      /** Node on planes (p_0, p_1[, p_2]), slot Σ p_d 4^d. */
+      std::array<unsigned int, n_slots>            local_index;
+      std::array<types::global_dof_index, n_slots> dof;
+    };
+
+    /**
      * @brief GIMP's closed forms (seed 001 Eqs. gimp_shape, gimpGrad) around
      * one locally owned cell whose patch is uniform (GridTransfer's
      * CellData::uniform_patch): the patch's nodes lie on four planes per
@@ -200,12 +226,10 @@ namespace fmpm
      * Built once per cell, read by each of its points.
      */
     template <int dim>
-    class UniformGimpPatch
+    class UniformGimpPatch : private UniformPatchPlanes<dim>
     {
     public:
-      /** @brief The planes and nodes of the patch of @p cell_index. */
-      void
-      reinit(const GridTransfer<dim> &transfer, const unsigned int cell_index);
+      using UniformPatchPlanes<dim>::reinit;
 
       /**
        * @brief Whether the closed forms hold for a point at @p x with
@@ -348,16 +372,11 @@ namespace fmpm
                 sink_node(p);
       }
 
-      static constexpr unsigned int n_slots = 1u << (2 * dim); // 4^dim
-      /** Whether the patch has the cell in columns (c_0, c_1[, c_2]), at
-       * Σ c_d 3^d. */
-      std::array<bool, dim == 2 ? 9 : 27> has_cell;
-      /** Plane coordinates per direction, and the cell size h. */
-      double plane[dim][4];
-      double h[dim];
-      /** Node on planes (p_0, p_1[, p_2]), slot Σ p_d 4^d. */
-      std::array<unsigned int, n_slots>            local_index;
-      std::array<types::global_dof_index, n_slots> dof;
+      using UniformPatchPlanes<dim>::has_cell;
+      using UniformPatchPlanes<dim>::plane;
+      using UniformPatchPlanes<dim>::h;
+      using UniformPatchPlanes<dim>::local_index;
+      using UniformPatchPlanes<dim>::dof;
     };
 
     /**
