@@ -436,27 +436,6 @@ namespace fmpm
     }
     void
     particles_to_grid(const bool with_forces);
-    /** The store columns the force of a point reads: M, V and σ. */
-    struct ForceColumns
-    {
-      explicit ForceColumns(const MaterialPoints<dim> &points);
-      const double *mass, *volume, *stress[6];
-    };
-    /** f += −V σ G + S M b for point @p k of the store with its support
-     * entries j < n_entries (Eq. 2.11; b = @p gravity unless the loads
-     * depend on the point); with
-     * contact @p f is f^α0 of the point's material (seed 004 Eq. 29). */
-    template <typename Count>
-    void
-    scatter_point_force(const unsigned int          k,
-                        const unsigned int *const   node,
-                        const double *const         S,
-                        const Tensor<1, dim> *const G,
-                        const Count                 n_entries,
-                        const ForceColumns         &columns,
-                        const Tensor<1, dim>       &gravity,
-                        const bool                  uniform_body_force,
-                        double *const              *f);
     /** The grid operators the velocity-condition methods use. */
     typename VelocityConditions<dim>::Operators
     velocity_condition_operators() const;

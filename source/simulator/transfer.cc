@@ -9,6 +9,7 @@
 
 #include <fmpm/simulator.h>
 #include <fmpm/transfer/kinematics.h>
+#include <fmpm/transfer/sinks.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,83 +20,6 @@ namespace fmpm
 {
   namespace
   {
-    /**
-     * One point's m += M S (with @p with_mass) and p += (M V) S over its
-     * support entries j < n, in entry order (Eq. 1.6, p = SᵀMV; @p MV =
-     * M V).
-     */
-    template <int dim, bool with_mass, typename Count>
-    inline void
-    scatter_mass_momentum(const unsigned int *const node,
-                          const double *const       S,
-                          const Count               n,
-                          const double              M,
-                          const double (&MV)[dim],
-                          double *const        m,
-                          double *const *const p)
-    {
-      for (unsigned int j = 0; j < n; ++j)
-        {
-          const unsigned int i = node[j];
-          if constexpr (with_mass)
-            m[i] += M * S[j];
-          for (unsigned int d = 0; d < dim; ++d)
-            p[d][i] += MV[d] * S[j];
-        }
-    }
-
-    /**
-     * The force component @p a one point gives its node (Eq. 2.11):
-     * M S b_a − V Σ_b σ_ab G_b, with @p MS = M S and the point's body
-     * acceleration (tractions included) @p b.
-     */
-    template <int dim>
-    inline double
-    nodal_force(const unsigned int    a,
-                const double          MS,
-                const Tensor<1, dim> &b,
-                const double          V,
-                const double (&sigma)[dim][dim],
-                const Tensor<1, dim> &G)
-    {
-      double f = MS * b[a];
-      for (unsigned int c = 0; c < dim; ++c)
-        f -= V * sigma[a][c] * G[c];
-      return f;
-    }
-
-    /**
-     * nodal_force() without body acceleration: −V Σ_b σ_ab G_b (the same
-     * bits as with b = 0, M S ≥ 0).
-     */
-    template <int dim>
-    inline double
-    internal_nodal_force(const unsigned int a,
-                         const double       V,
-                         const double (&sigma)[dim][dim],
-                         const Tensor<1, dim> &G)
-    {
-      double f = 0.;
-      for (unsigned int c = 0; c < dim; ++c)
-        f -= V * sigma[a][c] * G[c];
-      return f;
-    }
-
-    /** The dim x dim block of point k's stored Cauchy stress, from the six
-     * stress columns (Voigt-like order). */
-    template <int dim>
-    inline void
-    stress_block(const double *const *stress,
-                 const unsigned int   k,
-                 double (&sigma)[dim][dim])
-    {
-      for (unsigned int c = 0; c < 6; ++c)
-        if (stress_component_i[c] < dim && stress_component_j[c] < dim)
-          sigma[stress_component_i[c]][stress_component_j[c]] =
-            sigma[stress_component_j[c]][stress_component_i[c]] = stress[c][k];
-    }
-
-
     /** Points per batch of the strain update (constitutive model calls). */
     constexpr unsigned int stress_batch_size =
       ConstitutiveModel::StressUpdateInputs::capacity;
@@ -199,10 +123,6 @@ namespace fmpm
     // m = SᵀM, p = SᵀMV of each point once its entries are stored.
     const bool extrapolate_here = extrapolate && extrapolates_with_supports();
     double    *m = nullptr, *p[dim] = {};
-    const double *const mass_column = points.column(Index::mass);
-    const double       *velocity_column[dim];
-    for (unsigned int d = 0; d < dim; ++d)
-      velocity_column[d] = points.column(Index::velocity + d);
     if (extrapolate_here)
       {
         centre_of_mass.mass     = 0;
@@ -212,19 +132,14 @@ namespace fmpm
           p[d] = centre_of_mass.momentum.block(d).begin();
         supports_extrapolated = true;
       }
+    const Transfer::MassMomentumSink<dim> mass_momentum(points, m, p);
     auto extrapolate_point = [&](const unsigned int k,
                                  const std::size_t  first) {
-      const double M = mass_column[k];
-      double       MV[dim];
-      for (unsigned int d = 0; d < dim; ++d)
-        MV[d] = M * velocity_column[d][k];
-      scatter_mass_momentum<dim, true>(supports.node.data() + first,
-                                       supports.S.data() + first,
-                                       supports.n_stored - first,
-                                       M,
-                                       MV,
-                                       m,
-                                       p);
+      mass_momentum.point(k,
+                          supports.node.data() + first,
+                          supports.S.data() + first,
+                          nullptr,
+                          supports.n_stored - first);
     };
     const auto   &partitioner = *centre_of_mass.mass.get_partitioner();
     const double *F_column[dim][dim], *l0_column[dim];
@@ -534,9 +449,7 @@ namespace fmpm
           }
       }
 
-    const auto &partitioner        = *centre_of_mass.mass.get_partitioner();
-    const bool  uniform_body_force = !external_loads.has_point_body_force();
-    const Tensor<1, dim> gravity   = external_loads.gravity();
+    const auto &partitioner = *centre_of_mass.mass.get_partitioner();
 
     // Raw views of the ghosted grid vectors (owned and ghost entries).
     double *const m = centre_of_mass.mass.begin();
@@ -546,17 +459,27 @@ namespace fmpm
         p[d] = centre_of_mass.momentum.block(d).begin();
         f[d] = centre_of_mass.force.block(d).begin();
       }
+    // The sinks of m, p (Sᵀ) and f (Gᵀ, body force) of the centre of mass
+    // or, with contact, of the point's material (Eqs. 5, 29).
+    const Transfer::MassMomentumSink<dim> mass_momentum(points, m, p);
+    const Transfer::ForceSink<dim>        force(points, external_loads, f);
+    Transfer::PerMaterial<Transfer::MassMomentumSink<dim>>
+      material_mass_momentum(supports.material.data());
+    Transfer::PerMaterial<Transfer::ForceSink<dim>> material_force(
+      supports.material.data());
+    for (unsigned int a = 0; a < n_materials; ++a)
+      {
+        material_mass_momentum.sinks.emplace_back(points,
+                                                  m_alpha[a],
+                                                  &p_alpha[a * dim]);
+        material_force.sinks.emplace_back(points,
+                                          external_loads,
+                                          &f_alpha[a * dim]);
+      }
     const unsigned int *const cached_node = supports.node.data();
     const SupportReader<dim> support_of(supports, transfer, points.cell.data());
-    // The columns this pass reads: M, V (and V, σ for the forces; X for
-    // contact positions).
-    const double *const mass_column   = points.column(Index::mass);
-    const double *const volume_column = points.column(Index::volume);
-    const double       *velocity_column[dim], *stress_column[6];
-    for (unsigned int d = 0; d < dim; ++d)
-      velocity_column[d] = points.column(Index::velocity + d);
-    for (unsigned int c = 0; c < 6; ++c)
-      stress_column[c] = points.column(Index::stress + c);
+    // (M of the points for m̃)
+    const double *const mass_column = points.column(Index::mass);
     // m̃ of one cell over the union of its points' supports: the nodes, and
     // the place in them of each support entry of the cell's points.
     std::vector<unsigned int>        cell_nodes, slot;
@@ -608,31 +531,13 @@ namespace fmpm
                 std::array<double, n>         S_k;
                 std::array<Tensor<1, dim>, n> G_k;
                 support_of.compute(k, cell_data, with_forces, S_k, G_k);
-                const double M = mass_column[k];
-                double       MV[dim];
-                for (unsigned int d = 0; d < dim; ++d)
-                  MV[d] = M * velocity_column[d][k];
-                for (unsigned int j = 0; j < n; ++j)
-                  {
-                    const unsigned int i = cell_node[j];
-                    m[i] += M * S_k[j];
-                    for (unsigned int d = 0; d < dim; ++d)
-                      p[d][i] += MV[d] * S_k[j];
-                  }
+                const std::integral_constant<unsigned int, n> n_entries;
+                mass_momentum.point(
+                  k, cell_node.data(), S_k.data(), G_k.data(), n_entries);
                 if (with_forces)
-                  {
-                    const Tensor<1, dim> b =
-                      uniform_body_force ?
-                        gravity :
-                        external_loads.acceleration(points, k);
-                    double sigma[dim][dim];
-                    stress_block<dim>(stress_column, k, sigma);
-                    const double V = volume_column[k];
-                    for (unsigned int j = 0; j < n; ++j)
-                      for (unsigned int a = 0; a < dim; ++a)
-                        f[a][cell_node[j]] +=
-                          nodal_force<dim>(a, M * S_k[j], b, V, sigma, G_k[j]);
-                  }
+                  force.point(
+                    k, cell_node.data(), S_k.data(), G_k.data(), n_entries);
+                const double M = mass_column[k];
                 if (with_full_mass) // m̃ = SᵀMS (1.9)
                   for (unsigned int i = 0; i < n; ++i)
                     {
@@ -710,50 +615,24 @@ namespace fmpm
                   return entry_slot[j];
               };
               const double M = mass_column[k];
-              double       MV[dim];
-              for (unsigned int d = 0; d < dim; ++d)
-                MV[d] = M * velocity_column[d][k];
-              // m = SᵀM (Eq. 1.6), p = SᵀMV; with contact also m^α, p^α0
-              // of the point's material (Eq. 5).
-              auto scatter = [&](double *const        m_target,
-                                 double *const *const p_target) {
-                scatter_mass_momentum<dim, true>(
-                  node, S, n_entries, M, MV, m_target, p_target);
-              };
-              // (With contact m and p are the sums of m^α and p^α0, formed
-              // after the sweep.)
+              // m = SᵀM (Eq. 1.6), p = SᵀMV, f = −Σ V σ G + Σ S (M b + F)
+              // (Eq. 2.11, τ/ρ₀ M = σ V; F the traction force); with
+              // contact m^α, p^α0, f^α0 of the point's material (Eqs. 5,
+              // 29) and its geometry (Eq. 11), m and p their sums after the
+              // sweep.
               if (!contact)
-                scatter(m, p);
-              if (with_forces)
                 {
-                  // f = −Σ V_p σ_p G_p + Σ S_p (M_p b + F_p)  (Eq. 2.11,
-                  // τ/ρ₀ M = σ V; F_p the traction force)
-                  const Tensor<1, dim> b =
-                    uniform_body_force ? gravity :
-                                         external_loads.acceleration(points, k);
-                  double sigma[dim][dim];
-                  stress_block<dim>(stress_column, k, sigma);
-                  const double V = volume_column[k];
-                  // (with contact f^α0 of the point's material, Eq. 29)
-                  double *const *f_target =
-                    contact ? &f_alpha[supports.material[k] * dim] : f;
-                  if (b.norm_square() == 0)
-                    for (unsigned int j = 0; j < n_entries; ++j)
-                      for (unsigned int a = 0; a < dim; ++a)
-                        f_target[a][node[j]] +=
-                          internal_nodal_force<dim>(a, V, sigma, G[j]);
-                  else
-                    for (unsigned int j = 0; j < n_entries; ++j)
-                      for (unsigned int a = 0; a < dim; ++a)
-                        f_target[a][node[j]] +=
-                          nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
+                  mass_momentum.point(k, node, S, G, n_entries);
+                  if (with_forces)
+                    force.point(k, node, S, G, n_entries);
                 }
-              if (contact)
+              else
                 {
-                  // Eqs. 5 and 11 for the point's material α.
-                  const unsigned int alpha = supports.material[k];
-                  scatter(m_alpha[alpha], &p_alpha[alpha * dim]);
-                  contact_geometry.add_point(k, alpha, node, S, G, n_entries);
+                  if (with_forces)
+                    material_force.point(k, node, S, G, n_entries);
+                  material_mass_momentum.point(k, node, S, G, n_entries);
+                  contact_geometry.add_point(
+                    k, supports.material[k], node, S, G, n_entries);
                 }
               if constexpr (!computed)
                 {
@@ -880,49 +759,6 @@ namespace fmpm
 
 
   template <int dim>
-  Simulator<dim>::ForceColumns::ForceColumns(const MaterialPoints<dim> &points)
-    : mass(points.column(PropertyIndex<dim>::mass))
-    , volume(points.column(PropertyIndex<dim>::volume))
-  {
-    for (unsigned int c = 0; c < 6; ++c)
-      stress[c] = points.column(PropertyIndex<dim>::stress + c);
-  }
-
-
-
-  template <int dim>
-  template <typename Count>
-  DEAL_II_ALWAYS_INLINE inline void
-  Simulator<dim>::scatter_point_force(const unsigned int          k,
-                                      const unsigned int *const   node,
-                                      const double *const         S,
-                                      const Tensor<1, dim> *const G,
-                                      const Count                 n_entries,
-                                      const ForceColumns         &columns,
-                                      const Tensor<1, dim>       &gravity,
-                                      const bool     uniform_body_force,
-                                      double *const *f)
-  {
-    using Index    = PropertyIndex<dim>;
-    const double M = columns.mass[k];
-    const double V = columns.volume[k];
-    double       sigma[dim][dim];
-    stress_block<dim>(columns.stress, k, sigma);
-    const Tensor<1, dim> b =
-      uniform_body_force ? gravity : external_loads.acceleration(points, k);
-    if (b.norm_square() == 0)
-      for (unsigned int j = 0; j < n_entries; ++j)
-        for (unsigned int a = 0; a < dim; ++a)
-          f[a][node[j]] += internal_nodal_force<dim>(a, V, sigma, G[j]);
-    else
-      for (unsigned int j = 0; j < n_entries; ++j)
-        for (unsigned int a = 0; a < dim; ++a)
-          f[a][node[j]] += nodal_force<dim>(a, M * S[j], b, V, sigma, G[j]);
-  }
-
-
-
-  template <int dim>
   void
   Simulator<dim>::update_particles()
   {
@@ -972,58 +808,53 @@ namespace fmpm
     // USL+/USAVG+: p = SᵀMV^{n+1} in this sweep, into momentum_target[d]
     // (with contact p^α of the point's material α: [α dim + d], and what
     // the normals and laws read of the moved points).
-    const bool            re_extrapolate = re_extrapolates_in_particle_update();
-    std::vector<double *> momentum_target;
+    const bool re_extrapolate = re_extrapolates_in_particle_update();
     Contact::GeometrySink<dim>        no_contact_geometry;
     const Contact::GeometrySink<dim> &contact_geometry =
       re_extrapolate && contact ? this->contact->begin_geometry(points) :
                                   no_contact_geometry;
-    if (re_extrapolate && contact)
-      {
-        for (auto &field : this->contact->material_fields())
-          {
-            field.momentum = 0;
-            for (unsigned int d = 0; d < dim; ++d)
-              momentum_target.push_back(field.momentum.block(d).begin());
-          }
-      }
-    else if (re_extrapolate)
+    double *p[dim] = {};
+    if (re_extrapolate && !contact)
       {
         centre_of_mass.momentum = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          momentum_target.push_back(centre_of_mass.momentum.block(d).begin());
+          p[d] = centre_of_mass.momentum.block(d).begin();
       }
+    const Transfer::MassMomentumSink<dim, false> momentum(points, nullptr, p);
+    Transfer::PerMaterial<Transfer::MassMomentumSink<dim, false>>
+      material_momentum(supports.material.data());
+    if (re_extrapolate && contact)
+      for (auto &field : this->contact->material_fields())
+        {
+          field.momentum = 0;
+          for (unsigned int d = 0; d < dim; ++d)
+            p[d] = field.momentum.block(d).begin();
+          material_momentum.sinks.emplace_back(points, nullptr, p);
+        }
 
     // Point k's share of p = SᵀMV^{n+1} (Eq. 5 with contact) and of the
-    // contact geometry once its V and X are final: the operations of
-    // particles_to_grid().
+    // contact geometry once its V and X are final (in the store): the
+    // operations of particles_to_grid().
     const auto re_extrapolate_point =
-      [&](const unsigned int k, const auto &data, const Tensor<1, dim> &V)
-        DEAL_II_ALWAYS_INLINE {
-          support_of.visit(
-            k,
-            data,
-            contact_geometry.needs_gradients(),
-            [&](const unsigned int *const   node,
-                const double *const         S,
-                const Tensor<1, dim> *const G,
-                const auto                  n_entries) DEAL_II_ALWAYS_INLINE {
-              const double       M     = mass_column[k];
-              const unsigned int alpha = contact ? supports.material[k] : 0;
-              double             MV[dim];
-              for (unsigned int d = 0; d < dim; ++d)
-                MV[d] = M * V[d];
-              scatter_mass_momentum<dim, false>(node,
-                                                S,
-                                                n_entries,
-                                                M,
-                                                MV,
-                                                nullptr,
-                                                &momentum_target[alpha * dim]);
-              if (contact)
-                contact_geometry.add_point(k, alpha, node, S, G, n_entries);
-            });
-        };
+      [&](const unsigned int k, const auto &data) DEAL_II_ALWAYS_INLINE {
+        support_of.visit(
+          k,
+          data,
+          contact_geometry.needs_gradients(),
+          [&](const unsigned int *const   node,
+              const double *const         S,
+              const Tensor<1, dim> *const G,
+              const auto                  n_entries) DEAL_II_ALWAYS_INLINE {
+            if (contact)
+              {
+                material_momentum.point(k, node, S, G, n_entries);
+                contact_geometry.add_point(
+                  k, supports.material[k], node, S, G, n_entries);
+              }
+            else
+              momentum.point(k, node, S, G, n_entries);
+          });
+      };
 
     // One batch per cell with points (the plugin's virtual call per batch).
     for (unsigned int c = 0; c < points.n_cells(); ++c)
@@ -1136,7 +967,7 @@ namespace fmpm
               velocity_conditions.push_out_of_walls(batch.position[q]);
             points.position[k] = batch.position[q];
             if (re_extrapolate)
-              re_extrapolate_point(k, data, V);
+              re_extrapolate_point(k, data);
             const Point<dim> xi =
               GridTransfer<dim>::reference_point(data,
                                                  batch.position[q],
@@ -1194,26 +1025,24 @@ namespace fmpm
     // USF/USAVG: f (and with contact f^α0, Eq. 29) from the new stresses
     // in this sweep, each batch's points in the store's order once their
     // stresses are updated.
-    const ForceColumns    force_columns(points);
-    double               *f[dim];
-    std::vector<double *> f_alpha;
-    const Tensor<1, dim>  gravity = external_loads.gravity();
-    const bool uniform_body_force = !external_loads.has_point_body_force();
-    if (with_forces)
-      {
-        // (With contact f is set from the f^α0 after the sweep.)
-        if (!contact)
-          centre_of_mass.force = 0;
-        for (unsigned int d = 0; d < dim; ++d)
-          f[d] = centre_of_mass.force.block(d).begin();
-        if (contact)
-          for (auto &material_field : this->contact->material_fields())
-            {
-              material_field.force = 0;
-              for (unsigned int d = 0; d < dim; ++d)
-                f_alpha.push_back(material_field.force.block(d).begin());
-            }
-      }
+    // (With contact f is set from the f^α0 after the sweep.)
+    if (with_forces && !contact)
+      centre_of_mass.force = 0;
+    double *f[dim];
+    for (unsigned int d = 0; d < dim; ++d)
+      f[d] = centre_of_mass.force.block(d).begin();
+    const Transfer::ForceSink<dim> force(points, external_loads, f);
+    Transfer::PerMaterial<Transfer::ForceSink<dim>> material_force(
+      supports.material.data());
+    if (with_forces && contact)
+      for (auto &material_field : this->contact->material_fields())
+        {
+          material_field.force = 0;
+          double *f_alpha[dim];
+          for (unsigned int d = 0; d < dim; ++d)
+            f_alpha[d] = material_field.force.block(d).begin();
+          material_force.sinks.emplace_back(points, external_loads, f_alpha);
+        }
 
     // Cell sizes (Eq. 52's Δx) only for models that read them, by active
     // cell index for the cells with points.
@@ -1483,44 +1312,31 @@ namespace fmpm
                            parameters.materials[m].density,
                            ArrayView<const double>(J_of_group, n_group)));
           }
+        // f of the batch's points from their new stresses, in the
+        // store's order (with contact f^α0 of the point's material, Eq.
+        // 29).
         if (with_forces)
           for (unsigned int k = batch_begin; k < batch_end; ++k)
             {
-              // (with contact f^α0 of the point's material, Eq. 29)
-              double *const *f_target =
-                contact ? &f_alpha[supports.material[k] * dim] : f;
+              auto add_force = [&](const unsigned int *const   node,
+                                   const double *const         S,
+                                   const Tensor<1, dim> *const G,
+                                   const auto n_entries) DEAL_II_ALWAYS_INLINE {
+                if (contact)
+                  material_force.point(k, node, S, G, n_entries);
+                else
+                  force.point(k, node, S, G, n_entries);
+              };
               if (supports.implicit_classic)
                 {
                   const unsigned int b = k - batch_begin;
-                  scatter_point_force(
-                    k,
-                    batch_node[b],
-                    batch_S[b].data(),
-                    batch_G[b].data(),
-                    std::integral_constant<unsigned int, n_nodes>(),
-                    force_columns,
-                    gravity,
-                    uniform_body_force,
-                    f_target);
+                  add_force(batch_node[b],
+                            batch_S[b].data(),
+                            batch_G[b].data(),
+                            std::integral_constant<unsigned int, n_nodes>());
                 }
               else
-                support_of.visit(k,
-                                 true,
-                                 [&](const unsigned int *const   node,
-                                     const double *const         S,
-                                     const Tensor<1, dim> *const G,
-                                     const auto                  n_entries)
-                                   DEAL_II_ALWAYS_INLINE {
-                                     scatter_point_force(k,
-                                                         node,
-                                                         S,
-                                                         G,
-                                                         n_entries,
-                                                         force_columns,
-                                                         gravity,
-                                                         uniform_body_force,
-                                                         f_target);
-                                   });
+                support_of.visit(k, true, add_force);
             }
       }
     local_max_wave_speed = wave_speed;
