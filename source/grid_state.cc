@@ -50,10 +50,8 @@ namespace fmpm
           mass_matrix.solve_from_guess(this->updated_momentum, target, 0);
           break;
         case acceleration: // m̃ₖ⁻¹ f, as accurate in a Δt as v in p
-          mass_matrix.solve_from_guess(force,
-                                       target,
-                                       momentum.l2_norm() / time_step +
-                                         force.l2_norm());
+          mass_matrix.solve_from_guess(
+            force, target, momentum.l2_norm() / time_step + force.l2_norm());
           break;
         case velocity: // v = m̃ₖ⁻¹ p
           mass_matrix.solve_from_guess(momentum, target, 0);

@@ -645,7 +645,7 @@ namespace fmpm
     /** The points' mapping when every cell is an axis-aligned box (its
      * real-to-unit transform is a scaling; deal.II's sort of the points
      * then costs little), else @ref mapping. */
-    MappingCartesian<dim> cartesian_mapping;
+    MappingCartesian<dim>     cartesian_mapping;
     FE_Q<dim>                 fe;
     DoFHandler<dim>           dof_handler;
     AffineConstraints<double> constraints;
@@ -687,7 +687,7 @@ namespace fmpm
     TrilinosWrappers::SparseMatrix &full_mass_matrix =
       centre_of_mass.full_mass_matrix;
     CellwiseMatrix &cellwise_full_mass = centre_of_mass.cellwise_full_mass;
-    bool &use_cellwise_full_mass = centre_of_mass.use_cellwise_full_mass;
+    bool &use_cellwise_full_mass       = centre_of_mass.use_cellwise_full_mass;
     /** compute_supports() has extrapolated m and p (owned and ghost
      * entries, not yet added to their owners). */
     bool supports_extrapolated = false;
@@ -747,7 +747,7 @@ namespace fmpm
     double             local_max_point_speed = 0;
     /** Energy dissipated by the particle updates on this rank in the
      * current step (seed 003 Eq. 1.46). */
-    double                   local_dissipation = 0;
+    double local_dissipation = 0;
     /** The initial energies, the energy exchanged, the dissipated energy
      * and the reference errors of the run. */
     Postprocess::EnergyBalance<dim> energy_balance;

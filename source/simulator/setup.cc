@@ -151,7 +151,8 @@ namespace fmpm
                                                     mpi_communicator);
     centre_of_mass.reinit(partitioner, false);
     for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
-      if (centre_of_mass.field_needed[f] || centre_of_mass.lumped_step_fields[f] || contact)
+      if (centre_of_mass.field_needed[f] ||
+          centre_of_mass.lumped_step_fields[f] || contact)
         centre_of_mass.allocate(static_cast<ParticleUpdate::GridField>(f));
 
     {
@@ -257,15 +258,18 @@ namespace fmpm
     for (unsigned int d = 0; d < dim; ++d)
       if (known_velocities_read())
         {
-          centre_of_mass.known_velocity_mask[d].reinit(centre_of_mass.mass.get_partitioner());
-          centre_of_mass.known_velocity_value[d].reinit(centre_of_mass.mass.get_partitioner());
+          centre_of_mass.known_velocity_mask[d].reinit(
+            centre_of_mass.mass.get_partitioner());
+          centre_of_mass.known_velocity_value[d].reinit(
+            centre_of_mass.mass.get_partitioner());
         }
       else
         {
           centre_of_mass.known_velocity_mask[d].reinit(0);
           centre_of_mass.known_velocity_value[d].reinit(0);
         }
-    reactions.step_impulse.assign(velocity_conditions.labels().size(), Tensor<1, dim>());
+    reactions.step_impulse.assign(velocity_conditions.labels().size(),
+                                  Tensor<1, dim>());
     reactions.forces = reactions.step_impulse;
 
     // Tractions: the points inside each box carry the traction's index and
@@ -465,10 +469,8 @@ namespace fmpm
       }
 
     // A fixed time step must be stable.
-    const std::string unstable =
-      control.time_step_rule().check_fixed_time_step(control.signal_speed(),
-                                                     control.minimum_cell_size(),
-                                                     false);
+    const std::string unstable = control.time_step_rule().check_fixed_time_step(
+      control.signal_speed(), control.minimum_cell_size(), false);
     AssertThrow(unstable.empty(), ExcMessage(unstable));
   }
 

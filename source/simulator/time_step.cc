@@ -172,14 +172,14 @@ namespace fmpm
     // mass series (m̃ₖ⁻¹ of the total momenta) is then needed only for the
     // grid output that follows this step and the velocity method's
     // reactions.
-    const bool reactions             = velocity_method_reactions();
+    const bool measure_reactions     = velocity_method_reactions();
     const bool centre_of_mass_series = !contact || grid_output_follows_step(dt);
     const auto &needed               = active_fields();
     for (unsigned int f = 0; f < n_grid_fields; ++f)
       if ((needed[f] &&
            (centre_of_mass_series || f == lumped_velocity ||
             f == lumped_updated_velocity || f == lumped_acceleration)) ||
-          (reactions && (f == updated_velocity || f == velocity)))
+          (measure_reactions && (f == updated_velocity || f == velocity)))
         compute_field(static_cast<GridField>(f));
     if (contact)
       for (unsigned int f = 0; f < n_grid_fields; ++f)
@@ -209,14 +209,18 @@ namespace fmpm
       }
     // Velocity method: f^(b) = m̃ a^(b) with a^(b)Δt = Δv⁺ − Δv, whose sum
     // over nodes is Σ m_j a_j^(b) (columns of m̃ sum to m).
-    if (reactions)
-      for (unsigned int c = 0; c < centre_of_mass.velocity_corrections[1].size(); ++c)
+    if (measure_reactions)
+      for (unsigned int c = 0;
+           c < centre_of_mass.velocity_corrections[1].size();
+           ++c)
         {
           const auto  &condition = velocity_conditions.node_conditions()[c];
           const double impulse =
             centre_of_mass.mass.local_element(condition.local_index) *
-            (centre_of_mass.velocity_corrections[1][c] - centre_of_mass.velocity_corrections[0][c]);
-          reactions.step_impulse[condition.source] += impulse * condition.normal;
+            (centre_of_mass.velocity_corrections[1][c] -
+             centre_of_mass.velocity_corrections[0][c]);
+          reactions.step_impulse[condition.source] +=
+            impulse * condition.normal;
           velocity_conditions.add_condition_impulse(c, impulse);
         }
   }
