@@ -73,21 +73,21 @@ namespace fmpm
   const TrilinosWrappers::SparseMatrix &
   SimulatorAccess<dim>::get_full_mass_matrix() const
   {
-    return get_simulator().full_mass_matrix;
+    return get_simulator().centre_of_mass.full_mass_matrix;
   }
 
   template <int dim>
   const std::vector<GridScalar> &
   SimulatorAccess<dim>::get_known_velocity_mask() const
   {
-    return get_simulator().known_velocity_mask;
+    return get_simulator().centre_of_mass.known_velocity_mask;
   }
 
   template <int dim>
   const std::vector<GridScalar> &
   SimulatorAccess<dim>::get_known_velocity_values() const
   {
-    return get_simulator().known_velocity_value;
+    return get_simulator().centre_of_mass.known_velocity_value;
   }
 
   template <int dim>
@@ -115,7 +115,7 @@ namespace fmpm
   double
   SimulatorAccess<dim>::get_momentum_time() const
   {
-    return get_simulator().momentum_time;
+    return get_simulator().centre_of_mass.momentum_time;
   }
 
 
@@ -131,7 +131,7 @@ namespace fmpm
   double
   SimulatorAccess<dim>::get_mass_floor() const
   {
-    return get_simulator().mass_floor_value;
+    return get_simulator().centre_of_mass.mass_floor;
   }
 
   template <int dim>

@@ -16,6 +16,8 @@
 
 namespace fmpm
 {
+  using namespace dealii;
+
   template <int dim>
   class VelocityConditions;
 

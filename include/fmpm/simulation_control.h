@@ -269,6 +269,20 @@ namespace fmpm
       max_signal_speed = speed;
     }
 
+    /** The smallest edge h_min of the mesh's cells (set with the mesh; the
+     * Courant condition's length). Units: m. */
+    double
+    minimum_cell_size() const
+    {
+      return min_cell_size;
+    }
+
+    void
+    set_minimum_cell_size(const double h_min)
+    {
+      min_cell_size = h_min;
+    }
+
     /** Set Δt for the step about to be taken. */
     void
     set_time_step(const double dt)
@@ -426,6 +440,7 @@ namespace fmpm
     double       current_time      = 0;
     double       current_time_step = 0;
     double       max_signal_speed  = 0;
+    double       min_cell_size     = 0;
     unsigned int step              = 0;
     double       next_output_time  = 0;
     unsigned int n_output          = 0;

@@ -7,6 +7,7 @@
 #include <fmpm/constitutive_model/interface.h>
 #include <fmpm/contact/manager.h>
 #include <fmpm/external_loads.h>
+#include <fmpm/grid_state.h>
 #include <fmpm/grid_transfer.h>
 #include <fmpm/grid_vectors.h>
 #include <fmpm/mass_matrix/interface.h>
@@ -88,6 +89,25 @@ namespace fmpm
   };
 
   /**
+   * @brief The material points that left the mesh on this rank since the
+   * last check: how many, and the first ten with a message each.
+   */
+  struct LostPoints
+  {
+    unsigned long long       n = 0;
+    std::vector<std::string> messages;
+    std::vector<FailedPoint> points;
+
+    void
+    clear()
+    {
+      n = 0;
+      messages.clear();
+      points.clear();
+    }
+  };
+
+  /**
    * @brief Thrown when the numerical solution fails (NaN, energy growth,
    * inverted elements, points leaving the mesh). Carries the step, the time
    * and the point it is about.
@@ -159,7 +179,7 @@ namespace fmpm
     unsigned long long
     n_material_points() const
     {
-      return n_global_material_points;
+      return counters.n_material_points;
     }
 
     /** @brief No timing table at destruction (a scene set up, not run). */
@@ -180,7 +200,7 @@ namespace fmpm
     double
     mass_floor() const
     {
-      return mass_floor_value;
+      return centre_of_mass.mass_floor;
     }
 
     /** @brief A grid field of the last step (for tests). */
@@ -223,7 +243,7 @@ namespace fmpm
     const std::vector<Tensor<1, dim>> &
     get_reaction_forces() const
     {
-      return reaction_forces;
+      return reactions.forces;
     }
 
     /** @brief Statistics of the material points now (collective). */
@@ -607,13 +627,9 @@ namespace fmpm
     /** The points' mapping when every cell is an axis-aligned box (its
      * real-to-unit transform is a scaling; deal.II's sort of the points
      * then costs little), else @ref mapping. */
-    MappingCartesian<dim> cartesian_mapping;
-    /** Whether the points use @ref cartesian_mapping. */
-    bool                      points_use_cartesian_mapping = false;
+    MappingCartesian<dim>     cartesian_mapping;
     FE_Q<dim>                 fe;
     DoFHandler<dim>           dof_handler;
-    IndexSet                  locally_owned_dofs;
-    IndexSet                  locally_relevant_dofs;
     AffineConstraints<double> constraints;
     /** Whether any rank has a hanging node (constraints to distribute). */
     bool                has_hanging_nodes = false;
@@ -635,7 +651,6 @@ namespace fmpm
     /** Every locally owned material point: its state, in cell order. */
     MaterialPoints<dim> points;
     /** The number of points on all ranks (set when the store is filled). */
-    unsigned long long n_global_material_points = 0;
     /** The support (S, G) of every point of the store for this step. */
     SupportCache<dim> supports;
 
@@ -645,46 +660,28 @@ namespace fmpm
     std::vector<double>             cell_size_by_index;
     Particles::ParticleHandler<dim> particle_handler;
 
-    /** The centre-of-mass field (m, p, f, p⁺ in the notation of seed 000).
-     * Its fields are allocated on the mesh when a step may read them
-     * (field_needed, lumped_step_fields, contact), the others when first
-     * computed. */
-    NodalField<dim> centre_of_mass;
-    /** The grid fields a step computes and the particle update reads:
-     * field_needed for the configured update, lumped_step_fields for the
-     * FLIP of the lumped steps of a periodic FMPM(k) (active_fields()). */
-    std::array<bool, ParticleUpdate::n_grid_fields> field_needed{};
-    std::array<bool, ParticleUpdate::n_grid_fields> lumped_step_fields{};
-    TrilinosWrappers::SparseMatrix                  full_mass_matrix;
-    /** m̃ as one local matrix per cell (FMPM(k) without hanging nodes). */
-    CellwiseMatrix cellwise_full_mass;
-    bool           use_cellwise_full_mass = false;
+    /** The centre-of-mass grid state (m, p, f, p⁺ in the notation of seed
+     * 000, m̃, the known values). Its fields are allocated on the mesh when
+     * a step may read them (field_needed, lumped_step_fields, contact), the
+     * others when first computed. */
+    GridState<dim> centre_of_mass;
+    /** Names of centre_of_mass's m̃ for the point loops. */
+    TrilinosWrappers::SparseMatrix &full_mass_matrix =
+      centre_of_mass.full_mass_matrix;
+    CellwiseMatrix &cellwise_full_mass = centre_of_mass.cellwise_full_mass;
+    bool &use_cellwise_full_mass       = centre_of_mass.use_cellwise_full_mass;
     /** compute_supports() has extrapolated m and p (owned and ghost
      * entries, not yet added to their owners). */
     bool supports_extrapolated = false;
 
     /** Grid velocity conditions and the method imposing them. */
     VelocityConditions<dim> velocity_conditions;
-    /** Per component: 1 on owned nodes whose component is known in the
-     * mass-matrix solves (constrained method), and the known values. */
-    std::vector<GridScalar> known_velocity_mask;
-    std::vector<GridScalar> known_velocity_value;
-    /** Time at which the current momenta p are (t^n, or t^{n+1} after the
-     * re-extrapolation of USL+/USAVG+). */
-    double momentum_time = 0;
-    /** Impulse each reaction label gave the material in this step, and the
-     * resulting reaction forces (global). */
-    std::vector<Tensor<1, dim>> step_impulse;
-    std::vector<Tensor<1, dim>> reaction_forces;
+    /** The reactions of the velocity conditions and how well v⁺ meets
+     * them. */
+    ConditionReactions<dim> reactions;
     /** Gravity, b(x, t), the rotating frame and the tractions, and the
      * work of the walls and the tractions since the start. */
     ExternalLoads<dim> external_loads;
-    double             mesh_diameter = 0;
-    /** Largest |v⁺ · n̂ − v_b| on the condition nodes over the run (this
-     * rank). Units: m/s. */
-    double max_condition_error = 0;
-    /** Corrections Δv (of v) and Δv⁺ (of v⁺) per node condition. */
-    std::array<std::vector<double>, 2> velocity_corrections;
     /** The re-sorting of the points that left their cells (and the cells
      * around each vertex). */
     PointSort<dim> point_sort;
@@ -711,8 +708,9 @@ namespace fmpm
     const std::array<bool, ParticleUpdate::n_grid_fields> &
     active_fields() const
     {
-      return (series_step || !lumped_step_update) ? field_needed :
-                                                    lumped_step_fields;
+      return (series_step || !lumped_step_update) ?
+               centre_of_mass.field_needed :
+               centre_of_mass.lumped_step_fields;
     }
 
     /** history.csv: its rows, the tracked points of its columns. */
@@ -721,21 +719,17 @@ namespace fmpm
     /** Time, step, Δt and the output and checkpoint schedules. */
     SimulationControl control;
 
-    double mass_floor_value  = 0;
-    double minimum_cell_size = 0;
     /** First numerical failure this rank saw in the current step, and the
      * point it is about (report_point_failure()). */
     std::string local_failure;
     FailedPoint local_failed_point;
     /** Output stream for test mode (rank 0, only in test mode). */
     ConditionalOStream tout;
-    unsigned long long n_lost_points         = 0;
     double             local_max_wave_speed  = 0;
     double             local_max_point_speed = 0;
     /** Energy dissipated by the particle updates on this rank in the
      * current step (seed 003 Eq. 1.46). */
-    double                   local_dissipation = 0;
-    std::vector<std::string> lost_point_messages;
+    double local_dissipation = 0;
     /** The initial energies, the energy exchanged, the dissipated energy
      * and the reference errors of the run. */
     Postprocess::EnergyBalance<dim> energy_balance;
@@ -744,8 +738,8 @@ namespace fmpm
     /** What the outputs write besides history.csv: VTU files, the
      * points' csv files (set-up). */
     Postprocess::Manager<dim> postprocessors;
-    /** The points of lost_point_messages, in their order. */
-    std::vector<FailedPoint> lost_points;
+    /** The points that left the mesh in this step (this rank). */
+    LostPoints lost;
 
     /** Where the run resumed from, its checkpoints and the requests to
      * write one (simulator/checkpoint_restart.cc). */

@@ -23,6 +23,31 @@
 namespace fmpm
 {
   /**
+   * @brief What the velocity conditions did to the material: the impulse
+   * each reaction label gave in the current step, the resulting reaction
+   * forces of the last step (over all ranks), and the largest |v⁺ · n̂ −
+   * v_b| on the condition nodes since the start (this rank; reduced when
+   * written). Units: N s, N (per m in 2D), m/s.
+   */
+  template <int dim>
+  struct ConditionReactions
+  {
+    std::vector<Tensor<1, dim>> step_impulse;
+    std::vector<Tensor<1, dim>> forces;
+    double                      max_condition_error = 0;
+
+    /** What a checkpoint keeps (the error reduced over the ranks). */
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int)
+    {
+      archive &max_condition_error &forces;
+    }
+  };
+
+
+
+  /**
    * @brief Grid velocity conditions (fixed, roller, moving walls on boundary
    * ids or moving boxes) and the methods of seed 000 §2.4 that impose them
    * with lumped or full mass matrices.

@@ -149,7 +149,7 @@ namespace fmpm
         MassMatrix::apply_lumped_inverse(centre_of_mass.mass,
                                          centre_of_mass.momentum,
                                          v,
-                                         mass_floor_value);
+                                         centre_of_mass.mass_floor);
         for (unsigned int d = 0; d < dim; ++d)
           {
             if (has_hanging_nodes)
@@ -228,10 +228,8 @@ namespace fmpm
     points_from_handler();
     ++counters.mesh_adaptations;
     // A fixed time step must stay stable on the new smallest cell.
-    const std::string unstable =
-      control.time_step_rule().check_fixed_time_step(control.signal_speed(),
-                                                     minimum_cell_size,
-                                                     true);
+    const std::string unstable = control.time_step_rule().check_fixed_time_step(
+      control.signal_speed(), control.minimum_cell_size(), true);
     if (!unstable.empty())
       throw SimulationFailure(unstable, control.step_number(), control.time());
     return true;

@@ -189,8 +189,7 @@ namespace fmpm
     velocity_conditions.serialize_state(archive);
     // The centre-of-mass grid's mass floor, the loads' work and the
     // conditions' reactions.
-    archive &mass_floor_value &external_loads &mesh_diameter
-      &max_condition_error &reaction_forces;
+    archive &centre_of_mass.mass_floor &external_loads &reactions;
   }
 
 
@@ -268,8 +267,8 @@ namespace fmpm
     MPI_Barrier(mpi_communicator);
 
     // 1. The scalar state, with per-rank figures reduced first (collective).
-    max_condition_error =
-      Utilities::MPI::max(max_condition_error, mpi_communicator);
+    reactions.max_condition_error =
+      Utilities::MPI::max(reactions.max_condition_error, mpi_communicator);
     std::map<std::string, std::map<std::string, std::string>> plugin_state;
     mass_matrix->save(plugin_state["mass matrix"]);
     particle_update->save(plugin_state["particle update"]);

@@ -156,7 +156,7 @@ namespace fmpm
           if (cell->face(f)->manifold_id() != numbers::flat_manifold_id)
             boxes = false;
       }
-    points_use_cartesian_mapping =
+    const bool points_use_cartesian_mapping =
       Utilities::MPI::min(boxes ? 1 : 0, mpi_communicator) == 1;
     if (points_use_cartesian_mapping)
       particle_handler.initialize(triangulation,
@@ -172,8 +172,8 @@ namespace fmpm
     particle_handler.signals.particle_lost.connect(
       [this](const typename Particles::ParticleIterator<dim> &particle,
              const typename Triangulation<dim>::active_cell_iterator &) {
-        ++n_lost_points;
-        if (lost_point_messages.size() < 10)
+        ++lost.n;
+        if (lost.messages.size() < 10)
           {
             std::ostringstream message;
             const auto         properties = particle->get_properties();
@@ -183,13 +183,13 @@ namespace fmpm
                     << " left the mesh at position ("
                     << particle->get_location() << ") at time "
                     << control.time();
-            lost_point_messages.push_back(message.str());
+            lost.messages.push_back(message.str());
             FailedPoint point;
             point.cause = FailedPoint::Cause::left_mesh;
             point.id    = particle->get_id();
             for (unsigned int d = 0; d < dim; ++d)
               point.position[d] = particle->get_location()[d];
-            lost_points.push_back(point);
+            lost.points.push_back(point);
           }
       });
   }
@@ -212,7 +212,7 @@ namespace fmpm
   {
     TimerOutput::Scope timer(computing_timer, "point store: from handler");
     points.pull_from(particle_handler);
-    n_global_material_points =
+    counters.n_material_points =
       Utilities::MPI::sum<unsigned long long>(points.n_points(),
                                               mpi_communicator);
   }
@@ -243,7 +243,7 @@ namespace fmpm
     const double *const mass = points.column(PropertyIndex<dim>::mass);
     for (unsigned int k = 0; k < points.n_points(); ++k)
       min_point_mass = std::min(min_point_mass, mass[k]);
-    mass_floor_value =
+    centre_of_mass.mass_floor =
       1e-12 * Utilities::MPI::min(min_point_mass, mpi_communicator);
   }
 
@@ -334,7 +334,7 @@ namespace fmpm
           << Utilities::MPI::n_mpi_processes(mpi_communicator)
           << " MPI rank(s), " << triangulation.n_global_active_cells()
           << " cells, " << dof_handler.n_dofs() << " nodes, "
-          << n_global_material_points << " material points, "
+          << counters.n_material_points << " material points, "
           << "particle update '" << parameters.method.particle_update
           << "', mass matrix '" << parameters.method.mass_matrix
           << "', strain update '" << parameters.method.strain_update << "'"
@@ -425,11 +425,11 @@ namespace fmpm
     double             g = 0;
     for (unsigned int d = 0; d < dim; ++d)
       g += parameters.gravity[d] * parameters.gravity[d];
-    mesh_diameter = bounding_box_diagonal(triangulation);
+    energy_balance.mesh_diameter = bounding_box_diagonal(triangulation);
     energy_balance.start(
       statistics,
       std::max({statistics.kinetic_energy + statistics.strain_energy,
-                statistics.mass * std::sqrt(g) * mesh_diameter,
+                statistics.mass * std::sqrt(g) * energy_balance.mesh_diameter,
                 1e-300}));
   }
 
@@ -567,10 +567,10 @@ namespace fmpm
     solver.conditions        = &velocity_conditions;
     solver.constraints       = &constraints;
     solver.has_hanging_nodes = has_hanging_nodes;
-    solver.mass_floor        = mass_floor_value;
+    solver.mass_floor        = centre_of_mass.mass_floor;
     // The time of the momenta and of the updated momenta (acceleration: over
     // the step).
-    solver.t_begin = momentum_time;
+    solver.t_begin = centre_of_mass.momentum_time;
     solver.t_end   = control.time() + control.time_step();
     return solver;
   }
@@ -582,76 +582,15 @@ namespace fmpm
   Simulator<dim>::compute_field(const ParticleUpdate::GridField field,
                                 const bool                      timed)
   {
-    using namespace ParticleUpdate;
     if (centre_of_mass.computed[field])
       return;
     std::optional<TimerOutput::Scope> timer;
     if (timed)
       timer.emplace(computing_timer, "grid solve");
-    centre_of_mass.allocate(field);
-    const FieldSolver<dim> solver          = field_solver();
-    GridVectorField       &target          = centre_of_mass.fields[field];
-    const double           t_field         = solver.time_of(field);
-    const bool             is_acceleration = solver.is_acceleration(field);
-    if (velocity_conditions.uses_known_values() && known_velocities_read())
-      {
-        velocity_conditions.known_values(t_field,
-                                         known_velocity_mask,
-                                         known_velocity_value);
-        if (is_acceleration)
-          {
-            // Known accelerations: (v_b(t + Δt) − v_b(t)) / Δt.
-            std::vector<GridScalar> mask_end(known_velocity_mask),
-              value_end(known_velocity_value);
-            velocity_conditions.known_values(solver.t_end, mask_end, value_end);
-            for (unsigned int d = 0; d < dim; ++d)
-              {
-                known_velocity_value[d].sadd(-1., 1., value_end[d]);
-                known_velocity_value[d] *= 1. / control.time_step();
-              }
-          }
-      }
-    const GridVectorField &momentum = centre_of_mass.momentum;
-    const GridVectorField &force    = centre_of_mass.force;
-    // Iterative solves start from the field's value of the last step.
-    switch (field)
-      {
-        case updated_velocity: // v⁺ = m̃ₖ⁻¹ p⁺
-          mass_matrix->solve_from_guess(centre_of_mass.updated_momentum,
-                                        target,
-                                        0);
-          break;
-        case acceleration: // m̃ₖ⁻¹ f, as accurate in a Δt as v in p
-          mass_matrix->solve_from_guess(force,
-                                        target,
-                                        momentum.l2_norm() /
-                                            control.time_step() +
-                                          force.l2_norm());
-          break;
-        case velocity: // v = m̃ₖ⁻¹ p
-          mass_matrix->solve_from_guess(momentum, target, 0);
-          break;
-        case lumped_velocity: // m⁻¹ p
-          solver.lumped(centre_of_mass, field, momentum);
-          break;
-        case lumped_updated_velocity: // m⁻¹ p⁺
-          solver.lumped(centre_of_mass, field, centre_of_mass.updated_momentum);
-          break;
-        case lumped_acceleration: // m⁻¹ f
-          solver.lumped(centre_of_mass, field, force);
-          break;
-        default:
-          Assert(false, ExcInternalError());
-      }
-    // Lumped fields satisfy the conditions exactly; full-mass fields where
-    // the method promises it (constrained, velocity: Eq. 2.53).
-    solver.finish(centre_of_mass,
-                  field,
-                  solver.is_lumped(field) ||
-                    velocity_conditions.corrects_velocities(),
-                  field == updated_velocity ? &velocity_corrections[1] :
-                  field == velocity         ? &velocity_corrections[0] :
-                                              nullptr);
+    centre_of_mass.compute(field,
+                           field_solver(),
+                           *mass_matrix,
+                           control.time_step());
   }
 
 
@@ -662,7 +601,7 @@ namespace fmpm
   {
     typename VelocityConditions<dim>::Operators operators;
     operators.lumped_mass = &centre_of_mass.mass;
-    operators.mass_floor  = mass_floor_value;
+    operators.mass_floor  = centre_of_mass.mass_floor;
     operators.solve = [this](const GridVectorField &p, GridVectorField &v) {
       mass_matrix->solve(p, v);
     };
@@ -691,7 +630,7 @@ namespace fmpm
     // values (the method is then lumped on momenta anyway).
     if (velocity_conditions.uses_known_values() && known_velocities_read())
       for (unsigned int d = 0; d < dim; ++d)
-        known_velocity_mask[d] = 0;
+        centre_of_mass.known_velocity_mask[d] = 0;
     velocity_conditions.impose_on_momenta(q,
                                           t,
                                           velocity_condition_operators(),

@@ -78,7 +78,7 @@ namespace fmpm
     row.momentum          = statistics.momentum;
     row.mass              = statistics.mass;
     row.dissipated_energy = energy_balance.dissipated_energy;
-    row.reactions         = reaction_forces;
+    row.reactions         = reactions.forces;
     if (statistics.per_material.size() > 0)
       {
         // Per material: mass, centre-of-mass velocity, volume-averaged
@@ -278,7 +278,7 @@ namespace fmpm
     for (auto &phase : phases)
       phase.second = Utilities::MPI::max(phase.second, mpi_communicator);
     const double condition_error =
-      Utilities::MPI::max(max_condition_error, mpi_communicator);
+      Utilities::MPI::max(reactions.max_condition_error, mpi_communicator);
     // Load balance: the largest number of points on one rank against the
     // mean.
     const double local_points = static_cast<double>(points.n_points());
@@ -325,7 +325,7 @@ namespace fmpm
     out << "  \"dimension\": " << dim << ",\n";
     out << "  \"n_mpi_ranks\": "
         << Utilities::MPI::n_mpi_processes(mpi_communicator) << ",\n";
-    out << "  \"n_particles\": " << n_global_material_points << ",\n";
+    out << "  \"n_particles\": " << counters.n_material_points << ",\n";
     out << "  \"n_cells\": " << triangulation.n_global_active_cells() << ",\n";
     out << "  \"point_imbalance\": "
         << number(mean_rank_points > 0 ? max_rank_points / mean_rank_points :
@@ -428,7 +428,7 @@ namespace fmpm
         << number(energy_balance.error_scale(statistics,
                                              external_loads.work_scale()))
         << ",\n";
-    out << "  \"lost_points\": " << counters.total_lost_points << ",\n";
+    out << "  \"lost.points\": " << counters.total_lost_points << ",\n";
     {
       // The largest checkerboard indicator of the outputs, and its time.
       double max_checkerboard = 0, max_checkerboard_time = 0;
@@ -566,7 +566,7 @@ namespace fmpm
             AssertThrow(Utilities::MPI::logical_or(has, mpi_communicator),
                         ExcMessage(where + "no material point has id " + entry +
                                    " (the scene has " +
-                                   std::to_string(n_global_material_points) +
+                                   std::to_string(counters.n_material_points) +
                                    " points)."));
             history.tracked_point_ids.push_back(id);
             continue;

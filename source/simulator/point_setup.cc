@@ -495,7 +495,7 @@ namespace fmpm
                              "against the Mesh subsection."));
 
     points.rebin();
-    n_global_material_points =
+    counters.n_material_points =
       Utilities::MPI::sum<unsigned long long>(points.n_points(),
                                               mpi_communicator);
   }

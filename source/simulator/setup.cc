@@ -123,7 +123,8 @@ namespace fmpm
   Simulator<dim>::setup_dofs()
   {
     dof_handler.distribute_dofs(fe);
-    locally_owned_dofs = dof_handler.locally_owned_dofs();
+    const IndexSet locally_owned_dofs = dof_handler.locally_owned_dofs();
+    IndexSet       locally_relevant_dofs;
     DoFTools::extract_locally_relevant_dofs(dof_handler, locally_relevant_dofs);
 
     // Only hanging-node and periodicity constraints: velocity conditions
@@ -150,7 +151,8 @@ namespace fmpm
                                                     mpi_communicator);
     centre_of_mass.reinit(partitioner, false);
     for (unsigned int f = 0; f < ParticleUpdate::n_grid_fields; ++f)
-      if (field_needed[f] || lumped_step_fields[f] || contact)
+      if (centre_of_mass.field_needed[f] ||
+          centre_of_mass.lumped_step_fields[f] || contact)
         centre_of_mass.allocate(static_cast<ParticleUpdate::GridField>(f));
 
     {
@@ -240,7 +242,7 @@ namespace fmpm
     for (const auto &cell : triangulation.active_cell_iterators())
       if (cell->is_locally_owned())
         h_min = std::min(h_min, cell->minimum_vertex_distance());
-    minimum_cell_size = Utilities::MPI::min(h_min, mpi_communicator);
+    control.set_minimum_cell_size(Utilities::MPI::min(h_min, mpi_communicator));
   }
 
 
@@ -251,21 +253,24 @@ namespace fmpm
   {
     velocity_conditions.setup_nodes(dof_handler,
                                     *centre_of_mass.mass.get_partitioner());
-    known_velocity_mask.resize(dim);
-    known_velocity_value.resize(dim);
+    centre_of_mass.known_velocity_mask.resize(dim);
+    centre_of_mass.known_velocity_value.resize(dim);
     for (unsigned int d = 0; d < dim; ++d)
       if (known_velocities_read())
         {
-          known_velocity_mask[d].reinit(centre_of_mass.mass.get_partitioner());
-          known_velocity_value[d].reinit(centre_of_mass.mass.get_partitioner());
+          centre_of_mass.known_velocity_mask[d].reinit(
+            centre_of_mass.mass.get_partitioner());
+          centre_of_mass.known_velocity_value[d].reinit(
+            centre_of_mass.mass.get_partitioner());
         }
       else
         {
-          known_velocity_mask[d].reinit(0);
-          known_velocity_value[d].reinit(0);
+          centre_of_mass.known_velocity_mask[d].reinit(0);
+          centre_of_mass.known_velocity_value[d].reinit(0);
         }
-    step_impulse.assign(velocity_conditions.labels().size(), Tensor<1, dim>());
-    reaction_forces = step_impulse;
+    reactions.step_impulse.assign(velocity_conditions.labels().size(),
+                                  Tensor<1, dim>());
+    reactions.forces = reactions.step_impulse;
 
     // Tractions: the points inside each box carry the traction's index and
     // their face area.
@@ -343,12 +348,12 @@ namespace fmpm
     if (parameters.output.track_dissipation)
       always[ParticleUpdate::velocity] = always[ParticleUpdate::acceleration] =
         true;
-    field_needed = lumped_step_fields = always;
+    centre_of_mass.field_needed = centre_of_mass.lumped_step_fields = always;
     for (const auto field : particle_update->required_fields())
-      field_needed[field] = true;
+      centre_of_mass.field_needed[field] = true;
     if (lumped_step_update)
       for (const auto field : lumped_step_update->required_fields())
-        lumped_step_fields[field] = true;
+        centre_of_mass.lumped_step_fields[field] = true;
   }
 
 
@@ -464,10 +469,8 @@ namespace fmpm
       }
 
     // A fixed time step must be stable.
-    const std::string unstable =
-      control.time_step_rule().check_fixed_time_step(control.signal_speed(),
-                                                     minimum_cell_size,
-                                                     false);
+    const std::string unstable = control.time_step_rule().check_fixed_time_step(
+      control.signal_speed(), control.minimum_cell_size(), false);
     AssertThrow(unstable.empty(), ExcMessage(unstable));
   }
 

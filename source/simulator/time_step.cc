@@ -65,7 +65,8 @@ namespace fmpm
         control.step_number() % parameters.refinement.interval == 0)
       adapt_mesh();
     TimerOutput::Scope timer(computing_timer, "step set-up");
-    control.calculate_time_step(control.signal_speed(), minimum_cell_size);
+    control.calculate_time_step(control.signal_speed(),
+                                control.minimum_cell_size());
     const double t  = control.time();
     const double dt = control.time_step();
     series_step     = mass_matrix->begin_step(control.step_number(), t, dt);
@@ -73,7 +74,7 @@ namespace fmpm
     // at t^n, measured on the manufactured solution).
     external_loads.begin_step(t + 0.5 * dt);
     centre_of_mass.computed.fill(false);
-    for (auto &impulse : step_impulse)
+    for (auto &impulse : reactions.step_impulse)
       impulse = Tensor<1, dim>();
     timer.stop();
     // Box walls that move and regions in t: their nodes at t.
@@ -101,7 +102,7 @@ namespace fmpm
     particles_to_grid(!parameters.method.strain_update_scheme.update_first);
     {
       TimerOutput::Scope timer(computing_timer, "grid solve");
-      momentum_time = t;
+      centre_of_mass.momentum_time = t;
       impose_velocity_conditions(centre_of_mass.momentum, t, nullptr);
     }
     if (contact)
@@ -146,7 +147,7 @@ namespace fmpm
                      centre_of_mass.force);
       impose_velocity_conditions(centre_of_mass.updated_momentum,
                                  t_end,
-                                 &step_impulse);
+                                 &reactions.step_impulse);
       set_scaled_sum(centre_of_mass.force,
                      centre_of_mass.updated_momentum,
                      -1.,
@@ -173,7 +174,7 @@ namespace fmpm
     // mass series (m̃ₖ⁻¹ of the total momenta) is then needed only for the
     // grid output that follows this step and the velocity method's
     // reactions.
-    const bool reactions             = velocity_method_reactions();
+    const bool measure_reactions     = velocity_method_reactions();
     const bool centre_of_mass_series = !contact || grid_output_follows_step(dt);
     const auto &needed               = active_fields();
     // One section for the fields (a section entry costs about a
@@ -184,7 +185,7 @@ namespace fmpm
       if ((needed[f] &&
            (centre_of_mass_series || f == lumped_velocity ||
             f == lumped_updated_velocity || f == lumped_acceleration)) ||
-          (reactions && (f == updated_velocity || f == velocity)))
+          (measure_reactions && (f == updated_velocity || f == velocity)))
         compute_field(static_cast<GridField>(f), false);
     if (contact) // (times itself)
       {
@@ -205,26 +206,30 @@ namespace fmpm
         const auto &v = centre_of_mass.fields[updated_velocity];
         for (const auto &c : velocity_conditions.node_conditions())
           if (centre_of_mass.mass.local_element(c.local_index) >
-              mass_floor_value)
+              centre_of_mass.mass_floor)
             {
               double v_n = 0;
               for (unsigned int d = 0; d < dim; ++d)
                 v_n += v.block(d).local_element(c.local_index) * c.normal[d];
-              max_condition_error =
-                std::max(max_condition_error,
+              reactions.max_condition_error =
+                std::max(reactions.max_condition_error,
                          std::abs(v_n - velocity_conditions.value(c, t_end)));
             }
       }
     // Velocity method: f^(b) = m̃ a^(b) with a^(b)Δt = Δv⁺ − Δv, whose sum
     // over nodes is Σ m_j a_j^(b) (columns of m̃ sum to m).
-    if (reactions)
-      for (unsigned int c = 0; c < velocity_corrections[1].size(); ++c)
+    if (measure_reactions)
+      for (unsigned int c = 0;
+           c < centre_of_mass.velocity_corrections[1].size();
+           ++c)
         {
           const auto  &condition = velocity_conditions.node_conditions()[c];
           const double impulse =
             centre_of_mass.mass.local_element(condition.local_index) *
-            (velocity_corrections[1][c] - velocity_corrections[0][c]);
-          step_impulse[condition.source] += impulse * condition.normal;
+            (centre_of_mass.velocity_corrections[1][c] -
+             centre_of_mass.velocity_corrections[0][c]);
+          reactions.step_impulse[condition.source] +=
+            impulse * condition.normal;
           velocity_conditions.add_condition_impulse(c, impulse);
         }
   }
@@ -260,7 +265,7 @@ namespace fmpm
     finish_re_extrapolation();
     {
       TimerOutput::Scope timer(computing_timer, "grid solve");
-      momentum_time = t_end;
+      centre_of_mass.momentum_time = t_end;
       impose_velocity_conditions(centre_of_mass.momentum, t_end, nullptr);
       centre_of_mass.computed[velocity] =
         centre_of_mass.computed[lumped_velocity] = false;
@@ -297,29 +302,29 @@ namespace fmpm
     TimerOutput::Scope timer(computing_timer, "step end");
     const double       dt = control.time_step();
     // Reaction forces: the impulse each boundary gave in this step over Δt.
-    if (!step_impulse.empty())
+    if (!reactions.step_impulse.empty())
       {
         std::vector<double> values;
-        for (const auto &impulse : step_impulse)
+        for (const auto &impulse : reactions.step_impulse)
           for (unsigned int d = 0; d < dim; ++d)
             values.push_back(impulse[d] / dt);
         Utilities::MPI::sum(values, mpi_communicator, values);
-        for (unsigned int s = 0; s < reaction_forces.size(); ++s)
+        for (unsigned int s = 0; s < reactions.forces.size(); ++s)
           for (unsigned int d = 0; d < dim; ++d)
-            reaction_forces[s][d] = values[s * dim + d];
+            reactions.forces[s][d] = values[s * dim + d];
       }
     // External work: moving walls (reaction · n̂ v(t + Δt/2) Δt) and
     // tractions (Σ F_p · V_p Δt).
-    if (external_loads.has_tractions() || !reaction_forces.empty())
+    if (external_loads.has_tractions() || !reactions.forces.empty())
       external_loads.add_step_work(
-        velocity_conditions.wall_work(reaction_forces, control.time(), dt),
+        velocity_conditions.wall_work(reactions.forces, control.time(), dt),
         dt,
-        mesh_diameter,
+        energy_balance.mesh_diameter,
         mpi_communicator);
     velocity_conditions.advance_walls(control.time(), dt);
 
     control.advance();
-    counters.particle_steps += n_global_material_points;
+    counters.particle_steps += counters.n_material_points;
     if (parameters.refinement.adaptive())
       {
         const unsigned long long n_cells =
@@ -343,7 +348,7 @@ namespace fmpm
     // time step would then depend on the partition. The checkpoint request
     // (a signal or the wall time, on any rank) takes the same reduction.
     const double flags[5] = {local_failure.empty() ? 0. : 1.,
-                             static_cast<double>(n_lost_points),
+                             static_cast<double>(lost.n),
                              local_max_wave_speed,
                              local_max_point_speed,
                              static_cast<double>(local_checkpoint_request())};
@@ -369,11 +374,11 @@ namespace fmpm
     if (global_flags[1] > 0)
       {
         const unsigned long long n_lost =
-          Utilities::MPI::sum(n_lost_points, mpi_communicator);
+          Utilities::MPI::sum(lost.n, mpi_communicator);
         const auto messages =
-          Utilities::MPI::all_gather(mpi_communicator, lost_point_messages);
+          Utilities::MPI::all_gather(mpi_communicator, lost.messages);
         const auto points_lost =
-          Utilities::MPI::all_gather(mpi_communicator, lost_points);
+          Utilities::MPI::all_gather(mpi_communicator, lost.points);
         std::string first;
         FailedPoint first_point;
         for (unsigned int rank = 0; rank < messages.size(); ++rank)
@@ -394,9 +399,7 @@ namespace fmpm
         pcout << "    " << n_lost << " material point(s) left the mesh and "
               << "were deleted; first: " << first << std::endl;
         counters.total_lost_points += n_lost;
-        n_lost_points = 0;
-        lost_point_messages.clear();
-        lost_points.clear();
+        lost.clear();
       }
   }
 

@@ -114,13 +114,17 @@ namespace fmpm
 
       /** The energy the particle updates dissipated since the start. */
       double dissipated_energy = 0;
+      /** The diagonal of the mesh's bounding box: the distance over which
+       * gravity and the tractions can do work (scales of the bounds).
+       * Units: m. */
+      double mesh_diameter = 0;
 
       template <class Archive>
       void
       serialize(Archive &archive, const unsigned int)
       {
         archive &initial_total &initial_scale &initial_kinetic &initial_strain
-          &max_exchanged &dissipated_energy &error_sums;
+          &max_exchanged &dissipated_energy &error_sums &mesh_diameter;
       }
 
     private:
@@ -145,6 +149,9 @@ namespace fmpm
       unsigned long long cell_steps        = 0;
       unsigned long long max_cells         = 0;
       unsigned long long total_lost_points = 0;
+      /** The number of material points on all ranks (set when the store
+       * is filled). */
+      unsigned long long n_material_points = 0;
       /** Mesh adaptations during the run (after the initial one). */
       unsigned int mesh_adaptations = 0;
       /** MPI_Wtime() at the start (shifted back by the time before a
