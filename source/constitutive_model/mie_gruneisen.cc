@@ -45,18 +45,7 @@ namespace fmpm
                         format_number(defaults.artificial_viscosity_a2),
                         Patterns::Double(),
                         "A2 of Eq. (52). Must not be negative. Units: none.");
-      prm.declare_entry("Yield stress",
-                        format_number(defaults.yield_stress),
-                        Patterns::Double(),
-                        "Initial von Mises yield stress σ_y (J2 plasticity "
-                        "on the deviatoric Kirchhoff stress); 0: no "
-                        "plasticity. Must not be negative. Units: Pa.");
-      prm.declare_entry("Hardening modulus",
-                        format_number(defaults.hardening_modulus),
-                        Patterns::Double(),
-                        "Linear hardening H: the yield stress is σ_y + H ε_p "
-                        "(ε_p the equivalent plastic strain). Must not be "
-                        "negative. Units: Pa.");
+      J2Hardening::declare_parameters(prm, defaults.plasticity);
     }
 
 
@@ -71,8 +60,7 @@ namespace fmpm
       s1                      = prm.get_double("S1");
       artificial_viscosity_a1 = prm.get_double("Artificial viscosity A1");
       artificial_viscosity_a2 = prm.get_double("Artificial viscosity A2");
-      yield_stress            = prm.get_double("Yield stress");
-      hardening_modulus       = prm.get_double("Hardening modulus");
+      plasticity.parse_parameters(prm);
     }
 
 
@@ -112,15 +100,8 @@ namespace fmpm
               "Artificial viscosity A2",
               artificial_viscosity_a2,
               "any value >= 0");
-      require(yield_stress >= 0,
-              "Yield stress",
-              yield_stress,
-              "0 (no plasticity) or any value > 0 (Pa)");
-      require(hardening_modulus >= 0,
-              "Hardening modulus",
-              hardening_modulus,
-              "any value >= 0 (Pa)");
-      require(yield_stress == 0 || shear_modulus > 0,
+      plasticity.check(where);
+      require(!plasticity.plastic() || shear_modulus > 0,
               "Shear modulus",
               shear_modulus,
               "a value > 0 when Yield stress > 0 (Pa)");
@@ -134,7 +115,7 @@ namespace fmpm
     {
       energy_slot  = properties.request("internal_energy", 1);
       plastic_slot = properties.request("plastic_strain", 1);
-      if (yield_stress > 0)
+      if (plasticity.plastic())
         elastic_b_slot = properties.request("elastic_b_minus_identity", 6);
     }
 
@@ -208,14 +189,13 @@ namespace fmpm
     MieGruneisen<dim>::update_stress(const StressUpdateInputs &inputs,
                                      StressUpdateOutputs      &outputs) const
     {
-      using Index                          = PropertyIndex<dim>;
-      const double                rho0     = inputs.reference_density;
-      const double                dt       = inputs.time_step;
-      const double                g0       = gruneisen_gamma;
-      const bool                  plastic  = yield_stress > 0;
-      const bool                  viscous  = needs_cell_size();
-      const double                sqrt_2_3 = std::sqrt(2. / 3.);
-      const SymmetricTensor<2, 3> I        = unit_symmetric_tensor<3>();
+      using Index                         = PropertyIndex<dim>;
+      const double                rho0    = inputs.reference_density;
+      const double                dt      = inputs.time_step;
+      const double                g0      = gruneisen_gamma;
+      const bool                  plastic = plasticity.plastic();
+      const bool                  viscous = needs_cell_size();
+      const SymmetricTensor<2, 3> I       = unit_symmetric_tensor<3>();
 
       for (unsigned int q = 0; q < inputs.n_points; ++q)
         {
@@ -251,32 +231,16 @@ namespace fmpm
             s = elastic_shear_stress(F1);
           else
             {
-              SymmetricTensor<2, 3> b_e =
+              SymmetricTensor<2, 3> elastic_b_minus_identity =
                 get_symmetric_tensor3(P, elastic_b_slot);
-              b_e += I;
-              const Tensor<2, 3> f     = F1 * invert(F0);
-              const Tensor<2, 3> f_bar = std::pow(determinant(f), -1. / 3.) * f;
-              const SymmetricTensor<2, 3> b_trial =
-                symmetrize(f_bar * Tensor<2, 3>(b_e) * transpose(f_bar));
-              const SymmetricTensor<2, 3> s_trial =
-                shear_modulus * deviator(b_trial);
-              const double I_e    = trace(b_trial) / 3.;
-              const double mu_bar = shear_modulus * I_e;
-              const double norm   = s_trial.norm();
-              double      &eps_p  = P[plastic_slot];
-              const double f_yield =
-                norm - sqrt_2_3 * (yield_stress + hardening_modulus * eps_p);
-              s = s_trial;
-              if (f_yield > 0)
-                {
-                  const double dgamma =
-                    f_yield / (2. * mu_bar + 2. / 3. * hardening_modulus);
-                  s -= (2. * mu_bar * dgamma / norm) * s_trial;
-                  eps_p += sqrt_2_3 * dgamma;
-                }
+              s = plasticity.radial_return(F0,
+                                           F1,
+                                           shear_modulus,
+                                           elastic_b_minus_identity,
+                                           P[plastic_slot]);
               set_symmetric_tensor3(P,
                                     elastic_b_slot,
-                                    s / shear_modulus + (I_e - 1.) * I);
+                                    elastic_b_minus_identity);
             }
 
           // Pressure of Eq. (51): cold part now, ρ0 γ0 U after the energy.

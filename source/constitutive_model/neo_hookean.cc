@@ -3,6 +3,7 @@
 
 #include <fmpm/constitutive_model/neo_hookean.h>
 #include <fmpm/parameters.h>
+#include <fmpm/particle_properties.h>
 
 #include <algorithm>
 #include <cmath>
@@ -37,6 +38,7 @@ namespace fmpm
         "= G, lambda = K - 2G/3. Both: b = F F^T, I1 = tr b, Cauchy stress "
         "sigma = tau/J; in 2D (plane strain) b_zz = 1 counts in I1 and "
         "sigma_zz. Units: none.");
+      J2Hardening::declare_parameters(prm, defaults.plasticity);
     }
 
 
@@ -48,6 +50,19 @@ namespace fmpm
       elastic_constants.parse_parameters(prm);
       elastic_constants.get_bulk_and_shear(bulk_modulus, shear_modulus);
       energy_form = energy_form_names.value(prm.get("Energy form"));
+      plasticity.parse_parameters(prm);
+    }
+
+
+
+    template <int dim>
+    void
+    NeoHookean<dim>::request_properties(ParticleProperties<dim> &properties)
+    {
+      if (!plasticity.plastic())
+        return;
+      plastic_slot   = properties.request("plastic_strain", 1);
+      elastic_b_slot = properties.request("elastic_b_minus_identity", 6);
     }
 
 
@@ -65,6 +80,13 @@ namespace fmpm
                   ExcMessage(
                     where + "/Shear modulus = " + format_number(shear_modulus) +
                     " is not positive. Allowed: any value > 0 (Pa)."));
+      plasticity.check(where);
+      AssertThrow(!plasticity.plastic() || energy_form == EnergyForm::j_squared,
+                  ExcMessage(where + "/Yield stress = " +
+                             format_number(plasticity.yield_stress) +
+                             " needs 'Energy form = J^2' (the plastic flow "
+                             "acts on dev(b_bar)); 'ln J' is elastic only. "
+                             "Allowed: Yield stress = 0 with 'ln J'."));
     }
 
 
@@ -381,9 +403,49 @@ namespace fmpm
 
     template <int dim>
     void
+    NeoHookean<dim>::update_plastic(const StressUpdateInputs &inputs,
+                                    StressUpdateOutputs      &outputs) const
+    {
+      const SymmetricTensor<2, 3> I = unit_symmetric_tensor<3>();
+      for (unsigned int q = 0; q < inputs.n_points; ++q)
+        {
+          const PointRecord &P  = inputs.properties[q];
+          const Tensor<2, 3> F1 = inputs.deformation_gradient_tensor(q);
+          const Tensor<2, 3> F0 =
+            get_tensor3(P, PropertyIndex<dim>::deformation_gradient);
+          SymmetricTensor<2, 3> elastic_b_minus_identity =
+            get_symmetric_tensor3(P, elastic_b_slot);
+          double                     &plastic_strain = P[plastic_slot];
+          const SymmetricTensor<2, 3> s =
+            plasticity.radial_return(F0,
+                                     F1,
+                                     shear_modulus,
+                                     elastic_b_minus_identity,
+                                     plastic_strain,
+                                     true);
+          set_symmetric_tensor3(P, elastic_b_slot, elastic_b_minus_identity);
+          // τ = s + K/2 (J² − 1) I (Eq. 18 with b̄ → b̄_e), σ = τ/J.
+          const double J = determinant(F1);
+          outputs.set_stress(q, (s + 0.5 * bulk_modulus * (J * J - 1) * I) / J);
+          outputs.strain_energy_density[q] =
+            0.5 * shear_modulus * trace(elastic_b_minus_identity) +
+            0.5 * bulk_modulus * (0.5 * (J * J - 1) - std::log(J)) +
+            plasticity.plastic_work(plastic_strain);
+        }
+    }
+
+
+
+    template <int dim>
+    void
     NeoHookean<dim>::update_stress(const StressUpdateInputs &inputs,
                                    StressUpdateOutputs      &outputs) const
     {
+      if (plasticity.plastic())
+        {
+          update_plastic(inputs, outputs);
+          return;
+        }
       // A full batch with a constant count (the loops then vectorize).
       auto update = [&](const auto n) {
         if (energy_form == EnergyForm::log_j)
@@ -467,6 +529,8 @@ namespace fmpm
       "K/2 (J^2 - 1) I, b_bar = J^(-2/3) b ([NHS2020-contact] Eq. 18); "
       "'Energy form = ln J' sigma = lambda ln J / J I + mu/J (b - I), mu = "
       "G, lambda = K - 2G/3 ([BonetWood2008] Sec. 6.4.3). Constants K and G, "
-      "or E and nu; plane strain in 2D.")
+      "or E and nu; plane strain in 2D. With 'Yield stress' > 0 J2 "
+      "plasticity with linear hardening on the shear part (radial return "
+      "on b_bar_e).")
   } // namespace ConstitutiveModel
 } // namespace fmpm

@@ -386,8 +386,8 @@ namespace
       EXPECT_FIELD(s1);
       EXPECT_FIELD(artificial_viscosity_a1);
       EXPECT_FIELD(artificial_viscosity_a2);
-      EXPECT_FIELD(yield_stress);
-      EXPECT_FIELD(hardening_modulus);
+      EXPECT_FIELD(plasticity.yield_stress);
+      EXPECT_FIELD(plasticity.hardening_modulus);
     }
   }
 } // namespace

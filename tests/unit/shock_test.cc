@@ -200,9 +200,9 @@ namespace
   // J2 with linear hardening: once yielded, |dev τ| = √(2/3)(σ_y + H ε_p).
   TEST(MieGruneisen, PlasticityReturnsToTheYieldSurface)
   {
-    MieGruneisen<2> model   = nickel();
-    model.yield_stress      = 1e9;
-    model.hardening_modulus = 5e9;
+    MieGruneisen<2> model              = nickel();
+    model.plasticity.yield_stress      = 1e9;
+    model.plasticity.hardening_modulus = 5e9;
     Point               point(model);
     StressUpdateOutputs out;
     double              previous_eps_p = 0;
@@ -217,8 +217,8 @@ namespace
         const SymmetricTensor<2, 3> tau_dev =
           deviator(out.stress_tensor(0)) * J;
         const double radius =
-          std::sqrt(2. / 3.) *
-          (model.yield_stress + model.hardening_modulus * eps_p);
+          std::sqrt(2. / 3.) * (model.plasticity.yield_stress +
+                                model.plasticity.hardening_modulus * eps_p);
         if (eps_p > 0)
           EXPECT_NEAR(tau_dev.norm(), radius, 1e-6 * radius) << "J = " << J;
         else
@@ -260,8 +260,9 @@ namespace
                 "Artificial viscosity A1"},
                {[](auto &m) { m.artificial_viscosity_a2 = -1; },
                 "Artificial viscosity A2"},
-               {[](auto &m) { m.yield_stress = -1; }, "Yield stress"},
-               {[](auto &m) { m.hardening_modulus = -1; },
+               {[](auto &m) { m.plasticity.yield_stress = -1; },
+                "Yield stress"},
+               {[](auto &m) { m.plasticity.hardening_modulus = -1; },
                 "Hardening modulus"}};
     for (const auto &c : cases)
       {

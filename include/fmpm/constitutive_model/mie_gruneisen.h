@@ -6,6 +6,7 @@
 
 #include <fmpm/constitutive_model/elastic_constants.h>
 #include <fmpm/constitutive_model/interface.h>
+#include <fmpm/constitutive_model/j2_plasticity.h>
 
 namespace fmpm
 {
@@ -101,8 +102,8 @@ namespace fmpm
       double s1                      = 1.44;
       double artificial_viscosity_a1 = 0.0;
       double artificial_viscosity_a2 = 0.0;
-      double yield_stress            = 0.0;
-      double hardening_modulus       = 0.0;
+      /** J2 plasticity of the shear part (none by default). */
+      J2Hardening plasticity;
       /** The constants as the scene sets them (K, G or E, ν). */
       ElasticConstants elastic_constants;
 

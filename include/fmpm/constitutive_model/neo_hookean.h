@@ -6,6 +6,7 @@
 
 #include <fmpm/constitutive_model/elastic_constants.h>
 #include <fmpm/constitutive_model/interface.h>
+#include <fmpm/constitutive_model/j2_plasticity.h>
 #include <fmpm/parameter_entries.h>
 
 namespace fmpm
@@ -31,6 +32,11 @@ namespace fmpm
      * σ_zz (F_33 = 1 in plane strain, the hoop stretch in axisymmetric
      * analysis).
      *
+     * With a 'Yield stress' > 0 (the 'J^2' form only) the shear part is
+     * elastic–plastic: s = G dev(b̄_e) with J2 plasticity and linear
+     * hardening by radial return (J2Hardening), the volumetric part stays
+     * K/2 (J² − 1) I, and W adds the plastic work σ_y ε_p + H ε_p²/2.
+     *
      * @ingroup ConstitutiveModels
      */
     template <int dim>
@@ -47,11 +53,15 @@ namespace fmpm
       update_stress(const StressUpdateInputs &inputs,
                     StressUpdateOutputs      &outputs) const override;
 
-      /** σ and W follow from F^{n+1} alone. */
+      void
+      request_properties(ParticleProperties<dim> &properties) override;
+
+      /** σ and W follow from F^{n+1} alone, unless the shear part is
+       * plastic (F^n and b̄_eⁿ then). */
       bool
       reads_old_state() const override
       {
-        return false;
+        return plasticity.plastic();
       }
 
       double
@@ -86,8 +96,20 @@ namespace fmpm
       EnergyForm energy_form = EnergyForm::j_squared;
       static constexpr SelectionNames<EnergyForm, 2> energy_form_names{
         {"J^2", "ln J"}};
+      /** J2 plasticity of the shear part (none by default). */
+      J2Hardening plasticity;
       /** The constants as the scene sets them (K, G or E, ν). */
       ElasticConstants elastic_constants;
+
+    private:
+      /** The batch's points with plasticity (one point at a time). */
+      void
+      update_plastic(const StressUpdateInputs &inputs,
+                     StressUpdateOutputs      &outputs) const;
+
+      /** Property slots (with plasticity): ε_p and b̄_e − I (6). */
+      unsigned int plastic_slot   = 0;
+      unsigned int elastic_b_slot = 0;
     };
   } // namespace ConstitutiveModel
 } // namespace fmpm
