@@ -1,0 +1,54 @@
+#!/usr/bin/env python3
+"""Final length, foot radius and side profile of a Taylor-impact rod.
+
+Usage: taylor_profile.py PARTICLES_CSV [--axisymmetric] [--spacing H]
+                         [--profile OUT.csv]
+
+The rod's axis is y with the wall at y = 0; its radius is sqrt(x^2 + z^2)
+in 3D and x in an axisymmetric run (x = r, y = z). Length and foot radius
+are the largest y and radius of a point plus half the initial point
+spacing H (default 0.2 mm), the extent of the point's own domain. The
+profile is the largest radius in slices of height H along the axis.
+"""
+import argparse
+import csv
+import math
+import sys
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("csv_file")
+    parser.add_argument("--axisymmetric", action="store_true")
+    parser.add_argument("--spacing", type=float, default=2e-4)
+    parser.add_argument("--profile", help="write height, radius to this file")
+    args = parser.parse_args()
+    heights, radii = [], []
+    with open(args.csv_file, newline="") as f:
+        for row in csv.DictReader(f):
+            x, y = float(row["x"]), float(row["y"])
+            z = 0.0 if args.axisymmetric else float(row["z"])
+            heights.append(y)
+            radii.append(abs(x) if args.axisymmetric else math.hypot(x, z))
+    if not heights:
+        sys.exit(f"{args.csv_file}: no points")
+    half = 0.5 * args.spacing
+    length = max(heights) + half
+    foot = max(r for r, y in zip(radii, heights) if y < 2 * args.spacing) + half
+    print(f"points {len(heights)}  final length {length * 1e3:.3f} mm  "
+          f"foot radius {foot * 1e3:.3f} mm")
+    if args.profile:
+        n = int(length / args.spacing) + 1
+        largest = [0.0] * n
+        for r, y in zip(radii, heights):
+            i = min(max(int(y / args.spacing), 0), n - 1)
+            largest[i] = max(largest[i], r + half)
+        with open(args.profile, "w") as out:
+            out.write("height,radius\n")
+            for i, r in enumerate(largest):
+                if r > 0:
+                    out.write(f"{(i + 0.5) * args.spacing:.6e},{r:.6e}\n")
+
+
+if __name__ == "__main__":
+    main()
