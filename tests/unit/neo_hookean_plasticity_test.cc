@@ -98,13 +98,13 @@ namespace
     Point<3> point(plastic);
     for (unsigned int k = 1; k <= 20; ++k)
       {
-        Tensor<2, 3> F = simple_shear(0.01 * k);
-        F[0][0]        = 1 - 0.004 * k;
-        F[2][1]        = 0.003 * k;
-        F[1][2]        = -0.002 * k;
-        const StressUpdateOutputs a = point.deform_to(plastic, F);
-        Point<3>                  fresh(elastic);
-        const StressUpdateOutputs b = fresh.deform_to(elastic, F);
+        Tensor<2, 3> F                = simple_shear(0.01 * k);
+        F[0][0]                       = 1 - 0.004 * k;
+        F[2][1]                       = 0.003 * k;
+        F[1][2]                       = -0.002 * k;
+        const StressUpdateOutputs   a = point.deform_to(plastic, F);
+        Point<3>                    fresh(elastic);
+        const StressUpdateOutputs   b = fresh.deform_to(elastic, F);
         const SymmetricTensor<2, 3> difference =
           a.stress_tensor(0) - b.stress_tensor(0);
         EXPECT_LT(difference.norm(), 1e-9 * b.stress_tensor(0).norm());
@@ -123,31 +123,31 @@ namespace
   // √2 τ = √(2/3)(σ_y + H α)). Finite-strain terms are O(γ) = 1e-3.
   TEST(NeoHookeanPlasticity, SimpleShearFollowsSmallStrainJ2)
   {
-    const double    G = 43e9, yield = 1e-4 * G, H = G;
-    NeoHookean<2>   model = copper<2>(yield, H);
-    Point<2>        point(model);
-    const double    gamma_yield = yield / (std::sqrt(3.) * G);
-    double          previous    = 0;
+    const double  G = 43e9, yield = 1e-4 * G, H = G;
+    NeoHookean<2> model = copper<2>(yield, H);
+    Point<2>      point(model);
+    const double  gamma_yield = yield / (std::sqrt(3.) * G);
+    double        previous    = 0;
     for (unsigned int k = 1; k <= 100; ++k)
       {
-        const double gamma = 10 * gamma_yield * k / 100;
-        const StressUpdateOutputs out = point.deform_to(model, simple_shear(gamma));
+        const double              gamma = 10 * gamma_yield * k / 100;
+        const StressUpdateOutputs out =
+          point.deform_to(model, simple_shear(gamma));
         const double tau   = out.stress_tensor(0)[0][1];
         const double alpha = point.plastic_strain();
         EXPECT_GE(alpha, previous);
         previous = alpha;
         const double alpha_exact =
           std::max(0., (std::sqrt(3.) * G * gamma - yield) / (3 * G + H));
-        const double tau_exact =
-          alpha_exact > 0 ? (yield + H * alpha_exact) / std::sqrt(3.) :
-                            G * gamma;
+        const double tau_exact = alpha_exact > 0 ?
+                                   (yield + H * alpha_exact) / std::sqrt(3.) :
+                                   G * gamma;
         EXPECT_NEAR(tau, tau_exact, 2e-3 * tau_exact) << "γ = " << gamma;
         EXPECT_NEAR(alpha, alpha_exact, 2e-3 * 10 * gamma_yield)
           << "γ = " << gamma;
         // On the surface once yielded (Kirchhoff = Cauchy here, J = 1).
-        const double radius =
-          std::sqrt(2. / 3.) * (yield + H * alpha);
-        const double norm = deviator(out.stress_tensor(0)).norm();
+        const double radius = std::sqrt(2. / 3.) * (yield + H * alpha);
+        const double norm   = deviator(out.stress_tensor(0)).norm();
         if (alpha > 0)
           EXPECT_NEAR(norm, radius, 1e-10 * radius);
         else
@@ -162,10 +162,10 @@ namespace
   // the reversed stress reaches the (hardened) surface on the other side.
   TEST(NeoHookeanPlasticity, UnloadingIsElastic)
   {
-    const double  G = 43e9, yield = 1e-4 * G, H = 0.2 * G;
-    NeoHookean<2> model = copper<2>(yield, H);
-    Point<2>      point(model);
-    const double  gamma_yield = yield / (std::sqrt(3.) * G);
+    const double        G = 43e9, yield = 1e-4 * G, H = 0.2 * G;
+    NeoHookean<2>       model = copper<2>(yield, H);
+    Point<2>            point(model);
+    const double        gamma_yield = yield / (std::sqrt(3.) * G);
     StressUpdateOutputs out;
     for (unsigned int k = 1; k <= 40; ++k)
       out = point.deform_to(model, simple_shear(4 * gamma_yield * k / 40));
@@ -190,16 +190,17 @@ namespace
   // (no deviator) stays elastic and gives the elastic pressure K/2 (J²−1)/J.
   TEST(NeoHookeanPlasticity, EnergyAddsThePlasticWork)
   {
-    const double  G = 43e9, yield = 1e-3 * G, H = 0.5 * G;
-    NeoHookean<3> model = copper<3>(yield, H);
-    Point<3>      point(model);
+    const double        G = 43e9, yield = 1e-3 * G, H = 0.5 * G;
+    NeoHookean<3>       model = copper<3>(yield, H);
+    Point<3>            point(model);
     StressUpdateOutputs out;
     for (unsigned int k = 1; k <= 50; ++k)
       out = point.deform_to(model, simple_shear(0.02 * k / 50));
     const double alpha = point.plastic_strain();
     ASSERT_GT(alpha, 0);
     SymmetricTensor<2, 3> b_e;
-    const unsigned int    slot = point.properties.offset("elastic_b_minus_identity");
+    const unsigned int    slot =
+      point.properties.offset("elastic_b_minus_identity");
     for (unsigned int c = 0; c < 6; ++c)
       b_e[fmpm::stress_component_i[c]][fmpm::stress_component_j[c]] =
         point.values[slot + c];
@@ -208,9 +209,9 @@ namespace
                 elastic + yield * alpha + 0.5 * H * alpha * alpha,
                 1e-12 * out.strain_energy_density[0]);
 
-    NeoHookean<3> fresh_model = copper<3>(yield, H);
-    Point<3>      fresh(fresh_model);
-    const double  stretch = 0.98;
+    NeoHookean<3>             fresh_model = copper<3>(yield, H);
+    Point<3>                  fresh(fresh_model);
+    const double              stretch = 0.98;
     const StressUpdateOutputs compressed =
       fresh.deform_to(fresh_model, stretch * unit_symmetric_tensor<3>());
     const double J = stretch * stretch * stretch;
@@ -224,7 +225,7 @@ namespace
 
   TEST(NeoHookeanPlasticity, BadInputNamesTheParameter)
   {
-    const std::string where = "Material 0/Neo hookean";
+    const std::string where   = "Material 0/Neo hookean";
     auto              message = [&](const NeoHookean<2> &model) {
       try
         {
@@ -256,27 +257,26 @@ namespace
   // the plastic work σ_y α + H α²/2 is what the flow dissipates.
   TEST(NeoHookeanPlasticity, EnergyIsTheWorkDone)
   {
-    const double  G = 43e9, yield = 4e8, H = 1e8;
-    NeoHookean<3> model = copper<3>(yield, H);
-    Point<3>      point(model);
-    Tensor<2, 3>  F_old = unit_symmetric_tensor<3>();
+    const double          G = 43e9, yield = 4e8, H = 1e8;
+    NeoHookean<3>         model = copper<3>(yield, H);
+    Point<3>              point(model);
+    Tensor<2, 3>          F_old = unit_symmetric_tensor<3>();
     SymmetricTensor<2, 3> tau_old;
-    double                work     = 0;
-    const unsigned int    n_steps  = 4000;
-    double                energy   = 0;
+    double                work    = 0;
+    const unsigned int    n_steps = 4000;
+    double                energy  = 0;
     for (unsigned int k = 1; k <= n_steps; ++k)
       {
         const double s = double(k) / n_steps;
         // Compression along x with shear, then partly back.
-        const double a = s < 0.7 ? s : 1.4 - s;
-        Tensor<2, 3> F = unit_symmetric_tensor<3>();
-        F[0][0]        = 1 - 0.3 * a;
-        F[1][1]        = 1 + 0.1 * a;
-        F[2][2]        = 1 + 0.12 * a;
-        F[0][1]        = 0.05 * a;
-        const StressUpdateOutputs out = point.deform_to(model, F);
-        const SymmetricTensor<2, 3> tau =
-          determinant(F) * out.stress_tensor(0);
+        const double a                  = s < 0.7 ? s : 1.4 - s;
+        Tensor<2, 3> F                  = unit_symmetric_tensor<3>();
+        F[0][0]                         = 1 - 0.3 * a;
+        F[1][1]                         = 1 + 0.1 * a;
+        F[2][2]                         = 1 + 0.12 * a;
+        F[0][1]                         = 0.05 * a;
+        const StressUpdateOutputs   out = point.deform_to(model, F);
+        const SymmetricTensor<2, 3> tau = determinant(F) * out.stress_tensor(0);
         // Trapezoid rule on τ : ΔF F_mid⁻¹.
         const Tensor<2, 3> dF    = F - F_old;
         const Tensor<2, 3> F_mid = 0.5 * (F + F_old);

@@ -43,8 +43,7 @@ namespace fmpm
 
       /** The entries 'Yield stress' and 'Hardening modulus'. */
       static void
-      declare_parameters(ParameterHandler  &prm,
-                         const J2Hardening &defaults)
+      declare_parameters(ParameterHandler &prm, const J2Hardening &defaults)
       {
         prm.declare_entry("Yield stress",
                           format_number(defaults.yield_stress),
@@ -90,8 +89,8 @@ namespace fmpm
         const SymmetricTensor<2, 3> I        = unit_symmetric_tensor<3>();
         SymmetricTensor<2, 3>       b_e      = elastic_b_minus_identity;
         b_e += I;
-        const Tensor<2, 3>          f     = F1 * invert(F0);
-        const Tensor<2, 3>          f_bar = std::pow(determinant(f), -1. / 3.) * f;
+        const Tensor<2, 3> f     = F1 * invert(F0);
+        const Tensor<2, 3> f_bar = std::pow(determinant(f), -1. / 3.) * f;
         const SymmetricTensor<2, 3> b_trial =
           symmetrize(f_bar * Tensor<2, 3>(b_e) * transpose(f_bar));
         const SymmetricTensor<2, 3> s_trial = shear_modulus * deviator(b_trial);
@@ -115,7 +114,7 @@ namespace fmpm
             // det(A + x I) = x³ − |A|²/2 x + det A = 1 (tr A = 0), Newton
             // from Ī_e (a root near 1 for elastic strains below ~10 %).
             const double A2 = 0.5 * A.norm() * A.norm(), detA = determinant(A);
-            x               = 1.;
+            x = 1.;
             for (unsigned int i = 0; i < 8; ++i)
               x -= (x * x * x - A2 * x + detA - 1.) / (3. * x * x - A2);
           }
@@ -137,10 +136,10 @@ namespace fmpm
       check(const std::string &where) const
       {
         AssertThrow(yield_stress >= 0,
-                    ExcMessage(where + "/Yield stress = " +
-                               format_number(yield_stress) +
-                               " is not allowed. Allowed: 0 (no "
-                               "plasticity) or any value > 0 (Pa)."));
+                    ExcMessage(
+                      where + "/Yield stress = " + format_number(yield_stress) +
+                      " is not allowed. Allowed: 0 (no "
+                      "plasticity) or any value > 0 (Pa)."));
         AssertThrow(hardening_modulus >= 0,
                     ExcMessage(where + "/Hardening modulus = " +
                                format_number(hardening_modulus) +
