@@ -17,8 +17,6 @@ namespace fmpm
     using namespace ParticleUpdate;
     if (this->computed[field])
       return;
-    this->allocate(field);
-    GridVectorField               &target     = this->fields[field];
     const double                   t_field    = solver.time_of(field);
     const bool                     is_accel   = solver.is_acceleration(field);
     const VelocityConditions<dim> *conditions = solver.conditions;
@@ -41,42 +39,23 @@ namespace fmpm
               }
           }
       }
-    const GridVectorField &momentum = this->momentum;
-    const GridVectorField &force    = this->force;
-    // Iterative solves start from the field's value of the last step.
-    switch (field)
-      {
-        case updated_velocity: // v⁺ = m̃ₖ⁻¹ p⁺
-          mass_matrix.solve_from_guess(this->updated_momentum, target, 0);
-          break;
-        case acceleration: // m̃ₖ⁻¹ f, as accurate in a Δt as v in p
-          mass_matrix.solve_from_guess(
-            force, target, momentum.l2_norm() / time_step + force.l2_norm());
-          break;
-        case velocity: // v = m̃ₖ⁻¹ p
-          mass_matrix.solve_from_guess(momentum, target, 0);
-          break;
-        case lumped_velocity: // m⁻¹ p
-          solver.lumped(*this, field, momentum);
-          break;
-        case lumped_updated_velocity: // m⁻¹ p⁺
-          solver.lumped(*this, field, this->updated_momentum);
-          break;
-        case lumped_acceleration: // m⁻¹ f
-          solver.lumped(*this, field, force);
-          break;
-        default:
-          Assert(false, ExcInternalError());
-      }
-    // Lumped fields satisfy the conditions exactly; full-mass fields where
-    // the method promises it (constrained, velocity: Eq. 2.53).
-    solver.finish(*this,
-                  field,
-                  solver.is_lumped(field) ||
-                    (conditions && conditions->corrects_velocities()),
-                  field == updated_velocity ? &velocity_corrections[1] :
-                  field == velocity         ? &velocity_corrections[0] :
-                                              nullptr);
+    solver.solve(
+      *this,
+      field,
+      [&](const GridVectorField &q, GridVectorField &target) {
+        // Iterative solves start from the field's value of the last step;
+        // m̃ₖ⁻¹f is as accurate in a Δt as v in p.
+        mass_matrix.solve_from_guess(q,
+                                     target,
+                                     field == acceleration ?
+                                       this->momentum.l2_norm() / time_step +
+                                         this->force.l2_norm() :
+                                       0);
+      },
+      conditions && conditions->corrects_velocities(),
+      field == updated_velocity ? &velocity_corrections[1] :
+      field == velocity         ? &velocity_corrections[0] :
+                                  nullptr);
   }
 
   template struct GridState<2>;

@@ -30,7 +30,89 @@ namespace fmpm
       result = 0;
       return result;
     }
+
+    /** n̂ · (the field at the node of @p c). */
+    template <int dim, class NodeCondition>
+    double
+    component(const GridVectorField &field, const NodeCondition &c)
+    {
+      double s = 0;
+      for (unsigned int d = 0; d < dim; ++d)
+        s += field.block(d).local_element(c.local_index) * c.normal[d];
+      return s;
+    }
+
+    /** The field at the node of @p c += @p amount n̂. */
+    template <int dim, class NodeCondition>
+    void
+    add_along(GridVectorField     &field,
+              const NodeCondition &c,
+              const double         amount)
+    {
+      for (unsigned int d = 0; d < dim; ++d)
+        field.block(d).local_element(c.local_index) += amount * c.normal[d];
+    }
   } // namespace
+
+
+
+  template <int dim>
+  bool
+  VelocityConditions<dim>::solve_collection(const GridVectorField   &like,
+                                            const Operators         &operators,
+                                            const std::vector<bool> &active,
+                                            const std::vector<double> &r,
+                                            std::vector<double> &phi) const
+  {
+    const unsigned int n_local = conditions.size();
+    unsigned int       offset  = 0;
+    MPI_Exscan(&n_local, &offset, 1, MPI_UNSIGNED, MPI_SUM, mpi_communicator);
+    if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
+      offset = 0;
+    const unsigned int n_total = Utilities::MPI::sum(n_local, mpi_communicator);
+    std::vector<double> A(n_total * n_total, 0.), rhs(n_total, 0.);
+    GridVectorField     unit = zero_like(like), column = zero_like(like);
+    for (unsigned int c_global = 0; c_global < n_total; ++c_global)
+      {
+        unit            = 0;
+        const bool mine = c_global >= offset && c_global < offset + n_local;
+        if (mine)
+          add_along<dim>(unit, conditions[c_global - offset], 1.);
+        operators.solve(unit, column);
+        for (unsigned int b = 0; b < n_local; ++b)
+          A[(offset + b) * n_total + c_global] =
+            active[b] ? component<dim>(column, conditions[b]) : 0.;
+      }
+    for (unsigned int b = 0; b < n_local; ++b)
+      {
+        rhs[offset + b] = r[b];
+        if (!active[b]) // empty node: φ_b = 0
+          A[(offset + b) * n_total + offset + b] = 1;
+      }
+    Utilities::MPI::sum(A, mpi_communicator, A);
+    Utilities::MPI::sum(rhs, mpi_communicator, rhs);
+    if (n_total > 0)
+      {
+        LAPACKFullMatrix<double> matrix(n_total, n_total);
+        for (unsigned int i = 0; i < n_total; ++i)
+          for (unsigned int j = 0; j < n_total; ++j)
+            matrix(i, j) = A[i * n_total + j];
+        Vector<double> solution(rhs.begin(), rhs.end());
+        try
+          {
+            matrix.compute_lu_factorization();
+            matrix.solve(solution);
+            for (unsigned int b = 0; b < n_local; ++b)
+              phi[b] = solution[offset + b];
+            return true;
+          }
+        catch (const std::exception &)
+          {
+            ++const_cast<VelocityConditions *>(this)->n_collection_fallbacks;
+          }
+      }
+    return false;
+  }
 
 
 
@@ -51,17 +133,14 @@ namespace fmpm
           add_condition_impulse(&c - conditions.data(), amount);
         }
     };
-    const std::vector<double> &v_b = values_at(t);
-    auto component = [](const GridVectorField &field, const NodeCondition &c) {
-      double s = 0;
-      for (unsigned int d = 0; d < dim; ++d)
-        s += field.block(d).local_element(c.local_index) * c.normal[d];
-      return s;
+    const std::vector<double> &v_b       = values_at(t);
+    const auto                 component = [](const GridVectorField &field,
+                              const NodeCondition   &c) {
+      return ::fmpm::component<dim>(field, c);
     };
-    auto add_along =
+    const auto add_along =
       [](GridVectorField &field, const NodeCondition &c, const double amount) {
-        for (unsigned int d = 0; d < dim; ++d)
-          field.block(d).local_element(c.local_index) += amount * c.normal[d];
+        ::fmpm::add_along<dim>(field, c, amount);
       };
 
     switch (method)
@@ -137,65 +216,7 @@ namespace fmpm
             std::vector<double> phi(conditions.size());
             bool                solved = false;
             if (method == Method::collection_full)
-              {
-                // A_bc = n̂_b · (m̃ₖ⁻¹ n̂_c e_{j_c})_{j_b}: one solve per
-                // condition (collective, in global order), then A φ = r.
-                const unsigned int n_local = conditions.size();
-                unsigned int       offset  = 0;
-                MPI_Exscan(&n_local,
-                           &offset,
-                           1,
-                           MPI_UNSIGNED,
-                           MPI_SUM,
-                           mpi_communicator);
-                if (Utilities::MPI::this_mpi_process(mpi_communicator) == 0)
-                  offset = 0;
-                const unsigned int n_total =
-                  Utilities::MPI::sum(n_local, mpi_communicator);
-                std::vector<double> A(n_total * n_total, 0.), rhs(n_total, 0.);
-                GridVectorField     unit = zero_like(q), column = zero_like(q);
-                for (unsigned int c_global = 0; c_global < n_total; ++c_global)
-                  {
-                    unit = 0;
-                    const bool mine =
-                      c_global >= offset && c_global < offset + n_local;
-                    if (mine)
-                      add_along(unit, conditions[c_global - offset], 1.);
-                    operators.solve(unit, column);
-                    for (unsigned int b = 0; b < n_local; ++b)
-                      A[(offset + b) * n_total + c_global] =
-                        active[b] ? component(column, conditions[b]) : 0.;
-                  }
-                for (unsigned int b = 0; b < n_local; ++b)
-                  {
-                    rhs[offset + b] = r[b];
-                    if (!active[b]) // empty node: φ_b = 0
-                      A[(offset + b) * n_total + offset + b] = 1;
-                  }
-                Utilities::MPI::sum(A, mpi_communicator, A);
-                Utilities::MPI::sum(rhs, mpi_communicator, rhs);
-                if (n_total > 0)
-                  {
-                    LAPACKFullMatrix<double> matrix(n_total, n_total);
-                    for (unsigned int i = 0; i < n_total; ++i)
-                      for (unsigned int j = 0; j < n_total; ++j)
-                        matrix(i, j) = A[i * n_total + j];
-                    Vector<double> solution(rhs.begin(), rhs.end());
-                    try
-                      {
-                        matrix.compute_lu_factorization();
-                        matrix.solve(solution);
-                        solved = true;
-                        for (unsigned int b = 0; b < n_local; ++b)
-                          phi[b] = solution[offset + b];
-                      }
-                    catch (const std::exception &)
-                      {
-                        ++const_cast<VelocityConditions *>(this)
-                            ->n_collection_fallbacks;
-                      }
-                  }
-              }
+              solved = solve_collection(q, operators, active, r, phi);
             if (!solved) // partial: (m̃ₖ⁻¹)_ij → δ_ij / m_i
               for (unsigned int b = 0; b < conditions.size(); ++b)
                 phi[b] = m.local_element(conditions[b].local_index) * r[b];

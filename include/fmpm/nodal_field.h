@@ -161,6 +161,48 @@ namespace fmpm
                     const std::vector<unsigned int> &nodes,
                     const double                     time_step) const;
 
+    /** @brief The momenta @p field is solved from: p⁺ for v⁺, f for an
+     * acceleration, p for v. */
+    static const GridVectorField &
+    source(const NodalField<dim>          &field_set,
+           const ParticleUpdate::GridField field)
+    {
+      return is_acceleration(field) ? field_set.force :
+             is_updated(field)      ? field_set.updated_momentum :
+                                      field_set.momentum;
+    }
+
+    /**
+     * @brief The solve of fields[@p field] of a NodalField, the centre of
+     * mass's or a material's, unless it is computed: with q = source(), a
+     * lumped field is m⁻¹q (seed 000 Eq. 1.7), a full-mass field
+     * @p full_mass_solve(q, target) (m̃ₖ⁻¹q: the FMPM(k) series or the exact
+     * solve; a material's lumped start of its series, seed 004 Eq. 37);
+     * then finish(), with the conditions on lumped fields and, if
+     * @p conditions_on_full_mass, on full-mass ones.
+     */
+    template <class FullMassSolve>
+    void
+    solve(NodalField<dim>                &field_set,
+          const ParticleUpdate::GridField field,
+          FullMassSolve                 &&full_mass_solve,
+          const bool                      conditions_on_full_mass,
+          std::vector<double>            *corrections = nullptr) const
+    {
+      if (field_set.computed[field])
+        return;
+      field_set.allocate(field);
+      const GridVectorField &q = source(field_set, field);
+      if (is_lumped(field))
+        lumped(field_set, field, q);
+      else
+        full_mass_solve(q, field_set.fields[field]);
+      finish(field_set,
+             field,
+             is_lumped(field) || conditions_on_full_mass,
+             corrections);
+    }
+
     /**
      * @brief The tail of every solve: with @p apply_conditions the velocity
      * conditions (seed 000 Eq. 2.53; accelerations over [t_begin, t_end]),

@@ -305,6 +305,19 @@ namespace fmpm
     }
 
   private:
+    /**
+     * @brief φ of 'collection full' (Eqs. 2.47-2.50): A φ = r with A_bc =
+     * n̂_b · (m̃ₖ⁻¹ n̂_c e_{j_c})_{j_b}, one solve per condition (collective,
+     * in global order), φ_b = 0 on empty nodes (not @p active). @p like
+     * gives the field layout. Returns false (φ untouched) if A is singular.
+     */
+    bool
+    solve_collection(const GridVectorField     &like,
+                     const Operators           &operators,
+                     const std::vector<bool>   &active,
+                     const std::vector<double> &r,
+                     std::vector<double>       &phi) const;
+
     void
     add_node_condition(std::vector<std::vector<NodeCondition>> &per_node,
                        const NodeCondition                     &candidate);

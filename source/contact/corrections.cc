@@ -7,7 +7,6 @@
 #include <fmpm/contact/manager.h>
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/material_points.h>
-#include <fmpm/neighbour_exchange.h>
 #include <fmpm/support_cache.h>
 #include <fmpm/velocity_conditions.h>
 
@@ -22,149 +21,6 @@ namespace fmpm
 {
   namespace Contact
   {
-    template <int dim>
-    void
-    Manager<dim>::gather_point_clouds()
-    {
-      const GridScalar          &lumped_mass = this->get_lumped_mass();
-      const SupportCache<dim>   &supports    = this->get_support_cache();
-      const MaterialPoints<dim> &points      = this->get_material_points();
-      const double               mass_floor  = this->get_mass_floor();
-      const MPI_Comm     mpi_communicator    = this->get_mpi_communicator();
-      TimerOutput::Scope timer(this->get_computing_timer(),
-                               "contact: point clouds");
-      using Index                    = PropertyIndex<dim>;
-      const auto        &partitioner = *lumped_mass.get_partitioner();
-      const unsigned int n_owned     = partitioner.locally_owned_size();
-      const unsigned int n_local     = n_owned + partitioner.n_ghost_indices();
-      const unsigned int n_materials = fields.size();
-      const double       floor       = mass_floor;
-
-      // Nodes (owned and ghost) that see 2+ materials: the ghost masses are
-      // current after the extrapolation.
-      if (!multimaterial_nodes_valid)
-        find_multimaterial_nodes();
-      std::vector<char> shared(n_local, 0);
-      for (const unsigned int i : multimaterial_nodes)
-        shared[i] = 1;
-      for (unsigned int i = n_owned; i < n_local; ++i)
-        {
-          unsigned int count = 0;
-          for (unsigned int a = 0; a < n_materials; ++a)
-            count += fields[a].mass.local_element(i) > floor;
-          shared[i] = count > 1;
-        }
-      // The owner of each ghost node (ghosts are numbered rank by rank).
-      std::vector<unsigned int> ghost_owner;
-      ghost_owner.reserve(partitioner.n_ghost_indices());
-      for (const auto &[rank, count] : partitioner.ghost_targets())
-        ghost_owner.insert(ghost_owner.end(), count, rank);
-
-      std::vector<CloudPoint<dim>>                         owned_points;
-      std::map<unsigned int, std::vector<CloudPoint<dim>>> sent;
-      const GridTransfer<dim> &transfer = this->get_grid_transfer();
-      const SupportReader<dim> support_of(supports,
-                                          transfer,
-                                          points.cell.data());
-      for (unsigned int c = 0; c < points.n_cells(); ++c)
-        {
-          // Computed supports are the cell's nodes: a cell without a
-          // shared node has no point in a cloud.
-          if (supports.implicit_classic)
-            {
-              bool any_shared = false;
-              for (const unsigned int i :
-                   transfer.cell_data(points.cell_index[c]).local_index)
-                any_shared = any_shared || shared[i];
-              if (!any_shared)
-                continue;
-            }
-          for (unsigned int k = points.cell_point_begin[c];
-               k < points.cell_point_begin[c + 1];
-               ++k)
-            support_of.visit(
-              k,
-              false,
-              [&](const unsigned int *const node,
-                  const double *const       S,
-                  const Tensor<1, dim> *,
-                  const auto n_entries) {
-                bool            filled = false;
-                CloudPoint<dim> point{};
-                for (unsigned int j = 0; j < n_entries; ++j)
-                  {
-                    const unsigned int i = node[j];
-                    if (!shared[i] || !(S[j] > 0))
-                      continue;
-                    if (!filled)
-                      {
-                        const PointRecord P = points.record(k);
-                        const Point<dim> &X = points.position[k];
-                        Tensor<2, dim>    F;
-                        for (unsigned int a = 0; a < dim; ++a)
-                          for (unsigned int b = 0; b < dim; ++b)
-                            F[a][b] =
-                              P[Index::deformation_gradient + 3 * a + b];
-                        const Tensor<2, dim> F_inverse = invert(F);
-                        point.id                       = points.id[k];
-                        point.material                 = supports.material[k];
-                        for (unsigned int a = 0; a < dim; ++a)
-                          {
-                            point.position[a] = X[a];
-                            point.initial_radii[a] =
-                              P[Index::initial_half_length + a];
-                            for (unsigned int b = 0; b < dim; ++b)
-                              point.F_inverse[a * dim + b] = F_inverse[a][b];
-                          }
-                        filled = true;
-                      }
-                    point.node = partitioner.local_to_global(i);
-                    if (i < n_owned)
-                      owned_points.push_back(point);
-                    else
-                      sent[ghost_owner[i - n_owned]].push_back(point);
-                  }
-              });
-        }
-      // Each rank sends to the owners of its ghost nodes and receives from
-      // the ranks that have its nodes as ghosts (the partitioner's import
-      // targets): one message each way, possibly empty, no collective.
-      std::vector<unsigned int> send_to, receive_from;
-      for (const auto &[rank, count] : partitioner.ghost_targets())
-        send_to.push_back(rank);
-      for (const auto &[rank, count] : partitioner.import_targets())
-        receive_from.push_back(rank);
-      for (const auto &[rank, points] :
-           neighbour_exchange(mpi_communicator,
-                              send_to,
-                              receive_from,
-                              sent,
-                              MPITags::contact_point_clouds))
-        owned_points.insert(owned_points.end(), points.begin(), points.end());
-
-      // Sort into the clouds of the owned nodes (counting sort).
-      cloud_begin.assign(n_owned + 1, 0);
-      for (const auto &point : owned_points)
-        ++cloud_begin[partitioner.global_to_local(point.node) + 1];
-      for (unsigned int i = 0; i < n_owned; ++i)
-        cloud_begin[i + 1] += cloud_begin[i];
-      cloud.resize(owned_points.size());
-      std::vector<unsigned int> next(cloud_begin.begin(),
-                                     cloud_begin.end() - 1);
-      for (const auto &point : owned_points)
-        cloud[next[partitioner.global_to_local(point.node)]++] = point;
-      // The points of other ranks came after the rank's own: the clouds in
-      // id order, the same on every number of ranks.
-      for (unsigned int i = 0; i < n_owned; ++i)
-        std::sort(cloud.begin() + cloud_begin[i],
-                  cloud.begin() + cloud_begin[i + 1],
-                  [](const CloudPoint<dim> &a, const CloudPoint<dim> &b) {
-                    return a.id < b.id;
-                  });
-    }
-
-
-
     template <int dim>
     void
     Manager<dim>::find_multimaterial_nodes()
@@ -352,27 +208,126 @@ namespace fmpm
 
 
 
+    /**
+     * One contact correction of a stage over the owned nodes with 2+
+     * materials (Manager::apply()): raw views of m^α, of the momenta the
+     * stage corrects and of Δv^α, the pair in contact at each node, and what
+     * the correction adds up (friction work, contact nodes).
+     */
     template <int dim>
-    void
-    Manager<dim>::apply(const Stage stage)
+    class Manager<dim>::CorrectionSweep
     {
-      const ::fmpm::Parameters &parameters = this->get_parameters();
-      const double              time_step  = this->get_timestep();
-      if (!geometry_valid)
-        compute_geometry();
-      if (!multimaterial_nodes_valid)
-        find_multimaterial_nodes();
-      TimerOutput::Scope         timer(this->get_computing_timer(), "contact");
-      const Contact::Parameters &contact     = parameters.contact;
-      const unsigned int         n_materials = fields.size();
+    public:
+      CorrectionSweep(Manager<dim> &manager, const Stage stage);
 
+      /** The pair of one slot (Slot of for_each_pair()). */
+      void
+      visit(const Slot &s);
+
+      /** Node @p i is done: its pending or lumped corrections. */
+      void
+      node_done(const unsigned int i, const std::vector<unsigned int> &present);
+
+      unsigned int       n_slots       = 0;
+      double             work          = 0;
+      unsigned long long contact_nodes = 0;
+
+    private:
+      /** 'Three or more materials = explicit': the slots of a 3+ node,
+       * handled when the node is done. */
+      struct PendingSlot
+      {
+        unsigned int              slot;
+        bool                      lumped;
+        unsigned int              x, a, partner;
+        std::vector<unsigned int> beta;
+      };
+
+      /** The masses and momenta of α against β (β may be the sum of several
+       * materials, Eq. 50), with the geometry found for them. */
+      NodePair<dim>
+      node_pair(const std::vector<unsigned int> &alpha,
+                const std::vector<unsigned int> &beta,
+                const unsigned int               i,
+                const NodeGeometry<dim>         &slot_geometry) const;
+
+      const LawInterface<dim> &
+      law(const unsigned int a, const unsigned int b) const
+      {
+        return *manager.laws[std::min(a, b) * n_materials + std::max(a, b)];
+      }
+
+      void
+      add_momentum(const unsigned int    a,
+                   const unsigned int    i,
+                   const Tensor<1, dim> &dp);
+
+      /** The grid output's contact normal and separation at node @p i. */
+      void
+      record(const unsigned int i, const NodePair<dim> &node);
+
+      /** One correction of α (one material) against β at node i,
+       * recorded. */
+      Correction<dim>
+      correct(const unsigned int               a,
+              const std::vector<unsigned int> &alpha,
+              const std::vector<unsigned int> &beta,
+              const unsigned int               partner,
+              const unsigned int               i,
+              const unsigned int               slot);
+
+      /** The pending slots of node @p i (explicit 3+ nodes). */
+      void
+      correct_explicit_node(const unsigned int i);
+
+      Manager<dim>               &manager;
+      const Stage                 stage;
+      const double                time_step;
+      const Contact::Parameters  &contact;
+      const unsigned int          n_materials;
+      std::vector<const double *> m;
+      std::vector<double *>       p, dv;
+      const bool                  measures_gap;
+      /** 'XPIC contact term = series' keeps Δv^α = 0: the corrected
+       * momenta then go through the whole series. */
+      const bool records_first_correction;
+      /** Net incremental contact: at the pairs in contact at the last
+       * correction the increments of the series are made the same in both
+       * materials (their centre of mass); slip and separation come from the
+       * corrections of the momenta. */
+      const bool                  increments;
+      std::vector<Tensor<1, dim>> changes;
+      bool                        in_contact = false;
+      std::vector<PendingSlot>    pending;
+      std::vector<unsigned int>   one_alpha, one_beta;
+    };
+
+
+
+    template <int dim>
+    Manager<dim>::CorrectionSweep::CorrectionSweep(Manager<dim> &manager,
+                                                   const Stage   stage)
+      : manager(manager)
+      , stage(stage)
+      , time_step(manager.get_timestep())
+      , contact(manager.get_parameters().contact)
+      , n_materials(manager.fields.size())
+      , m(n_materials)
+      , p(n_materials * dim)
+      , dv(n_materials * dim)
+      , measures_gap(manager.needs.measures_gap)
+      , records_first_correction(
+          (stage == Stage::extrapolated || stage == Stage::re_extrapolated) &&
+          contact.xpic_contact_term != Contact::XpicContactTerm::series)
+      , increments(stage == Stage::increment)
+      , changes(n_materials)
+      , one_alpha(1)
+      , one_beta(1)
+    {
       // Raw views: m^α, the momenta this stage corrects, Δv^α.
-      std::vector<const double *> m(n_materials);
-      std::vector<double *>       p(n_materials * dim);
-      std::vector<double *>       dv(n_materials * dim);
       for (unsigned int a = 0; a < n_materials; ++a)
         {
-          MaterialField<dim> &field = fields[a];
+          MaterialField<dim> &field = manager.fields[a];
           m[a]                      = field.mass.begin();
           GridVectorField &momenta =
             stage == Stage::updated   ? field.updated_momentum :
@@ -389,310 +344,335 @@ namespace fmpm
       // may have set it.
       if (stage == Stage::extrapolated || stage == Stage::re_extrapolated)
         {
-          for (const unsigned int i : delta_velocity_nodes)
+          for (const unsigned int i : manager.delta_velocity_nodes)
             for (unsigned int a = 0; a < n_materials * dim; ++a)
               dv[a][i] = 0;
-          delta_velocity_nodes = multimaterial_nodes;
+          manager.delta_velocity_nodes = manager.multimaterial_nodes;
         }
-
-      const bool measures_gap = needs.measures_gap;
-      // The masses and momenta of α against β (β may be the sum of several
-      // materials, Eq. 50), with the geometry found for them.
-      auto node_pair = [&](const std::vector<unsigned int> &alpha,
-                           const std::vector<unsigned int> &beta,
-                           const unsigned int               i,
-                           const NodeGeometry<dim>         &slot_geometry) {
-        Contact::NodePair<dim> node;
-        for (const unsigned int a : alpha)
-          {
-            node.mass_alpha += m[a][i];
-            for (unsigned int d = 0; d < dim; ++d)
-              node.momentum_alpha[d] += p[a * dim + d][i];
-          }
-        for (const unsigned int b : beta)
-          {
-            node.mass_beta += m[b][i];
-            for (unsigned int d = 0; d < dim; ++d)
-              node.momentum_beta[d] += p[b * dim + d][i];
-          }
-        node.normal     = slot_geometry.normal;
-        node.touching   = slot_geometry.touching;
-        node.separation = slot_geometry.separation;
-        node.stage      = stage == Stage::updated ?
-                            Contact::NodePair<dim>::Stage::updated :
-                          stage == Stage::increment ?
-                            Contact::NodePair<dim>::Stage::increment :
-                            Contact::NodePair<dim>::Stage::extrapolated;
-        node.time_step  = time_step;
-        if (needs_interface)
-          {
-            // u^β − u^α and A_c = sqrt(2 min(V^α, V^β)(V^α + V^β))/h, from
-            // the sums of V and Σ S M u over each side's materials.
-            auto sum_side = [&](const std::vector<unsigned int> &materials,
-                                double                          &volume,
-                                Tensor<1, dim>                  &moment) {
-              for (const unsigned int a : materials)
-                {
-                  volume += fields[a].volume.local_element(i);
-                  for (unsigned int d = 0; d < dim; ++d)
-                    moment[d] +=
-                      fields[a].displacement_moment.block(d).local_element(i);
-                }
-            };
-            double         volume_alpha = 0, volume_beta = 0;
-            Tensor<1, dim> moment_alpha, moment_beta;
-            sum_side(alpha, volume_alpha, moment_alpha);
-            sum_side(beta, volume_beta, moment_beta);
-            if (node.mass_alpha > 0 && node.mass_beta > 0)
-              node.displacement_jump =
-                moment_beta / node.mass_beta - moment_alpha / node.mass_alpha;
-            node.contact_area =
-              std::sqrt(2 * std::min(volume_alpha, volume_beta) *
-                        (volume_alpha + volume_beta)) /
-              node_cell_size.local_element(i);
-          }
-        if (measures_gap && !node.touching && node.mass_alpha > 0 &&
-            node.mass_beta > 0)
-          {
-            if (node.separation < contact.touching_tolerance)
-              node.touching = true;
-            else if (contact.gap_closing)
-              {
-                // d + (v^β − v^α)·n̂ Δt < 0: the gap closes within the step;
-                // the laws leave the approach m_red d/Δt.
-                const double m_red = node.mass_alpha * node.mass_beta /
-                                     (node.mass_alpha + node.mass_beta);
-                node.touching         = true;
-                node.allowed_approach = m_red * node.separation *
-                                        node_cell_size.local_element(i) /
-                                        time_step;
-              }
-          }
-        return node;
-      };
-      auto law =
-        [&](const unsigned int a,
-            const unsigned int b) -> const Contact::LawInterface<dim> & {
-        return *laws[std::min(a, b) * n_materials + std::max(a, b)];
-      };
-      // 'XPIC contact term = series' keeps Δv^α = 0: the corrected momenta
-      // then go through the whole series.
-      const bool records_first_correction =
-        (stage == Stage::extrapolated || stage == Stage::re_extrapolated) &&
-        contact.xpic_contact_term != Contact::XpicContactTerm::series;
-      auto add_momentum = [&](const unsigned int    a,
-                              const unsigned int    i,
-                              const Tensor<1, dim> &dp) {
-        for (unsigned int d = 0; d < dim; ++d)
-          {
-            p[a * dim + d][i] += dp[d];
-            if (records_first_correction)
-              dv[a * dim + d][i] += dp[d] / m[a][i];
-          }
-      };
-
       // The grid output's contact normal and separation: of the first pair
       // in contact at a node after the momentum update, else zero.
       if (stage == Stage::updated)
         {
-          for (const unsigned int i : recorded_nodes)
+          for (const unsigned int i : manager.recorded_nodes)
             {
               for (unsigned int d = 0; d < dim; ++d)
-                contact_normal.block(d).local_element(i) = 0;
-              contact_separation.local_element(i) = 0;
+                manager.contact_normal.block(d).local_element(i) = 0;
+              manager.contact_separation.local_element(i) = 0;
             }
-          recorded_nodes.clear();
+          manager.recorded_nodes.clear();
         }
-      auto record = [&](const unsigned int            i,
-                        const Contact::NodePair<dim> &node) {
-        recorded_nodes.push_back(i);
-        for (unsigned int d = 0; d < dim; ++d)
-          contact_normal.block(d).local_element(i) = node.normal[d];
-        contact_separation.local_element(i) = node.separation;
-      };
+    }
 
-      // Net incremental contact: at the pairs in contact at the last
-      // correction the increments of the series are made the same in both
-      // materials (their centre of mass); slip and separation come from the
-      // corrections of the momenta.
-      const bool                  increments = stage == Stage::increment;
-      std::vector<Tensor<1, dim>> changes(n_materials);
-      unsigned int                n_slots       = 0;
-      bool                        in_contact    = false;
-      double                      work          = 0;
-      unsigned long long          contact_nodes = 0;
-      // One correction of α (one material) against β at node i, recorded.
-      auto correct = [&](const unsigned int               a,
-                         const std::vector<unsigned int> &alpha,
-                         const std::vector<unsigned int> &beta,
-                         const unsigned int               partner,
-                         const unsigned int               i,
-                         const unsigned int               slot) {
-        const auto node = node_pair(alpha, beta, i, geometry[slot]);
-        // Increments: the same in both materials ('perfect'), or the
-        // interface law's perfect directions.
-        const Contact::LawInterface<dim> &pair_law = law(a, partner);
-        const auto                        c =
-          (increments && !pair_law.interface_state() ? *increment_law :
-                                                       pair_law)
-            .correct(node);
-        if (stage == Stage::updated && c.in_contact && !in_contact)
-          record(i, node);
-        if (stage == Stage::updated && needs_interface)
-          // (a lumped slot, α against the others, counts each pair twice)
-          slot_interface_energy[slot] =
-            (beta.size() > 1 ? 0.5 : 1.) * c.interface_energy;
-        in_contact = in_contact || c.in_contact;
-        return c;
-      };
 
-      // 'Three or more materials = explicit': the slots of a 3+ node, handled
-      // when the node is done.
-      struct PendingSlot
-      {
-        unsigned int              slot;
-        bool                      lumped;
-        unsigned int              x, a, partner;
-        std::vector<unsigned int> beta;
-      };
-      std::vector<PendingSlot>  pending;
-      std::vector<unsigned int> one_alpha(1), one_beta(1);
+
+    template <int dim>
+    NodePair<dim>
+    Manager<dim>::CorrectionSweep::node_pair(
+      const std::vector<unsigned int> &alpha,
+      const std::vector<unsigned int> &beta,
+      const unsigned int               i,
+      const NodeGeometry<dim>         &slot_geometry) const
+    {
+      Contact::NodePair<dim> node;
+      for (const unsigned int a : alpha)
+        {
+          node.mass_alpha += m[a][i];
+          for (unsigned int d = 0; d < dim; ++d)
+            node.momentum_alpha[d] += p[a * dim + d][i];
+        }
+      for (const unsigned int b : beta)
+        {
+          node.mass_beta += m[b][i];
+          for (unsigned int d = 0; d < dim; ++d)
+            node.momentum_beta[d] += p[b * dim + d][i];
+        }
+      node.normal     = slot_geometry.normal;
+      node.touching   = slot_geometry.touching;
+      node.separation = slot_geometry.separation;
+      node.stage =
+        stage == Stage::updated   ? Contact::NodePair<dim>::Stage::updated :
+        stage == Stage::increment ? Contact::NodePair<dim>::Stage::increment :
+                                    Contact::NodePair<dim>::Stage::extrapolated;
+      node.time_step = time_step;
+      if (manager.needs_interface)
+        {
+          // u^β − u^α and A_c = sqrt(2 min(V^α, V^β)(V^α + V^β))/h, from
+          // the sums of V and Σ S M u over each side's materials.
+          auto sum_side = [&](const std::vector<unsigned int> &materials,
+                              double                          &volume,
+                              Tensor<1, dim>                  &moment) {
+            for (const unsigned int a : materials)
+              {
+                volume += manager.fields[a].volume.local_element(i);
+                for (unsigned int d = 0; d < dim; ++d)
+                  moment[d] += manager.fields[a]
+                                 .displacement_moment.block(d)
+                                 .local_element(i);
+              }
+          };
+          double         volume_alpha = 0, volume_beta = 0;
+          Tensor<1, dim> moment_alpha, moment_beta;
+          sum_side(alpha, volume_alpha, moment_alpha);
+          sum_side(beta, volume_beta, moment_beta);
+          if (node.mass_alpha > 0 && node.mass_beta > 0)
+            node.displacement_jump =
+              moment_beta / node.mass_beta - moment_alpha / node.mass_alpha;
+          node.contact_area =
+            std::sqrt(2 * std::min(volume_alpha, volume_beta) *
+                      (volume_alpha + volume_beta)) /
+            manager.node_cell_size.local_element(i);
+        }
+      if (measures_gap && !node.touching && node.mass_alpha > 0 &&
+          node.mass_beta > 0)
+        {
+          if (node.separation < contact.touching_tolerance)
+            node.touching = true;
+          else if (contact.gap_closing)
+            {
+              // d + (v^β − v^α)·n̂ Δt < 0: the gap closes within the step;
+              // the laws leave the approach m_red d/Δt.
+              const double m_red = node.mass_alpha * node.mass_beta /
+                                   (node.mass_alpha + node.mass_beta);
+              node.touching         = true;
+              node.allowed_approach = m_red * node.separation *
+                                      manager.node_cell_size.local_element(i) /
+                                      time_step;
+            }
+        }
+      return node;
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::CorrectionSweep::add_momentum(const unsigned int    a,
+                                                const unsigned int    i,
+                                                const Tensor<1, dim> &dp)
+    {
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          p[a * dim + d][i] += dp[d];
+          if (records_first_correction)
+            dv[a * dim + d][i] += dp[d] / m[a][i];
+        }
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::CorrectionSweep::record(const unsigned int   i,
+                                          const NodePair<dim> &node)
+    {
+      manager.recorded_nodes.push_back(i);
+      for (unsigned int d = 0; d < dim; ++d)
+        manager.contact_normal.block(d).local_element(i) = node.normal[d];
+      manager.contact_separation.local_element(i) = node.separation;
+    }
+
+
+
+    template <int dim>
+    Correction<dim>
+    Manager<dim>::CorrectionSweep::correct(
+      const unsigned int               a,
+      const std::vector<unsigned int> &alpha,
+      const std::vector<unsigned int> &beta,
+      const unsigned int               partner,
+      const unsigned int               i,
+      const unsigned int               slot)
+    {
+      const auto node = node_pair(alpha, beta, i, manager.geometry[slot]);
+      // Increments: the same in both materials ('perfect'), or the
+      // interface law's perfect directions.
+      const Contact::LawInterface<dim> &pair_law = law(a, partner);
+      const auto                        c =
+        (increments && !pair_law.interface_state() ? *manager.increment_law :
+                                                     pair_law)
+          .correct(node);
+      if (stage == Stage::updated && c.in_contact && !in_contact)
+        record(i, node);
+      if (stage == Stage::updated && manager.needs_interface)
+        // (a lumped slot, α against the others, counts each pair twice)
+        manager.slot_interface_energy[slot] =
+          (beta.size() > 1 ? 0.5 : 1.) * c.interface_energy;
+      in_contact = in_contact || c.in_contact;
+      return c;
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::CorrectionSweep::correct_explicit_node(const unsigned int i)
+    {
       // The pairs in contact (each pair's law on the momenta as they are;
       // for the series increments, the pairs in contact at the last
       // correction): none, one or two are corrected together, by turns
       // until neither pair's law changes the momenta (Eq. 49: both laws hold
       // and momentum is conserved); three or more lumped (Eq. 50).
-      auto correct_explicit_node = [&](const unsigned int i) {
-        std::vector<const PendingSlot *> pairs;
-        bool                             lumped_at_last = false;
+      std::vector<char>               &state = manager.state;
+      std::vector<const PendingSlot *> pairs;
+      bool                             lumped_at_last = false;
+      for (const PendingSlot &pending_slot : pending)
+        {
+          if (pending_slot.lumped)
+            {
+              lumped_at_last =
+                lumped_at_last || (increments && state[pending_slot.slot]);
+              continue;
+            }
+          bool touching = increments && state[pending_slot.slot];
+          if (!increments)
+            {
+              one_alpha[0] = pending_slot.a;
+              one_beta[0]  = pending_slot.partner;
+              touching =
+                law(pending_slot.a, pending_slot.partner)
+                  .correct(node_pair(one_alpha,
+                                     one_beta,
+                                     i,
+                                     manager.geometry[pending_slot.slot]))
+                  .in_contact;
+            }
+          if (touching)
+            pairs.push_back(&pending_slot);
+        }
+      if (!increments)
         for (const PendingSlot &pending_slot : pending)
-          {
+          state[pending_slot.slot] = 0;
+
+      if (pairs.size() >= 3 || lumped_at_last)
+        {
+          for (const PendingSlot &pending_slot : pending)
             if (pending_slot.lumped)
               {
-                lumped_at_last =
-                  lumped_at_last || (increments && state[pending_slot.slot]);
-                continue;
-              }
-            bool touching = increments && state[pending_slot.slot];
-            if (!increments)
-              {
                 one_alpha[0] = pending_slot.a;
-                one_beta[0]  = pending_slot.partner;
-                touching     = law(pending_slot.a, pending_slot.partner)
-                             .correct(node_pair(one_alpha,
-                                                one_beta,
-                                                i,
-                                                geometry[pending_slot.slot]))
-                             .in_contact;
+                const auto c = correct(pending_slot.a,
+                                       one_alpha,
+                                       pending_slot.beta,
+                                       pending_slot.partner,
+                                       i,
+                                       pending_slot.slot);
+                if (!increments)
+                  state[pending_slot.slot] = c.in_contact;
+                changes[pending_slot.x] = c.delta_momentum;
+                work += 0.5 * c.friction_work;
               }
-            if (touching)
-              pairs.push_back(&pending_slot);
-          }
-        if (!increments)
           for (const PendingSlot &pending_slot : pending)
-            state[pending_slot.slot] = 0;
-
-        if (pairs.size() >= 3 || lumped_at_last)
-          {
-            for (const PendingSlot &pending_slot : pending)
-              if (pending_slot.lumped)
+            if (pending_slot.lumped)
+              add_momentum(pending_slot.a, i, changes[pending_slot.x]);
+          return;
+        }
+      constexpr unsigned int max_turns = 100;
+      for (unsigned int turn = 0; turn < max_turns && !pairs.empty(); ++turn)
+        {
+          double change = 0, scale = 0;
+          for (const PendingSlot *pair : pairs)
+            {
+              one_alpha[0] = pair->a;
+              one_beta[0]  = pair->partner;
+              const auto c = correct(
+                pair->a, one_alpha, one_beta, pair->partner, i, pair->slot);
+              if (c.in_contact)
                 {
-                  one_alpha[0] = pending_slot.a;
-                  const auto c = correct(pending_slot.a,
-                                         one_alpha,
-                                         pending_slot.beta,
-                                         pending_slot.partner,
-                                         i,
-                                         pending_slot.slot);
                   if (!increments)
-                    state[pending_slot.slot] = c.in_contact;
-                  changes[pending_slot.x] = c.delta_momentum;
-                  work += 0.5 * c.friction_work;
+                    state[pair->slot] = 1;
+                  add_momentum(pair->a, i, c.delta_momentum);
+                  add_momentum(pair->partner, i, -c.delta_momentum);
                 }
-            for (const PendingSlot &pending_slot : pending)
-              if (pending_slot.lumped)
-                add_momentum(pending_slot.a, i, changes[pending_slot.x]);
-            return;
-          }
-        constexpr unsigned int max_turns = 100;
-        for (unsigned int turn = 0; turn < max_turns && !pairs.empty(); ++turn)
-          {
-            double change = 0, scale = 0;
-            for (const PendingSlot *pair : pairs)
-              {
-                one_alpha[0] = pair->a;
-                one_beta[0]  = pair->partner;
-                const auto c = correct(
-                  pair->a, one_alpha, one_beta, pair->partner, i, pair->slot);
-                if (c.in_contact)
-                  {
-                    if (!increments)
-                      state[pair->slot] = 1;
-                    add_momentum(pair->a, i, c.delta_momentum);
-                    add_momentum(pair->partner, i, -c.delta_momentum);
-                  }
-                work += c.friction_work;
-                change += c.delta_momentum.norm();
-                for (unsigned int d = 0; d < dim; ++d)
-                  scale += std::abs(p[pair->a * dim + d][i]) +
-                           std::abs(p[pair->partner * dim + d][i]);
-              }
-            if (pairs.size() == 1 || change <= 1e-14 * scale)
-              break;
-          }
-      };
+              work += c.friction_work;
+              change += c.delta_momentum.norm();
+              for (unsigned int d = 0; d < dim; ++d)
+                scale += std::abs(p[pair->a * dim + d][i]) +
+                         std::abs(p[pair->partner * dim + d][i]);
+            }
+          if (pairs.size() == 1 || change <= 1e-14 * scale)
+            break;
+        }
+    }
 
-      for_each_pair(
-        [&](const Slot &s) {
-          ++n_slots;
-          if (s.explicit_node)
-            {
-              pending.push_back(
-                {s.slot, s.lumped, s.x, s.alpha.front(), s.partner, s.beta});
-              return;
-            }
-          if (s.lumped)
-            changes[s.x] = Tensor<1, dim>();
-          if (increments && !state[s.slot])
-            return;
-          const unsigned int a = s.alpha.front();
-          const auto c = correct(a, s.alpha, s.beta, s.partner, s.node, s.slot);
-          if (!increments)
-            state[s.slot] = c.in_contact;
-          if (s.lumped) // the change goes to α only, after all of the node's
-            changes[s.x] = c.delta_momentum;
-          else // α gets Δp^α, β gets −Δp^α (Eq. 7)
-            {
-              add_momentum(a, s.node, c.delta_momentum);
-              add_momentum(s.partner, s.node, -c.delta_momentum);
-            }
-          work += (s.lumped ? 0.5 : 1.) * c.friction_work;
-        },
-        [&](const unsigned int i, const std::vector<unsigned int> &present) {
-          if (!pending.empty())
-            {
-              correct_explicit_node(i);
-              pending.clear();
-            }
-          else if (present.size() > 2 &&
-                   contact.three_or_more ==
-                     Contact::Parameters::ThreeOrMore::lumped)
-            for (unsigned int x = 0; x < present.size(); ++x)
-              add_momentum(present[x], i, changes[x]);
-          if (in_contact)
-            ++contact_nodes;
-          in_contact = false;
-        });
 
-      AssertDimension(n_slots, geometry.size());
+
+    template <int dim>
+    void
+    Manager<dim>::CorrectionSweep::visit(const Slot &s)
+    {
+      ++n_slots;
+      if (s.explicit_node)
+        {
+          pending.push_back(
+            {s.slot, s.lumped, s.x, s.alpha.front(), s.partner, s.beta});
+          return;
+        }
+      if (s.lumped)
+        changes[s.x] = Tensor<1, dim>();
+      if (increments && !manager.state[s.slot])
+        return;
+      const unsigned int a = s.alpha.front();
+      const auto c = correct(a, s.alpha, s.beta, s.partner, s.node, s.slot);
+      if (!increments)
+        manager.state[s.slot] = c.in_contact;
+      if (s.lumped) // the change goes to α only, after all of the node's
+        changes[s.x] = c.delta_momentum;
+      else // α gets Δp^α, β gets −Δp^α (Eq. 7)
+        {
+          add_momentum(a, s.node, c.delta_momentum);
+          add_momentum(s.partner, s.node, -c.delta_momentum);
+        }
+      work += (s.lumped ? 0.5 : 1.) * c.friction_work;
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::CorrectionSweep::node_done(
+      const unsigned int               i,
+      const std::vector<unsigned int> &present)
+    {
+      if (!pending.empty())
+        {
+          correct_explicit_node(i);
+          pending.clear();
+        }
+      else if (present.size() > 2 && contact.three_or_more ==
+                                       Contact::Parameters::ThreeOrMore::lumped)
+        for (unsigned int x = 0; x < present.size(); ++x)
+          add_momentum(present[x], i, changes[x]);
+      if (in_contact)
+        ++contact_nodes;
+      in_contact = false;
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::apply(const Stage stage)
+    {
+      if (!geometry_valid)
+        compute_geometry();
+      if (!multimaterial_nodes_valid)
+        find_multimaterial_nodes();
+      TimerOutput::Scope timer(this->get_computing_timer(), "contact");
+      CorrectionSweep    sweep(*this, stage);
+      for_each_pair([&](const Slot &s) { sweep.visit(s); },
+                    [&](const unsigned int               i,
+                        const std::vector<unsigned int> &present) {
+                      sweep.node_done(i, present);
+                    });
+
+      AssertDimension(sweep.n_slots, geometry.size());
       if (stage == Stage::updated && needs_interface)
         interface_energy = std::accumulate(slot_interface_energy.begin(),
                                            slot_interface_energy.end(),
                                            0.);
       if (stage == Stage::updated)
         {
-          local_friction_work += work;
-          local_contact_nodes = contact_nodes;
+          local_friction_work += sweep.work;
+          local_contact_nodes = sweep.contact_nodes;
         }
       if (stage == Stage::updated)
         {

@@ -2,11 +2,13 @@
 // Copyright (C) 2026 by the fmpm authors
 
 // The contact manager: set-up, the material fields' conditions and
-// momentum update, history and summary figures.
+// momentum update, the point clouds of the contact nodes, history and
+// summary figures.
 
 #include <fmpm/contact/manager.h>
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/material_points.h>
+#include <fmpm/neighbour_exchange.h>
 #include <fmpm/support_cache.h>
 #include <fmpm/velocity_conditions.h>
 
@@ -276,6 +278,149 @@ namespace fmpm
       };
       operators.full_mass = operators.forward;
       velocity_conditions.impose_on_momenta(q, t, operators, nullptr);
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::gather_point_clouds()
+    {
+      const GridScalar          &lumped_mass = this->get_lumped_mass();
+      const SupportCache<dim>   &supports    = this->get_support_cache();
+      const MaterialPoints<dim> &points      = this->get_material_points();
+      const double               mass_floor  = this->get_mass_floor();
+      const MPI_Comm     mpi_communicator    = this->get_mpi_communicator();
+      TimerOutput::Scope timer(this->get_computing_timer(),
+                               "contact: point clouds");
+      using Index                    = PropertyIndex<dim>;
+      const auto        &partitioner = *lumped_mass.get_partitioner();
+      const unsigned int n_owned     = partitioner.locally_owned_size();
+      const unsigned int n_local     = n_owned + partitioner.n_ghost_indices();
+      const unsigned int n_materials = fields.size();
+      const double       floor       = mass_floor;
+
+      // Nodes (owned and ghost) that see 2+ materials: the ghost masses are
+      // current after the extrapolation.
+      if (!multimaterial_nodes_valid)
+        find_multimaterial_nodes();
+      std::vector<char> shared(n_local, 0);
+      for (const unsigned int i : multimaterial_nodes)
+        shared[i] = 1;
+      for (unsigned int i = n_owned; i < n_local; ++i)
+        {
+          unsigned int count = 0;
+          for (unsigned int a = 0; a < n_materials; ++a)
+            count += fields[a].mass.local_element(i) > floor;
+          shared[i] = count > 1;
+        }
+      // The owner of each ghost node (ghosts are numbered rank by rank).
+      std::vector<unsigned int> ghost_owner;
+      ghost_owner.reserve(partitioner.n_ghost_indices());
+      for (const auto &[rank, count] : partitioner.ghost_targets())
+        ghost_owner.insert(ghost_owner.end(), count, rank);
+
+      std::vector<CloudPoint<dim>>                         owned_points;
+      std::map<unsigned int, std::vector<CloudPoint<dim>>> sent;
+      const GridTransfer<dim> &transfer = this->get_grid_transfer();
+      const SupportReader<dim> support_of(supports,
+                                          transfer,
+                                          points.cell.data());
+      for (unsigned int c = 0; c < points.n_cells(); ++c)
+        {
+          // Computed supports are the cell's nodes: a cell without a
+          // shared node has no point in a cloud.
+          if (supports.implicit_classic)
+            {
+              bool any_shared = false;
+              for (const unsigned int i :
+                   transfer.cell_data(points.cell_index[c]).local_index)
+                any_shared = any_shared || shared[i];
+              if (!any_shared)
+                continue;
+            }
+          for (unsigned int k = points.cell_point_begin[c];
+               k < points.cell_point_begin[c + 1];
+               ++k)
+            support_of.visit(
+              k,
+              false,
+              [&](const unsigned int *const node,
+                  const double *const       S,
+                  const Tensor<1, dim> *,
+                  const auto n_entries) {
+                bool            filled = false;
+                CloudPoint<dim> point{};
+                for (unsigned int j = 0; j < n_entries; ++j)
+                  {
+                    const unsigned int i = node[j];
+                    if (!shared[i] || !(S[j] > 0))
+                      continue;
+                    if (!filled)
+                      {
+                        const PointRecord P = points.record(k);
+                        const Point<dim> &X = points.position[k];
+                        Tensor<2, dim>    F;
+                        for (unsigned int a = 0; a < dim; ++a)
+                          for (unsigned int b = 0; b < dim; ++b)
+                            F[a][b] =
+                              P[Index::deformation_gradient + 3 * a + b];
+                        const Tensor<2, dim> F_inverse = invert(F);
+                        point.id                       = points.id[k];
+                        point.material                 = supports.material[k];
+                        for (unsigned int a = 0; a < dim; ++a)
+                          {
+                            point.position[a] = X[a];
+                            point.initial_radii[a] =
+                              P[Index::initial_half_length + a];
+                            for (unsigned int b = 0; b < dim; ++b)
+                              point.F_inverse[a * dim + b] = F_inverse[a][b];
+                          }
+                        filled = true;
+                      }
+                    point.node = partitioner.local_to_global(i);
+                    if (i < n_owned)
+                      owned_points.push_back(point);
+                    else
+                      sent[ghost_owner[i - n_owned]].push_back(point);
+                  }
+              });
+        }
+      // Each rank sends to the owners of its ghost nodes and receives from
+      // the ranks that have its nodes as ghosts (the partitioner's import
+      // targets): one message each way, possibly empty, no collective.
+      std::vector<unsigned int> send_to, receive_from;
+      for (const auto &[rank, count] : partitioner.ghost_targets())
+        send_to.push_back(rank);
+      for (const auto &[rank, count] : partitioner.import_targets())
+        receive_from.push_back(rank);
+      for (const auto &[rank, points] :
+           neighbour_exchange(mpi_communicator,
+                              send_to,
+                              receive_from,
+                              sent,
+                              MPITags::contact_point_clouds))
+        owned_points.insert(owned_points.end(), points.begin(), points.end());
+
+      // Sort into the clouds of the owned nodes (counting sort).
+      cloud_begin.assign(n_owned + 1, 0);
+      for (const auto &point : owned_points)
+        ++cloud_begin[partitioner.global_to_local(point.node) + 1];
+      for (unsigned int i = 0; i < n_owned; ++i)
+        cloud_begin[i + 1] += cloud_begin[i];
+      cloud.resize(owned_points.size());
+      std::vector<unsigned int> next(cloud_begin.begin(),
+                                     cloud_begin.end() - 1);
+      for (const auto &point : owned_points)
+        cloud[next[partitioner.global_to_local(point.node)]++] = point;
+      // The points of other ranks came after the rank's own: the clouds in
+      // id order, the same on every number of ranks.
+      for (unsigned int i = 0; i < n_owned; ++i)
+        std::sort(cloud.begin() + cloud_begin[i],
+                  cloud.begin() + cloud_begin[i + 1],
+                  [](const CloudPoint<dim> &a, const CloudPoint<dim> &b) {
+                    return a.id < b.id;
+                  });
     }
 
 

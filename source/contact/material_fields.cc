@@ -29,12 +29,8 @@ namespace fmpm
     {
       const ::fmpm::Parameters         &parameters  = this->get_parameters();
       const MassMatrix::Interface<dim> &mass_matrix = this->get_mass_matrix();
-      const GridScalar                 &lumped_mass = this->get_lumped_mass();
-      const double                      mass_floor  = this->get_mass_floor();
       const double                      time_step   = this->get_timestep();
-      const VelocityConditions<dim>    &velocity_conditions =
-        this->get_velocity_conditions();
-      const bool has_hanging_nodes = this->has_hanging_nodes();
+      const bool has_hanging_nodes                  = this->has_hanging_nodes();
       using namespace ParticleUpdate;
       TimerOutput::Scope     timer(this->get_computing_timer(), "grid solve");
       const FieldSolver<dim> solver = this->get_field_solver();
@@ -45,6 +41,11 @@ namespace fmpm
         !has_hanging_nodes && mass_matrix.order() < 2 && !material_exact_solve;
       if (on_material_nodes && !multimaterial_nodes_valid)
         find_multimaterial_nodes();
+      // The series of Eq. 37 without the contact term (Eq. 48) starts from
+      // v^α0 = v^α − Δv^α.
+      const bool uncorrected_series_start =
+        parameters.contact.xpic_contact_term == XpicContactTerm::uncorrected &&
+        mass_matrix.order() > 1;
       for (unsigned int alpha = 0; alpha < fields.size(); ++alpha)
         {
           MaterialField<dim> &material = fields[alpha];
@@ -59,48 +60,43 @@ namespace fmpm
               solver.finish(material, field, true);
               continue;
             }
-          // The series of Eq. 37 without the contact term (Eq. 48) starts
-          // from v^α0 = v^α − Δv^α.
-          const bool uncorrected_series_start =
-            parameters.contact.xpic_contact_term ==
-              XpicContactTerm::uncorrected &&
-            mass_matrix.order() > 1;
-          switch (field)
-            {
-              case velocity:
-              case lumped_velocity: // v^α = p^α / m^α (Eq. 26)
-                solver.lumped(material, field, material.momentum);
-                if (field == velocity && uncorrected_series_start)
-                  material.fields[field].add(-1., material.delta_velocity);
-                break;
-              case updated_velocity:
-              case lumped_updated_velocity: // v^α+ = p^α+ / m^α (Eq. 31)
-                solver.lumped(material, field, material.updated_momentum);
-                if (field == updated_velocity && uncorrected_series_start)
-                  material.fields[field].add(-1., material.delta_velocity);
-                break;
-              case acceleration:
-              case lumped_acceleration:
-                {
-                  // a^α = (f^α0 + f^(BC) + Δp^α+/Δt) / m^α = (p^α+ − p^α) /
-                  // (m^α Δt): the contact force of the second correction
-                  // only (Eqs. 32-34, a^{α,1}).
-                  // (f^α is not read after the momentum update: its storage
-                  // holds the difference.)
-                  set_scaled_sum(material.force,
-                                 material.updated_momentum,
-                                 -1.,
-                                 material.momentum,
-                                 1. / time_step);
-                  solver.lumped(material, field, material.force);
-                  break;
-                }
-              default:
-                Assert(false, ExcInternalError());
-            }
-          solver.finish(material, field, true);
+          // a^α = (f^α0 + f^(BC) + Δp^α+/Δt) / m^α = (p^α+ − p^α) / (m^α
+          // Δt): the contact force of the second correction only (Eqs.
+          // 32-34, a^{α,1}). (f^α is not read after the momentum update:
+          // its storage holds the difference, the source of a^α.)
+          if (solver.is_acceleration(field))
+            set_scaled_sum(material.force,
+                           material.updated_momentum,
+                           -1.,
+                           material.momentum,
+                           1. / time_step);
+          // v^α = p^α / m^α (Eq. 26), v^α+ = p^α+ / m^α (Eq. 31): lumped, or
+          // the start of the series or exact solve below.
+          solver.solve(
+            material,
+            field,
+            [&](const GridVectorField &q, GridVectorField &target) {
+              solver.lumped(material, field, q);
+              if (field != acceleration && uncorrected_series_start)
+                target.add(-1., material.delta_velocity);
+            },
+            true);
         }
 
+      if (field != velocity && field != updated_velocity)
+        return;
+      if (material_exact_solve)
+        solve_material_full_mass(field);
+      else if (mass_matrix.order() > 1)
+        material_series(field);
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::material_series(const ParticleUpdate::GridField field)
+    {
       // Multimaterial XPIC(k) and FMPM(k) (seed 004 Eq. 37, seed 000 Eqs.
       // 3.13-3.22). With A^α = S^{+α}S = (m^α)⁻¹m̃^α and
       // (m̃ₖ^α)⁻¹ − (m̃ₖ₋₁^α)⁻¹ = (I − A^α)^{k−1}(m^α)⁻¹ (Eq. 3.15):
@@ -111,15 +107,15 @@ namespace fmpm
       // series of each material, started from the contact-corrected velocity
       // (uncorrected: from (m^α)⁻¹q, Eq. 48). All materials share each sweep
       // over the support cache.
-      if (material_exact_solve &&
-          (field == velocity || field == updated_velocity))
-        {
-          solve_material_full_mass(field);
-          return;
-        }
-      const unsigned int k = mass_matrix.order();
-      if ((field != velocity && field != updated_velocity) || k < 2)
-        return;
+      const ::fmpm::Parameters         &parameters  = this->get_parameters();
+      const MassMatrix::Interface<dim> &mass_matrix = this->get_mass_matrix();
+      const GridScalar                 &lumped_mass = this->get_lumped_mass();
+      const double                      mass_floor  = this->get_mass_floor();
+      const VelocityConditions<dim>    &velocity_conditions =
+        this->get_velocity_conditions();
+      const FieldSolver<dim> solver = this->get_field_solver();
+      using namespace ParticleUpdate;
+      const unsigned int k               = mass_matrix.order();
       const bool         updated         = field == updated_velocity;
       const double       t_field         = solver.time_of(field);
       const unsigned int n_owned         = lumped_mass.locally_owned_size();

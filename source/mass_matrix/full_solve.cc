@@ -175,6 +175,81 @@ namespace fmpm
           }
       }
 
+      /** x += α p, r −= α q on the free nodes of component @p b of every
+       * system, adding the new r·D⁻¹r and r·r to @p r_dot_z and @p r_dot_r
+       * (two interleaved sums, then the odd node, then their halves). */
+      template <typename MatrixType>
+      void
+      update_component(std::vector<CgSystem<MatrixType>> &systems,
+                       const unsigned int                 b,
+                       const double                       alpha,
+                       double                            &r_dot_z,
+                       double                            &r_dot_r)
+      {
+        for (auto &system : systems)
+          {
+            const double *d  = system.inverse_diagonal->block(b).begin();
+            const double *pb = system.direction->block(b).begin();
+            const double *qb = system.q->block(b).begin();
+            double       *xb = system.x->block(b).begin();
+            double       *rb = system.r->block(b).begin();
+            DoublePair    rz = 0., rr = 0.;
+            for (const auto &[begin, end] : system.ranges)
+              {
+                unsigned int i = begin;
+                for (; i + 2 <= end; i += 2)
+                  {
+                    store_pair(xb + i,
+                               load_pair(xb + i) + alpha * load_pair(pb + i));
+                    const DoublePair r_i =
+                      load_pair(rb + i) - alpha * load_pair(qb + i);
+                    store_pair(rb + i, r_i);
+                    rz += r_i * load_pair(d + i) * r_i;
+                    rr += r_i * r_i;
+                  }
+                if (i < end)
+                  {
+                    xb[i] += alpha * pb[i];
+                    rb[i] -= alpha * qb[i];
+                    r_dot_z += rb[i] * d[i] * rb[i];
+                    r_dot_r += rb[i] * rb[i];
+                  }
+              }
+            r_dot_z += rz[0] + rz[1];
+            r_dot_r += rr[0] + rr[1];
+          }
+      }
+
+
+
+      /** p = D⁻¹r + β p on the free nodes of component @p b of every
+       * system. */
+      template <typename MatrixType>
+      void
+      new_direction(std::vector<CgSystem<MatrixType>> &systems,
+                    const unsigned int                 b,
+                    const double                       beta)
+      {
+        for (auto &system : systems)
+          {
+            const double *d  = system.inverse_diagonal->block(b).begin();
+            const double *rb = system.r->block(b).begin();
+            double       *pb = system.direction->block(b).begin();
+            for (const auto &[begin, end] : system.ranges)
+              {
+                unsigned int i = begin;
+                for (; i + 2 <= end; i += 2)
+                  store_pair(pb + i,
+                             load_pair(d + i) * load_pair(rb + i) +
+                               beta * load_pair(pb + i));
+                if (i < end)
+                  pb[i] = d[i] * rb[i] + beta * pb[i];
+              }
+          }
+      }
+
+
+
       /**
        * Preconditioned CG on all systems and components at once, each
        * component with its own step lengths α_b, β_b (one Krylov space per
@@ -295,39 +370,7 @@ namespace fmpm
                   continue;
                 AssertThrow(p_dot_q[b] > 0, ExcMessage("CG breakdown"));
                 const double alpha = r_dot_z[b] / p_dot_q[b];
-                for (auto &system : systems)
-                  {
-                    const double *d = system.inverse_diagonal->block(b).begin();
-                    const double *pb = system.direction->block(b).begin();
-                    const double *qb = system.q->block(b).begin();
-                    double       *xb = system.x->block(b).begin();
-                    double       *rb = system.r->block(b).begin();
-                    DoublePair    rz = 0., rr = 0.;
-                    for (const auto &[begin, end] : system.ranges)
-                      {
-                        unsigned int i = begin;
-                        for (; i + 2 <= end; i += 2)
-                          {
-                            store_pair(xb + i,
-                                       load_pair(xb + i) +
-                                         alpha * load_pair(pb + i));
-                            const DoublePair r_i =
-                              load_pair(rb + i) - alpha * load_pair(qb + i);
-                            store_pair(rb + i, r_i);
-                            rz += r_i * load_pair(d + i) * r_i;
-                            rr += r_i * r_i;
-                          }
-                        if (i < end)
-                          {
-                            xb[i] += alpha * pb[i];
-                            rb[i] -= alpha * qb[i];
-                            local[b] += rb[i] * d[i] * rb[i];
-                            local[3 + b] += rb[i] * rb[i];
-                          }
-                      }
-                    local[b] += rz[0] + rz[1];
-                    local[3 + b] += rr[0] + rr[1];
-                  }
+                update_component(systems, b, alpha, local[b], local[3 + b]);
                 shared_step(systems,
                             shared,
                             SharedStep::update,
@@ -346,22 +389,7 @@ namespace fmpm
                 const double beta = global[b] / r_dot_z[b];
                 r_dot_z[b]        = global[b];
                 r_dot_r[b]        = global[3 + b];
-                for (auto &system : systems)
-                  {
-                    const double *d = system.inverse_diagonal->block(b).begin();
-                    const double *rb = system.r->block(b).begin();
-                    double       *pb = system.direction->block(b).begin();
-                    for (const auto &[begin, end] : system.ranges)
-                      {
-                        unsigned int i = begin;
-                        for (; i + 2 <= end; i += 2)
-                          store_pair(pb + i,
-                                     load_pair(d + i) * load_pair(rb + i) +
-                                       beta * load_pair(pb + i));
-                        if (i < end)
-                          pb[i] = d[i] * rb[i] + beta * pb[i];
-                      }
-                  }
+                new_direction(systems, b, beta);
                 double unused[2];
                 shared_step(systems,
                             shared,
@@ -429,6 +457,145 @@ namespace fmpm
                   system.v->block(b).local_element(i) += shift;
           }
       }
+
+
+
+      /**
+       * The fixed nodes of @p system (known, weak, empty), the start of the
+       * iteration in its workspace (v on known nodes, m⁻¹p on weak ones, 0
+       * on empty ones; FullMassStart::given: v on all three; on free nodes
+       * m⁻¹p or the given v), 1 on its free nodes in the inverse diagonal,
+       * and its operator @p A with the diagonal of A.
+       */
+      template <typename MatrixType>
+      void
+      set_up_system(const FullMassSystem<MatrixType> &system,
+                    const FullMassStart               start,
+                    const std::vector<GridScalar>    *known_mask,
+                    const FullMassSolveSettings      &settings,
+                    BlendedMass<MatrixType>          &A)
+      {
+        const unsigned int     n        = system.m->locally_owned_size();
+        const double           delta    = settings.lumped_fraction;
+        const double           floor    = settings.mass_floor;
+        const unsigned int     n_blocks = system.p->n_blocks();
+        const GridScalar      &m        = *system.m;
+        const GridScalar      &weak     = *system.weak;
+        const GridVectorField &p        = *system.p;
+        GridVectorField       &v        = *system.v;
+        FullMassWorkspace     &w        = *system.workspace;
+        w.reinit(p);
+        v.zero_out_ghost_values();
+        A.K        = system.K;
+        A.K_factor = 1 - delta;
+        A.fixed_rows.assign(n_blocks, {});
+
+        // Fixed nodes (known, weak, empty) and the start of the
+        // iteration: v on known nodes, m⁻¹p on weak ones, 0 on empty ones
+        // (FullMassStart::given: v on all three), and on free nodes m⁻¹p
+        // or the given v.
+        const bool    given  = start == FullMassStart::given;
+        const double *m_data = m.begin(), *weak_data = weak.begin();
+        for (unsigned int b = 0; b < n_blocks; ++b)
+          {
+            const double *p_b = p.block(b).begin();
+            const double *known_b =
+              known_mask ? (*known_mask)[b].begin() : nullptr;
+            double *v_b       = v.block(b).begin();
+            double *start_b   = w.lumped_start.block(b).begin();
+            double *inverse_b = w.inverse_diagonal.block(b).begin();
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                const double m_i      = m_data[i];
+                const bool   is_known = known_b && known_b[i] != 0;
+                const bool   is_weak  = weak_data[i] != 0;
+                const bool   is_empty = !(m_i > floor);
+                const bool   is_fixed = is_known || is_weak || is_empty;
+                if (!given)
+                  {
+                    if (is_empty)
+                      v_b[i] = 0;
+                    else if (is_weak)
+                      v_b[i] = p_b[i] / m_i;
+                  }
+                start_b[i] = is_fixed || given ? v_b[i] : p_b[i] / m_i;
+                // 1 marks free nodes here; their inverse diagonal below.
+                inverse_b[i] = is_fixed ? 0 : 1;
+                if (is_known || is_weak || (is_empty && m_i != 0))
+                  A.fixed_rows[b].push_back(i);
+              }
+          }
+
+        // c = K 1_W: the couplings of each node to weak nodes, the
+        // diagonal terms e = (1 − δ) c + δ m of A, and A's diagonal.
+        w.weak_coupling = 0;
+        if (weak.linfty_norm() > 0) // (over all ranks)
+          {
+            for (unsigned int b = 0; b < n_blocks; ++b)
+              w.direction.block(b) = weak;
+            apply_full_mass(*system.K, w.product, w.direction);
+            w.weak_coupling = w.product.block(0);
+          }
+        A.diagonal_terms.clear();
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const double c_i = w.weak_coupling.local_element(i);
+            const double m_i = m.local_element(i);
+            const double e   = (1 - delta) * c_i + delta * m_i;
+            if (e != 0)
+              A.diagonal_terms.emplace_back(i, e);
+            w.diagonal.local_element(i) =
+              (1 - delta) * (system.K_diagonal->local_element(i) + c_i) +
+              delta * m_i;
+          }
+      }
+
+
+
+      /**
+       * r0 = p − A x0 on the free rows of @p system: the known values of x0
+       * enter through (1 − δ) K_FK v_K, weak and empty nodes not at all.
+       */
+      template <typename MatrixType>
+      void
+      initial_residual(const FullMassSystem<MatrixType> &system,
+                       const FullMassSolveSettings      &settings,
+                       const GridVectorField            &x0,
+                       GridVectorField                  &r0)
+      {
+        const unsigned int n          = system.m->locally_owned_size();
+        const double       delta      = settings.lumped_fraction;
+        const double       floor      = settings.mass_floor;
+        const unsigned int n_blocks   = system.p->n_blocks();
+        const GridScalar  &m          = *system.m;
+        FullMassWorkspace &w          = *system.workspace;
+        GridVectorField   &x0_coupled = w.coupled_start;
+        x0_coupled                    = x0;
+        const double *const m_data    = m.begin();
+        const double *const weak_data = system.weak->begin();
+        const double *const coupling  = w.weak_coupling.begin();
+        for (unsigned int b = 0; b < n_blocks; ++b)
+          {
+            double *const x_b = x0_coupled.block(b).begin();
+            for (unsigned int i = 0; i < n; ++i)
+              if (weak_data[i] != 0 || !(m_data[i] > floor))
+                x_b[i] = 0;
+          }
+        apply_full_mass(*system.K, r0, x0_coupled);
+        for (unsigned int b = 0; b < n_blocks; ++b)
+          {
+            const double *const x_b       = x0.block(b).begin();
+            const double *const p_b       = system.p->block(b).begin();
+            const double *const inverse_b = w.inverse_diagonal.block(b).begin();
+            double *const       r_b       = r0.block(b).begin();
+            for (unsigned int i = 0; i < n; ++i)
+              r_b[i] = inverse_b[i] == 0 ?
+                         0. :
+                         p_b[i] -
+                           (1 - delta) * (r_b[i] + coupling[i] * x_b[i]) -
+                           delta * m_data[i] * x_b[i];
+          }
+      }
     } // namespace
 
 
@@ -447,86 +614,13 @@ namespace fmpm
       const unsigned int n_systems = systems.size();
       const GridScalar  &m0        = *systems[0].m;
       const unsigned int n         = m0.locally_owned_size();
-      const double       delta     = settings.lumped_fraction;
       const double       floor     = settings.mass_floor;
       const unsigned int n_blocks  = systems[0].p->n_blocks();
       FullMassSolve      result;
 
       std::vector<CgSystem<MatrixType>> cg(n_systems);
       for (unsigned int a = 0; a < n_systems; ++a)
-        {
-          const FullMassSystem<MatrixType> &system = systems[a];
-          const GridScalar                 &m      = *system.m;
-          const GridScalar                 &weak   = *system.weak;
-          const GridVectorField            &p      = *system.p;
-          GridVectorField                  &v      = *system.v;
-          FullMassWorkspace                &w      = *system.workspace;
-          w.reinit(p);
-          v.zero_out_ghost_values();
-          BlendedMass<MatrixType> &A = cg[a].A;
-          A.K                        = system.K;
-          A.K_factor                 = 1 - delta;
-          A.fixed_rows.assign(n_blocks, {});
-
-          // Fixed nodes (known, weak, empty) and the start of the
-          // iteration: v on known nodes, m⁻¹p on weak ones, 0 on empty ones
-          // (FullMassStart::given: v on all three), and on free nodes m⁻¹p
-          // or the given v.
-          const bool    given  = start == FullMassStart::given;
-          const double *m_data = m.begin(), *weak_data = weak.begin();
-          for (unsigned int b = 0; b < n_blocks; ++b)
-            {
-              const double *p_b = p.block(b).begin();
-              const double *known_b =
-                known_mask ? (*known_mask)[b].begin() : nullptr;
-              double *v_b       = v.block(b).begin();
-              double *start_b   = w.lumped_start.block(b).begin();
-              double *inverse_b = w.inverse_diagonal.block(b).begin();
-              for (unsigned int i = 0; i < n; ++i)
-                {
-                  const double m_i      = m_data[i];
-                  const bool   is_known = known_b && known_b[i] != 0;
-                  const bool   is_weak  = weak_data[i] != 0;
-                  const bool   is_empty = !(m_i > floor);
-                  const bool   is_fixed = is_known || is_weak || is_empty;
-                  if (!given)
-                    {
-                      if (is_empty)
-                        v_b[i] = 0;
-                      else if (is_weak)
-                        v_b[i] = p_b[i] / m_i;
-                    }
-                  start_b[i] = is_fixed || given ? v_b[i] : p_b[i] / m_i;
-                  // 1 marks free nodes here; their inverse diagonal below.
-                  inverse_b[i] = is_fixed ? 0 : 1;
-                  if (is_known || is_weak || (is_empty && m_i != 0))
-                    A.fixed_rows[b].push_back(i);
-                }
-            }
-
-          // c = K 1_W: the couplings of each node to weak nodes, the
-          // diagonal terms e = (1 − δ) c + δ m of A, and A's diagonal.
-          w.weak_coupling = 0;
-          if (weak.linfty_norm() > 0) // (over all ranks)
-            {
-              for (unsigned int b = 0; b < n_blocks; ++b)
-                w.direction.block(b) = weak;
-              apply_full_mass(*system.K, w.product, w.direction);
-              w.weak_coupling = w.product.block(0);
-            }
-          A.diagonal_terms.clear();
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              const double c_i = w.weak_coupling.local_element(i);
-              const double m_i = m.local_element(i);
-              const double e   = (1 - delta) * c_i + delta * m_i;
-              if (e != 0)
-                A.diagonal_terms.emplace_back(i, e);
-              w.diagonal.local_element(i) =
-                (1 - delta) * (system.K_diagonal->local_element(i) + c_i) +
-                delta * m_i;
-            }
-        }
+        set_up_system(systems[a], start, known_mask, settings, cg[a].A);
       // Shared nodes: the diagonal of Zᵀ diag Z, the sum over the group;
       // each system's shared nodes, which its fused CG passes skip.
       std::vector<std::vector<unsigned int>> shared_of(n_systems);
@@ -558,42 +652,6 @@ namespace fmpm
             }
         }
 
-      // r0 = p − A x0 on free rows: the known values of x0 enter through
-      // (1 − δ) K_FK v_K, weak and empty nodes not at all.
-      const auto initial_residual =
-        [&](const FullMassSystem<MatrixType> &system,
-            const GridVectorField            &x0,
-            GridVectorField                  &r0) {
-          const GridScalar  &m          = *system.m;
-          FullMassWorkspace &w          = *system.workspace;
-          GridVectorField   &x0_coupled = w.coupled_start;
-          x0_coupled                    = x0;
-          const double *const m_data    = m.begin();
-          const double *const weak_data = system.weak->begin();
-          const double *const coupling  = w.weak_coupling.begin();
-          for (unsigned int b = 0; b < n_blocks; ++b)
-            {
-              double *const x_b = x0_coupled.block(b).begin();
-              for (unsigned int i = 0; i < n; ++i)
-                if (weak_data[i] != 0 || !(m_data[i] > floor))
-                  x_b[i] = 0;
-            }
-          apply_full_mass(*system.K, r0, x0_coupled);
-          for (unsigned int b = 0; b < n_blocks; ++b)
-            {
-              const double *const x_b = x0.block(b).begin();
-              const double *const p_b = system.p->block(b).begin();
-              const double *const inverse_b =
-                w.inverse_diagonal.block(b).begin();
-              double *const r_b = r0.block(b).begin();
-              for (unsigned int i = 0; i < n; ++i)
-                r_b[i] = inverse_b[i] == 0 ?
-                           0. :
-                           p_b[i] -
-                             (1 - delta) * (r_b[i] + coupling[i] * x_b[i]) -
-                             delta * m_data[i] * x_b[i];
-            }
-        };
       // FullMassStart::better_of_given_and_lumped: from v only where it is
       // the better start (it is not, e.g., in the first step or after the
       // mesh changed).
@@ -603,11 +661,11 @@ namespace fmpm
       for (const auto &system : systems)
         {
           FullMassWorkspace &w = *system.workspace;
-          initial_residual(system, w.lumped_start, w.residual);
+          initial_residual(system, settings, w.lumped_start, w.residual);
           if (compare_starts)
             {
               lumped_norm += w.residual.norm_sqr();
-              initial_residual(system, *system.v, w.correction);
+              initial_residual(system, settings, *system.v, w.correction);
               given_norm += w.correction.norm_sqr();
             }
         }

@@ -12,9 +12,11 @@ namespace fmpm
     void
     Flip<dim>::declare_parameters(ParameterHandler &prm)
     {
+      const Flip<dim> defaults;
       prm.declare_entry(
         "Position update psi",
-        "auto",
+        defaults.psi_from_strain_update ? std::string("auto") :
+                                          format_number(defaults.psi),
         Patterns::Anything(),
         "psi of [Nairn2023-FMPM] Eq. 2.28 in X += (v_p - psi a dt/2) dt, a "
         "number from 0 to 1 or 'auto'. 1 moves a point by the grid velocity "

@@ -332,6 +332,9 @@ namespace
     const auto  flip     = create_from_defaults<fmpm::ParticleUpdate::Flip<3>>(
       registry, "flip", "Particle update", prm);
     EXPECT_EQ(flip->psi, fmpm::ParticleUpdate::Flip<3>().psi);
+    // 'auto': ψ follows the strain update.
+    EXPECT_EQ(flip->psi_from_strain_update,
+              fmpm::ParticleUpdate::Flip<3>().psi_from_strain_update);
     const auto xpic = create_from_defaults<fmpm::ParticleUpdate::Xpic<3>>(
       registry, "xpic", "Particle update", prm);
     EXPECT_EQ(xpic->psi, fmpm::ParticleUpdate::Xpic<3>().psi);

@@ -236,6 +236,8 @@ namespace fmpm
         const std::vector<unsigned int> &beta;
         unsigned int                     partner;
       };
+      /** One correction over the owned nodes (apply()). */
+      class CorrectionSweep;
       /** The owned nodes with 2+ materials and their materials, and the
        * nodes of each material, from the masses m^α of the last
        * extrapolation. */
@@ -268,6 +270,10 @@ namespace fmpm
       void
       apply_material_full_mass(const std::vector<GridVectorField *> &in,
                                const std::vector<GridVectorField *> &out);
+      /** Multimaterial XPIC(k) and FMPM(k) (seed 004 Eq. 37): the series of
+       * every material from the lumped start in fields[@p field]. */
+      void
+      material_series(const ParticleUpdate::GridField field);
       /** The exact full-mass solve with per-material fields: the k → ∞
        * limit of multimaterial FMPM(k) with net incremental contact
        * (doc/contact.md). On entry @p field holds the contact-corrected

@@ -45,8 +45,8 @@ namespace fmpm
       /** ψ of Eq. 2.28. */
       double psi = 1;
 
-      /** ψ follows the strain update ('auto'). */
-      bool psi_from_strain_update = false;
+      /** ψ follows the strain update ('auto', the default). */
+      bool psi_from_strain_update = true;
     };
 
     /**
@@ -62,7 +62,8 @@ namespace fmpm
     public:
       Fmpm0()
       {
-        this->psi = 1;
+        this->psi                    = 1;
+        this->psi_from_strain_update = false;
       }
 
       static void
