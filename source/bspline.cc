@@ -53,8 +53,7 @@ namespace fmpm
       AssertThrow(h > 0, ExcMessage("B-spline lattice: cell size <= 0."));
       // Open knots: the two ends' modified functions must not overlap;
       // padding: a cell between the two padding layers.
-      const unsigned int fewest =
-        boundary == Boundary::open_knots ? 2 * degree : 3;
+      const unsigned int fewest = fewest_cells(degree, boundary);
       AssertThrow(n_cells >= fewest,
                   ExcMessage("B-splines of degree " + std::to_string(degree) +
                              " need at least " + std::to_string(fewest) +
@@ -71,12 +70,16 @@ namespace fmpm
                           const unsigned int                   degree,
                           const Boundary                       boundary)
     {
+      // (Too few cells in a direction for the degree: the linear basis.)
       for (unsigned int d = 0; d < dim; ++d)
-        bases[d] = Basis1D(degree,
-                           lower[d],
-                           (upper[d] - lower[d]) / n_cells[d],
-                           n_cells[d],
-                           boundary);
+        bases[d] =
+          Basis1D(n_cells[d] >= Basis1D::fewest_cells(degree, boundary) ?
+                    degree :
+                    1,
+                  lower[d],
+                  (upper[d] - lower[d]) / n_cells[d],
+                  n_cells[d],
+                  boundary);
     }
 
 

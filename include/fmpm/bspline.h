@@ -96,12 +96,22 @@ namespace fmpm
 
       Basis1D() = default;
 
+      /** The fewest cells of a basis: 2 p for open knots (the two ends'
+       * modified functions apart), 3 for padding (a cell between the
+       * padding layers), 1 for the linear basis. */
+      static unsigned int
+      fewest_cells(const unsigned int degree, const Boundary boundary)
+      {
+        if (degree == 1)
+          return 1;
+        return boundary == Boundary::open_knots ? 2 * degree : 3;
+      }
+
       /**
        * @param degree 1, 2 or 3
        * @param lower the coordinate of vertex 0
        * @param h the cell size (> 0)
-       * @param n_cells the number of cells (≥ 2 p for open knots, ≥ 3 for
-       *        padding)
+       * @param n_cells the number of cells (at least fewest_cells())
        */
       Basis1D(const unsigned int degree,
               const double       lower,
@@ -693,6 +703,9 @@ namespace fmpm
       /**
        * @param lower, upper the box of the mesh
        * @param n_cells cells per direction (uniform: (upper − lower)/n_cells)
+       *
+       * A direction with fewer than Basis1D::fewest_cells() cells carries
+       * the linear basis.
        */
       Lattice(const Point<dim>                    &lower,
               const Point<dim>                    &upper,

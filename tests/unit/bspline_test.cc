@@ -16,6 +16,7 @@
 
 #include <fmpm/bspline.h>
 #include <fmpm/grid_transfer.h>
+#include <fmpm/shape_function.h>
 
 #include <deal.II/base/partitioner.h>
 #include <deal.II/distributed/tria.h>
@@ -933,5 +934,163 @@ namespace
                   std::string::npos)
           << error;
       }
+  }
+
+  // The shape functions b2spline, b3spline, b2gimp, b2cpdi as the
+  // simulator computes them (ShapeFunction::BSplineSupports on a deal.II
+  // mesh, entries addressed by local index): at random points of a
+  // subdivided box, Σ S = 1, Σ S x_i = x, Σ G = 0, Σ G ⊗ x_i = I with x_i
+  // the DoF support points, for both boundaries; a direction of one cell
+  // (the linear basis there) included. (That the checks fail for a wrong
+  // basis: WrongBasesFailTheChecks.)
+  TYPED_TEST(BSplineLatticeTest, ShapeFunctionsOnTheMeshAreComplete)
+  {
+    using fmpm::ShapeFunction::Type;
+    constexpr int dim = TypeParam::value;
+    for (const bool thin : {false, true})
+      {
+        std::vector<unsigned int> subdivisions;
+        Point<dim>                lower, upper;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            subdivisions.push_back(thin && d == 1 ? 1 : 8 + d);
+            lower[d] = 0.3 - 0.2 * d;
+            upper[d] = lower[d] + (0.25 + 0.05 * d) * subdivisions[d];
+          }
+        MeshSetup<dim>          mesh(subdivisions, lower, upper);
+        std::vector<Point<dim>> node_position(
+          mesh.partitioner->local_size() + mesh.partitioner->n_ghost_indices());
+        for (const auto &[dof, position] : mesh.support_points)
+          if (mesh.partitioner->in_local_range(dof) ||
+              mesh.partitioner->is_ghost_entry(dof))
+            node_position[mesh.partitioner->global_to_local(dof)] = position;
+        std::mt19937                           generator(17);
+        std::uniform_real_distribution<double> unit(0, 1);
+        for (const Type type :
+             {Type::b2spline, Type::b3spline, Type::b2gimp, Type::b2cpdi})
+          for (const Boundary boundary : both_boundaries)
+            {
+              fmpm::ShapeFunction::BSplineSupports<dim> supports;
+              supports.reinit(type,
+                              boundary,
+                              mesh.transfer,
+                              mesh.triangulation.n_active_cells(),
+                              MPI_COMM_WORLD);
+              ASSERT_TRUE(supports.active());
+              const auto  &lattice        = supports.get_lattice();
+              unsigned int n_checked      = 0;
+              double       largest_defect = 0;
+              for (unsigned int q = 0; q < 200; ++q)
+                {
+                  // Points at least half a cell inside the padding layer's
+                  // inner face (their domains too); anywhere with open
+                  // knots.
+                  Point<dim>     x;
+                  Tensor<1, dim> l0;
+                  Tensor<2, dim> F;
+                  for (unsigned int d = 0; d < dim; ++d)
+                    {
+                      const double       h = lattice.basis(d).cell_size();
+                      const unsigned int n = subdivisions[d];
+                      const double       margin =
+                        (boundary == Boundary::padding && n > 1) ? 1.5 : 0;
+                      x[d] = lower[d] +
+                             h * (margin + (n - 2 * margin) * unit(generator));
+                      l0[d]   = 0.25 * h;
+                      F[d][d] = 1 + 0.3 * (unit(generator) - 0.5);
+                    }
+                  F[0][dim - 1] = 0.2 * (unit(generator) - 0.5);
+                  unsigned int   node[fmpm::ShapeFunction::BSplineSupports<
+                    dim>::max_support_size];
+                  double         S[fmpm::ShapeFunction::BSplineSupports<
+                    dim>::max_support_size];
+                  Tensor<1, dim> G[fmpm::ShapeFunction::BSplineSupports<
+                    dim>::max_support_size];
+                  unsigned int   count = 0;
+                  const auto     status =
+                    supports.support(x, F, l0, 0, node, S, G, count);
+                  ASSERT_EQ(status, fmpm::ShapeFunction::Status::ok)
+                    << fmpm::ShapeFunction::parameter_name(type) << ", "
+                    << name(boundary) << " at " << x;
+                  double         sum_S = 0;
+                  Tensor<1, dim> sum_Sx, sum_G;
+                  Tensor<2, dim> sum_Gx;
+                  for (unsigned int e = 0; e < count; ++e)
+                    {
+                      const Point<dim> &xi = node_position[node[e]];
+                      sum_S += S[e];
+                      sum_Sx += S[e] * xi;
+                      sum_G += G[e];
+                      sum_Gx += outer_product(xi, G[e]);
+                    }
+                  const double defect =
+                    std::abs(sum_S - 1) + (sum_Sx - x).norm() + sum_G.norm() +
+                    (sum_Gx - unit_symmetric_tensor<dim>()).norm();
+                  largest_defect = std::max(largest_defect, defect);
+                  ++n_checked;
+                }
+              EXPECT_EQ(n_checked, 200u);
+              EXPECT_LT(largest_defect, 1e-12)
+                << fmpm::ShapeFunction::parameter_name(type) << ", "
+                << name(boundary) << (thin ? ", one cell in y" : "");
+            }
+      }
+  }
+
+  // The shape-function layer refuses a mesh that is not a box lattice,
+  // naming the parameter; with padding a point in the padding layer has no
+  // support.
+  TYPED_TEST(BSplineLatticeTest, ShapeFunctionsRefuseOtherMeshesAndPadding)
+  {
+    using fmpm::ShapeFunction::Type;
+    constexpr int             dim = TypeParam::value;
+    std::vector<unsigned int> subdivisions(dim, 6);
+    Point<dim>                lower, upper;
+    for (unsigned int d = 0; d < dim; ++d)
+      upper[d] = 1.2;
+    {
+      MeshSetup<dim> distorted(subdivisions, lower, upper, false, true);
+      fmpm::ShapeFunction::BSplineSupports<dim> supports;
+      try
+        {
+          supports.reinit(Type::b2spline,
+                          Boundary::open_knots,
+                          distorted.transfer,
+                          distorted.triangulation.n_active_cells(),
+                          MPI_COMM_WORLD);
+          ADD_FAILURE() << "a distorted mesh was accepted";
+        }
+      catch (const std::exception &error)
+        {
+          EXPECT_NE(
+            std::string(error.what()).find("Shape function/Type = b2spline"),
+            std::string::npos)
+            << error.what();
+        }
+    }
+    MeshSetup<dim>                            mesh(subdivisions, lower, upper);
+    fmpm::ShapeFunction::BSplineSupports<dim> supports;
+    supports.reinit(Type::b2spline,
+                    Boundary::padding,
+                    mesh.transfer,
+                    mesh.triangulation.n_active_cells(),
+                    MPI_COMM_WORLD);
+    Point<dim> inside, in_layer;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        inside[d]   = 0.6;
+        in_layer[d] = 0.6;
+      }
+    in_layer[0] = 0.1; // (cells are 0.2 wide)
+    unsigned int         node[64], count;
+    double               S[64];
+    Tensor<1, dim>       G[64];
+    const Tensor<2, dim> F = unit_symmetric_tensor<dim>();
+    const Tensor<1, dim> l0;
+    EXPECT_EQ(supports.support(inside, F, l0, 0, node, S, G, count),
+              fmpm::ShapeFunction::Status::ok);
+    EXPECT_EQ(count, dim == 2 ? 9u : 27u);
+    EXPECT_EQ(supports.support(in_layer, F, l0, 0, node, S, G, count),
+              fmpm::ShapeFunction::Status::in_padding_layer);
   }
 } // namespace
