@@ -992,9 +992,12 @@ namespace
                     {
                       const double       h = lattice.basis(d).cell_size();
                       const unsigned int n = subdivisions[d];
-                      const double       margin =
-                        (boundary == Boundary::padding && n > 1) ? 1.5 : 0;
-                      x[d] = lower[d] +
+                      // (one cell in a direction: the domains inside it)
+                      const double margin = boundary == Boundary::open_knots ?
+                                              0 :
+                                            n > 1 ? 1.5 :
+                                                    0.35;
+                      x[d]                = lower[d] +
                              h * (margin + (n - 2 * margin) * unit(generator));
                       l0[d]   = 0.25 * h;
                       F[d][d] = 1 + 0.3 * (unit(generator) - 0.5);
@@ -1081,7 +1084,7 @@ namespace
         inside[d]   = 0.6;
         in_layer[d] = 0.6;
       }
-    in_layer[0] = 0.1; // (cells are 0.2 wide)
+    in_layer[0] = 0.05; // (cells are 0.2 wide)
     unsigned int         node[64], count;
     double               S[64];
     Tensor<1, dim>       G[64];
