@@ -26,6 +26,14 @@ namespace fmpm
         return Type::cpgimp;
       if (name == "cpdi")
         return Type::cpdi;
+      if (name == "b2spline")
+        return Type::b2spline;
+      if (name == "b3spline")
+        return Type::b3spline;
+      if (name == "b2gimp")
+        return Type::b2gimp;
+      if (name == "b2cpdi")
+        return Type::b2cpdi;
       AssertThrow(false,
                   ExcMessage("Shape function/Type = <" + name +
                              "> is not one of " + pattern() + "."));
@@ -47,6 +55,14 @@ namespace fmpm
             return "cpgimp";
           case Type::cpdi:
             return "cpdi";
+          case Type::b2spline:
+            return "b2spline";
+          case Type::b3spline:
+            return "b3spline";
+          case Type::b2gimp:
+            return "b2gimp";
+          case Type::b2cpdi:
+            return "b2cpdi";
         }
       return "classic";
     }
@@ -716,6 +732,107 @@ namespace fmpm
 
 
 
+    template <int dim>
+    void
+    BSplineSupports<dim>::reinit(const Type               type,
+                                 const BSpline::Boundary  boundary,
+                                 const GridTransfer<dim> &transfer,
+                                 const unsigned int       n_active_cells,
+                                 const MPI_Comm           communicator)
+    {
+      kind = Kind::none;
+      if (!is_bspline(type))
+        return;
+      std::string error;
+      lattice = BSpline::Lattice<dim>::of_mesh(transfer,
+                                               n_active_cells,
+                                               type == Type::b3spline ? 3 : 2,
+                                               boundary,
+                                               communicator,
+                                               error);
+      AssertThrow(error.empty(),
+                  ExcMessage("Shape function/Type = " + parameter_name(type) +
+                             ": " + error +
+                             ". Use a Mesh/Type = box without refinement, or "
+                             "another shape function."));
+      vertices.reinit(lattice, transfer, n_active_cells);
+      smallest_cell = std::numeric_limits<double>::max();
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          half_cell[d]  = 0.5 * lattice.basis(d).cell_size() * (1 + 1e-12);
+          smallest_cell = std::min(smallest_cell, lattice.basis(d).cell_size());
+        }
+      kind = type == Type::b2gimp ? Kind::gimp :
+             type == Type::b2cpdi ? Kind::cpdi :
+                                    Kind::values;
+    }
+
+
+
+    template <int dim>
+    void
+    BSplineSupports<dim>::vertices_in_reach(
+      const typename GridTransfer<dim>::CellData &cell,
+      std::vector<unsigned int>                  &local_indices) const
+    {
+      local_indices.clear();
+      const int            r = static_cast<int>(reach());
+      std::array<int, dim> first, index;
+      unsigned int         n = 1;
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          const BSpline::Basis1D &basis = lattice.basis(d);
+          first[d] =
+            static_cast<int>(std::round((cell.lower()[d] - basis.vertex(0)) /
+                                        basis.cell_size())) -
+            r;
+          n *= 2 * r + 2;
+        }
+      for (unsigned int e = 0; e < n; ++e)
+        {
+          unsigned int rest = e;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              index[d] = first[d] + static_cast<int>(rest % (2 * r + 2));
+              rest /= 2 * r + 2;
+            }
+          const unsigned int local = vertices.local_index(index);
+          if (local != numbers::invalid_unsigned_int)
+            local_indices.push_back(local);
+        }
+    }
+
+
+
+    template <int dim>
+    const char *
+    BSplineSupports<dim>::explain(const Status status)
+    {
+      switch (status)
+        {
+          case Status::in_padding_layer:
+            return "is in the padding layer of the B-spline lattice (the "
+                   "outer layer of cells, which 'Shape function/B-spline "
+                   "boundary = padding' keeps free of points): enlarge the "
+                   "mesh by a cell on each side or use 'open knots'";
+          case Status::vertex_not_on_rank:
+            return "needs a lattice vertex on no cell this MPI rank holds "
+                   "(one layer of ghost cells)";
+          case Status::domain_too_wide:
+            return "has a domain wider than B-spline GIMP/CPDI supports "
+                   "hold (half-lengths above half a cell, or CPDI corners "
+                   "more than a cell from the point): use more Points per "
+                   "cell or a Shape function/CPDI critical radius of at most "
+                   "1";
+          default:
+            return "has no B-spline support";
+        }
+    }
+
+
+
+    template class BSplineSupports<2>;
+    template class BSplineSupports<3>;
     template class UniformCpdiPatch<2>;
     template class UniformCpdiPatch<3>;
     template struct UniformPatchPlanes<2>;

@@ -184,11 +184,16 @@ namespace fmpm
      * n_entries multiply-adds per component against n_nodes² for the dense
      * matrix (GIMP/CPDI unions; never for classic cells with their own nodes).
      */
+    /** The most nodes of a cell kept as a dense matrix (4^3: GIMP/CPDI
+     * patches, b2spline/b3spline unions); wider cells (b2gimp, b2cpdi in
+     * 3D) are kept factored. */
+    static constexpr unsigned int max_dense_nodes = 64;
+
     static bool
     factored_is_cheaper(const unsigned int n_nodes,
                         const unsigned int n_entries)
     {
-      return 2 * n_entries < n_nodes * n_nodes;
+      return n_nodes > max_dense_nodes || 2 * n_entries < n_nodes * n_nodes;
     }
 
     /**
@@ -405,13 +410,13 @@ namespace fmpm
                          const double *const *source,
                          const unsigned int   n_blocks) const
     {
-      double x[3][64], y[3][64];
+      double x[3][max_dense_nodes], y[3][max_dense_nodes];
       for (unsigned int c = 0; c < n_cells(); ++c)
         {
           const unsigned int  n = cell_node_begin[c + 1] - cell_node_begin[c];
           const unsigned int *index = &local_indices[cell_node_begin[c]];
           const double       *a     = &values[cell_value_begin[c]];
-          Assert(n <= 64, dealii::ExcInternalError());
+          AssertIndexRange(n, max_dense_nodes + 1);
           for (unsigned int b = 0; b < n_blocks; ++b)
             for (unsigned int j = 0; j < n; ++j)
               {
@@ -499,7 +504,7 @@ namespace fmpm
       for (unsigned int c = 0; c < n_cells(); ++c)
         {
           const unsigned int n = cell_node_begin[c + 1] - cell_node_begin[c];
-          Assert(n <= 64, dealii::ExcInternalError());
+          AssertIndexRange(n, max_dense_nodes + 1);
           add_cell_products_paired<third>(n,
                                           &local_indices[cell_node_begin[c]],
                                           &values[cell_value_begin[c]],

@@ -295,10 +295,12 @@ namespace fmpm
     bool                                     lumped_strain_velocities = false;
     static constexpr SelectionNames<bool, 2> strain_update_mass_matrix_names{
       {"same", "lumped"}};
-    /** classic, ugimp, cpgimp or cpdi (ShapeFunction::Type) */
+    /** ShapeFunction::pattern() (ShapeFunction::Type) */
     std::string shape_function = "classic";
     /** CPDI: half-diagonal limit in cells (0: none; limit_cpdi_domain()). */
     double cpdi_critical_radius = 0;
+    /** 'Shape function/B-spline boundary': padding or open knots. */
+    std::string bspline_boundary = "open knots";
     /** 'Deformation gradient/Update'. */
     DeformationGradientUpdate deformation_gradient_update =
       DeformationGradientUpdate::cayley;

@@ -644,6 +644,8 @@ namespace fmpm
      * is cpdi_patches[cpdi_patch_of_cell[c]]. */
     std::vector<ShapeFunction::UniformCpdiPatch<dim>> cpdi_patches;
     std::vector<unsigned int>                         cpdi_patch_of_cell;
+    /** B-spline shape functions: the lattice of the mesh (setup()). */
+    ShapeFunction::BSplineSupports<dim> bspline_supports;
 
     /** Multimaterial contact: the per-material fields and the corrections
      * (null without contact). */

@@ -107,7 +107,13 @@ namespace fmpm
         "axis-aligned cells GIMP uses the closed forms, on other meshes a "
         "quadrature split at cell faces. A point's domain must stay within "
         "the cells sharing a vertex with its cell (the run stops otherwise). "
-        "Units: none.");
+        "B-splines on a mesh of equal axis-aligned boxes (Mesh/Type = box, "
+        "no refinement; other meshes are refused): 'b2spline' quadratic "
+        "(support +-1.5 cells, NairnMPM's B2SPLINE), 'b3spline' cubic (+-2 "
+        "cells), 'b2gimp' the quadratic B-splines averaged over the box of "
+        "the initial half-lengths (at most half a cell), 'b2cpdi' over the "
+        "CPDI corners (at most a cell from the point); see 'B-spline "
+        "boundary'. b2gimp and b2cpdi run on one MPI rank. Units: none.");
       prm.declare_entry(
         "CPDI critical radius",
         format_number(defaults.cpdi_critical_radius),
@@ -120,6 +126,18 @@ namespace fmpm
         "short directions stay as F gives them. The point's volume and "
         "deformation gradient are not changed, only the reach of its shape "
         "functions. 0: no limit. Units: cells.");
+      prm.declare_entry(
+        "B-spline boundary",
+        defaults.bspline_boundary,
+        Patterns::Selection(BSpline::boundary_pattern()),
+        "B-spline shape functions only: the basis at the mesh boundary. "
+        "'open knots': knot vectors repeated at the boundary, so the basis "
+        "is complete on the whole mesh and the boundary vertex's function is "
+        "1 on the boundary, where velocity conditions act as with classic "
+        "shape functions; 'padding': the uniform B-splines everywhere and "
+        "the outer layer of cells kept free of points (NairnMPM's B2SPLINE; "
+        "the run stops if a point enters it; no velocity conditions). Units: "
+        "none.");
     }
     prm.leave_subsection();
 
@@ -182,6 +200,7 @@ namespace fmpm
     prm.enter_subsection("Shape function");
     shape_function       = prm.get("Type");
     cpdi_critical_radius = prm.get_double("CPDI critical radius");
+    bspline_boundary     = prm.get("B-spline boundary");
     prm.leave_subsection();
 
     prm.enter_subsection("Deformation gradient");

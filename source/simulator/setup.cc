@@ -176,6 +176,12 @@ namespace fmpm
     gimp_patch_of_cell.clear();
     cpdi_patches.clear();
     cpdi_patch_of_cell.clear();
+    bspline_supports.reinit(shape_function,
+                            BSpline::parse_boundary(
+                              parameters.method.bspline_boundary),
+                            transfer,
+                            triangulation.n_active_cells(),
+                            mpi_communicator);
     // The locally owned cells in the order of the passes.
     std::vector<typename Triangulation<dim>::active_cell_iterator>
       owned_cells_in_id_order;
@@ -210,8 +216,27 @@ namespace fmpm
                                         Utilities::MPI::this_mpi_process(
                                           mpi_communicator));
         // GIMP/CPDI couple all nodes of the patch of a point's cell (the
-        // cells sharing a vertex with it).
-        if (shape_function != ShapeFunction::Type::classic)
+        // cells sharing a vertex with it); B-splines those within their
+        // reach.
+        if (bspline_supports.active())
+          {
+            std::vector<unsigned int>            local_indices;
+            std::vector<types::global_dof_index> reach_dofs;
+            for (const auto &cell : triangulation.active_cell_iterators())
+              if (cell->is_locally_owned())
+                {
+                  bspline_supports.vertices_in_reach(
+                    transfer.cell_data(cell->active_cell_index()),
+                    local_indices);
+                  reach_dofs.clear();
+                  for (const unsigned int local : local_indices)
+                    reach_dofs.push_back(partitioner->local_to_global(local));
+                  constraints.add_entries_local_to_global(reach_dofs,
+                                                          sparsity,
+                                                          false);
+                }
+          }
+        else if (shape_function != ShapeFunction::Type::classic)
           {
             std::vector<types::global_dof_index> patch_dofs;
             for (const auto &cell : triangulation.active_cell_iterators())
@@ -424,6 +449,39 @@ namespace fmpm
                     ExcMessage("Contact/Model name = multimaterial needs a "
                                "'Boundary conditions/Method' without the full "
                                "mass matrix (not collection)."));
+      }
+
+    // B-splines: a fixed lattice of equal boxes (setup_dofs() refuses
+    // other meshes), and what they do not do yet.
+    if (ShapeFunction::is_bspline(shape_function))
+      {
+        const std::string type =
+          "Shape function/Type = " + parameters.method.shape_function;
+        AssertThrow(!parameters.refinement.adaptive(),
+                    ExcMessage(type + " needs a fixed mesh of equal boxes: "
+                                      "set Mesh refinement/Strategy = none."));
+        AssertThrow(!(parameters.contact.multimaterial &&
+                      parameters.size.n_materials > 1),
+                    ExcMessage(type + " is not available with Contact/Model "
+                                      "name = multimaterial yet."));
+        AssertThrow((shape_function != ShapeFunction::Type::b2gimp &&
+                     shape_function != ShapeFunction::Type::b2cpdi) ||
+                      Utilities::MPI::n_mpi_processes(mpi_communicator) == 1,
+                    ExcMessage(type +
+                               " reaches two cells beyond a point's cell, "
+                               "further than the one layer of ghost cells: "
+                               "run it on one MPI rank, or use b2spline or "
+                               "b3spline."));
+        const auto &conditions = parameters.boundary_conditions;
+        AssertThrow(parameters.method.bspline_boundary != "padding" ||
+                      (conditions.fixed.empty() && conditions.roller.empty() &&
+                       conditions.moving_walls.empty()),
+                    ExcMessage(
+                      "Shape function/B-spline boundary = padding has no "
+                      "velocity conditions (its walls would lie inside the "
+                      "padding layer): remove Boundary conditions/Fixed "
+                      "boundary ids, Roller boundary ids and Moving walls, or "
+                      "use 'open knots', whose boundary vertices carry them."));
       }
 
     // Periodic faces (Mesh/Periodic directions) carry no condition; what

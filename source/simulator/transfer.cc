@@ -105,6 +105,50 @@ namespace fmpm
             points.column(Index::deformation_gradient + 3 * a + b);
       }
 
+    // B-splines on the mesh's lattice (no hanging nodes).
+    if (bspline_supports.active())
+      {
+        for (unsigned int k = 0; k < n_points; ++k)
+          {
+            Tensor<2, dim> F;
+            Tensor<1, dim> l0;
+            for (unsigned int a = 0; a < dim; ++a)
+              {
+                l0[a] = l0_column[a][k];
+                for (unsigned int b = 0; b < dim; ++b)
+                  F[a][b] = F_column[a][b][k];
+              }
+            const std::size_t first = supports.n_stored;
+            supports.make_room(bspline_supports.max_support_size);
+            unsigned int                count;
+            const ShapeFunction::Status status =
+              bspline_supports.support(points.position[k],
+                                       F,
+                                       l0,
+                                       parameters.method.cpdi_critical_radius,
+                                       supports.node.data() + first,
+                                       supports.S.data() + first,
+                                       supports.G.data() + first,
+                                       count);
+            if (status != ShapeFunction::Status::ok)
+              {
+                report_point_failure(
+                  k,
+                  FailedPoint::Cause::support_outside_patch,
+                  ShapeFunction::BSplineSupports<dim>::explain(status),
+                  " (Shape function/Type = ",
+                  parameters.method.shape_function,
+                  ")");
+                count = 0; // (the step fails)
+              }
+            supports.n_stored += count;
+            support_end[k] = supports.n_stored;
+            if (extrapolate_here)
+              extrapolate_point(k, first);
+          }
+        return;
+      }
+
     // A node of a support: itself, or for a hanging node its masters with
     // the constraint weights (S_jp += c_ij S_ip).
     auto add_node = [&](const unsigned int            first,
