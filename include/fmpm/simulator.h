@@ -16,6 +16,7 @@
 #include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
+#include <fmpm/particle_update/periodic_updates.h>
 #include <fmpm/points/point_sort.h>
 #include <fmpm/postprocess/energy_balance.h>
 #include <fmpm/postprocess/global_statistics.h>
@@ -687,28 +688,25 @@ namespace fmpm
     PointSort<dim> point_sort;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
-                                                    constitutive_models;
-    std::unique_ptr<MassMatrix::Interface<dim>>     mass_matrix;
-    std::unique_ptr<ParticleUpdate::Interface<dim>> particle_update;
-    /** FLIP for the lumped steps of a periodic FMPM(k) (null otherwise),
-     * and whether the current step uses the mass matrix's series. */
-    std::unique_ptr<ParticleUpdate::Interface<dim>> lumped_step_update;
-    bool                                            series_step = true;
+                                                constitutive_models;
+    std::unique_ptr<MassMatrix::Interface<dim>> mass_matrix;
+    /** The particle update of the scene and of the lumped steps of a
+     * periodic FMPM(k). */
+    ParticleUpdate::PeriodicUpdates<dim> particle_updates;
 
     /** The update of this step: the configured one, or FLIP in a lumped
      * step of a periodic FMPM(k). */
     ParticleUpdate::Interface<dim> &
     active_update() const
     {
-      return (series_step || !lumped_step_update) ? *particle_update :
-                                                    *lumped_step_update;
+      return particle_updates.active();
     }
 
     /** The fields active_update() reads this step. */
     const std::array<bool, ParticleUpdate::n_grid_fields> &
     active_fields() const
     {
-      return (series_step || !lumped_step_update) ?
+      return particle_updates.configured_active() ?
                centre_of_mass.field_needed :
                centre_of_mass.lumped_step_fields;
     }
@@ -751,10 +749,8 @@ namespace fmpm
       /** Resume from a checkpoint (set-up and run() skip the initial
        * state). */
       const bool resume;
-      /** The checkpoint directory a resumed run read, and its history rows
-       * (written again when run() opens history.csv). */
-      std::string                  resumed_from;
-      std::vector<HistoryRow<dim>> restored_history_rows;
+      /** The checkpoint directory a resumed run read. */
+      std::string resumed_from;
       /** The newest complete checkpoint of this run (or the one it resumed
        * from); summary.json names it. */
       std::string latest;

@@ -287,9 +287,7 @@ namespace fmpm
     try
       {
         GlobalStatistics<dim> statistics = compute_statistics();
-        if (checkpoint_state.resume)
-          history.restore(checkpoint_state.restored_history_rows);
-        else
+        if (!checkpoint_state.resume)
           {
             start_energy_balance(statistics);
             output_results(statistics);
