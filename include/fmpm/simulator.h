@@ -20,7 +20,7 @@
 #include <fmpm/points/point_sort.h>
 #include <fmpm/postprocess/energy_balance.h>
 #include <fmpm/postprocess/global_statistics.h>
-#include <fmpm/postprocess/history.h>
+#include <fmpm/postprocess/history_file.h>
 #include <fmpm/postprocess/interface.h>
 #include <fmpm/shape_function.h>
 #include <fmpm/simulation_control.h>
@@ -194,7 +194,8 @@ namespace fmpm
     const std::vector<HistoryRow<dim>> &
     get_history() const
     {
-      return history.rows();
+      return postprocessors.template find<Postprocess::HistoryFile<dim>>()
+        ->rows();
     }
 
     /** @brief Nodes with mass below this are treated as empty. */
@@ -589,34 +590,8 @@ namespace fmpm
       const std::map<std::string, double> &mass_matrix_statistics) const;
     void
     print_progress(const GlobalStatistics<dim> &statistics, const bool force);
-    /** history.csv columns of scenes with 2+ materials (per material, then
-     * friction_work and contact_nodes). */
-    std::vector<std::string>
-    material_history_columns() const;
-    /** The extra history.csv columns: the materials', then the mass
-     * matrix's (MassMatrix::Interface::history_columns()). */
-    std::vector<std::string>
-    history_extra_columns() const;
     void
     print_test_particles() const;
-    /** Set the volume_change_rms and checkerboard_j of @p row (over all
-     * ranks; postprocess/checkerboard.h). */
-    void
-    compute_checkerboard(HistoryRow<dim> &row) const;
-    /** The ids of Output/Tracked points: a position takes the point whose
-     * initial position is nearest to it (the same at the start and on
-     * resume). Throws, naming the entry, for a position outside every
-     * body or an id no point has. Collective. */
-    void
-    find_tracked_points();
-    /** history.csv columns of the tracked points (trackN_ux, ...). */
-    std::vector<std::string>
-    tracked_point_columns() const;
-    /** Displacement x - X, velocity and Cauchy stress of each tracked point
-     * in the order of tracked_point_columns() (NaN for a point that left
-     * the mesh), the same on every rank. Collective. */
-    std::vector<double>
-    tracked_point_values() const;
 
     MPI_Comm            mpi_communicator;
     const Parameters    parameters;
@@ -711,9 +686,6 @@ namespace fmpm
                centre_of_mass.lumped_step_fields;
     }
 
-    /** history.csv: its rows, the tracked points of its columns. */
-    History<dim> history;
-
     /** Time, step, Δt and the output and checkpoint schedules. */
     SimulationControl control;
 
@@ -733,8 +705,8 @@ namespace fmpm
     Postprocess::EnergyBalance<dim> energy_balance;
     /** Steps, cells, adaptations, lost points and wall clocks (summary). */
     Postprocess::RunCounters counters;
-    /** What the outputs write besides history.csv: VTU files, the
-     * points' csv files (set-up). */
+    /** What the outputs write: history.csv, VTU files, the points' csv
+     * files (set-up). */
     Postprocess::Manager<dim> postprocessors;
     /** The points that left the mesh in this step (this rank). */
     LostPoints lost;

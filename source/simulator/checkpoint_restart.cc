@@ -167,7 +167,7 @@ namespace fmpm
     // their save() maps). The values are the same on every rank (sums and
     // maxima were reduced), so rank 0's copy serves any number of ranks on
     // resume.
-    archive &control &energy_balance &counters &history;
+    archive &control &energy_balance &counters;
     if (contact)
       archive &*contact;
     velocity_conditions.serialize_state(archive);
