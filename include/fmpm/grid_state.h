@@ -74,6 +74,15 @@ namespace fmpm
             const FieldSolver<dim>           &solver,
             const MassMatrix::Interface<dim> &mass_matrix,
             const double                      time_step);
+
+    /** What a checkpoint keeps of it: the mass floor (the fields are
+     * transferred with the mesh). */
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int)
+    {
+      archive &mass_floor;
+    }
   };
 } // namespace fmpm
 

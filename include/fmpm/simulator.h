@@ -16,10 +16,11 @@
 #include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
 #include <fmpm/particle_update/interface.h>
+#include <fmpm/particle_update/periodic_updates.h>
 #include <fmpm/points/point_sort.h>
 #include <fmpm/postprocess/energy_balance.h>
 #include <fmpm/postprocess/global_statistics.h>
-#include <fmpm/postprocess/history.h>
+#include <fmpm/postprocess/history_file.h>
 #include <fmpm/postprocess/interface.h>
 #include <fmpm/shape_function.h>
 #include <fmpm/simulation_control.h>
@@ -193,7 +194,8 @@ namespace fmpm
     const std::vector<HistoryRow<dim>> &
     get_history() const
     {
-      return history.rows();
+      return postprocessors.template find<Postprocess::HistoryFile<dim>>()
+        ->rows();
     }
 
     /** @brief Nodes with mass below this are treated as empty. */
@@ -588,34 +590,8 @@ namespace fmpm
       const std::map<std::string, double> &mass_matrix_statistics) const;
     void
     print_progress(const GlobalStatistics<dim> &statistics, const bool force);
-    /** history.csv columns of scenes with 2+ materials (per material, then
-     * friction_work and contact_nodes). */
-    std::vector<std::string>
-    material_history_columns() const;
-    /** The extra history.csv columns: the materials', then the mass
-     * matrix's (MassMatrix::Interface::history_columns()). */
-    std::vector<std::string>
-    history_extra_columns() const;
     void
     print_test_particles() const;
-    /** Set the volume_change_rms and checkerboard_j of @p row (over all
-     * ranks; postprocess/checkerboard.h). */
-    void
-    compute_checkerboard(HistoryRow<dim> &row) const;
-    /** The ids of Output/Tracked points: a position takes the point whose
-     * initial position is nearest to it (the same at the start and on
-     * resume). Throws, naming the entry, for a position outside every
-     * body or an id no point has. Collective. */
-    void
-    find_tracked_points();
-    /** history.csv columns of the tracked points (trackN_ux, ...). */
-    std::vector<std::string>
-    tracked_point_columns() const;
-    /** Displacement x - X, velocity and Cauchy stress of each tracked point
-     * in the order of tracked_point_columns() (NaN for a point that left
-     * the mesh), the same on every rank. Collective. */
-    std::vector<double>
-    tracked_point_values() const;
 
     MPI_Comm            mpi_communicator;
     const Parameters    parameters;
@@ -689,34 +665,28 @@ namespace fmpm
     PointSort<dim> point_sort;
 
     std::vector<std::unique_ptr<ConstitutiveModel::Interface<dim>>>
-                                                    constitutive_models;
-    std::unique_ptr<MassMatrix::Interface<dim>>     mass_matrix;
-    std::unique_ptr<ParticleUpdate::Interface<dim>> particle_update;
-    /** FLIP for the lumped steps of a periodic FMPM(k) (null otherwise),
-     * and whether the current step uses the mass matrix's series. */
-    std::unique_ptr<ParticleUpdate::Interface<dim>> lumped_step_update;
-    bool                                            series_step = true;
+                                                constitutive_models;
+    std::unique_ptr<MassMatrix::Interface<dim>> mass_matrix;
+    /** The particle update of the scene and of the lumped steps of a
+     * periodic FMPM(k). */
+    ParticleUpdate::PeriodicUpdates<dim> particle_updates;
 
     /** The update of this step: the configured one, or FLIP in a lumped
      * step of a periodic FMPM(k). */
     ParticleUpdate::Interface<dim> &
     active_update() const
     {
-      return (series_step || !lumped_step_update) ? *particle_update :
-                                                    *lumped_step_update;
+      return particle_updates.active();
     }
 
     /** The fields active_update() reads this step. */
     const std::array<bool, ParticleUpdate::n_grid_fields> &
     active_fields() const
     {
-      return (series_step || !lumped_step_update) ?
+      return particle_updates.configured_active() ?
                centre_of_mass.field_needed :
                centre_of_mass.lumped_step_fields;
     }
-
-    /** history.csv: its rows, the tracked points of its columns. */
-    History<dim> history;
 
     /** Time, step, Δt and the output and checkpoint schedules. */
     SimulationControl control;
@@ -737,8 +707,8 @@ namespace fmpm
     Postprocess::EnergyBalance<dim> energy_balance;
     /** Steps, cells, adaptations, lost points and wall clocks (summary). */
     Postprocess::RunCounters counters;
-    /** What the outputs write besides history.csv: VTU files, the
-     * points' csv files (set-up). */
+    /** What the outputs write: history.csv, VTU files, the points' csv
+     * files (set-up). */
     Postprocess::Manager<dim> postprocessors;
     /** The points that left the mesh in this step (this rank). */
     LostPoints lost;
@@ -753,10 +723,8 @@ namespace fmpm
       /** Resume from a checkpoint (set-up and run() skip the initial
        * state). */
       const bool resume;
-      /** The checkpoint directory a resumed run read, and its history rows
-       * (written again when run() opens history.csv). */
-      std::string                  resumed_from;
-      std::vector<HistoryRow<dim>> restored_history_rows;
+      /** The checkpoint directory a resumed run read. */
+      std::string resumed_from;
       /** The newest complete checkpoint of this run (or the one it resumed
        * from); summary.json names it. */
       std::string latest;

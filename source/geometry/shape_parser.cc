@@ -257,10 +257,12 @@ namespace fmpm
           return p;
         }
 
+        /** box, sphere, ellipsoid, cylinder, halfspace and expression
+         * (null for another name). */
         std::unique_ptr<Shape<dim>>
-        build(const std::string           &shape_name,
-              std::vector<Argument<dim>> &&arguments,
-              const std::size_t            start)
+        build_primitive(const std::string                &shape_name,
+                        const std::vector<Argument<dim>> &arguments,
+                        const std::size_t                 start)
         {
           const unsigned int D        = dim;
           const auto         positive = [&](const std::vector<double> &values,
@@ -342,136 +344,168 @@ namespace fmpm
                                          context.where + " (expression \"" +
                                            arguments[0].text + "\")");
             }
-          if (shape_name == "polygon")
+          return nullptr;
+        }
+
+        /** polygon(vertices) or polygon(file) (2D). */
+        std::unique_ptr<Shape<dim>>
+        build_polygon(const std::vector<Argument<dim>> &arguments,
+                      const std::size_t                 start)
+        {
+          if constexpr (dim == 2)
             {
-              if constexpr (dim == 2)
+              std::vector<Point<2>> vertices;
+              if (arguments.size() == 1 && arguments[0].is_file)
                 {
-                  std::vector<Point<2>> vertices;
-                  if (arguments.size() == 1 && arguments[0].is_file)
-                    {
-                      if (context.file_name.empty())
-                        {
-                          position = start;
-                          fail("polygon(file) needs the body's 'File name' "
-                               "(" +
-                               context.file_parameter + ")");
-                        }
-                      vertices = read_polygon_file(context.file_name,
-                                                   context.file_parameter);
-                    }
-                  else
-                    for (const auto &argument : arguments)
-                      {
-                        if (argument.shape || argument.is_text ||
-                            argument.is_file || argument.numbers.size() != 2)
-                          {
-                            position = start;
-                            fail("polygon(...) takes vertices 'x, y' "
-                                 "separated by ';', or 'file'");
-                          }
-                        vertices.emplace_back(argument.numbers[0],
-                                              argument.numbers[1]);
-                      }
-                  return make_polygon(vertices, context.where);
-                }
-              else
-                {
-                  position = start;
-                  fail("polygon(...) is a 2D shape; in 3D use a prism as "
-                       "the intersection of half-spaces or a surface(file)");
-                }
-            }
-          if (shape_name == "surface")
-            {
-              if constexpr (dim == 3)
-                {
-                  if (arguments.size() != 1 || !arguments[0].is_file ||
-                      context.file_name.empty())
+                  if (context.file_name.empty())
                     {
                       position = start;
-                      fail("surface(file) reads the body's 'File name' (" +
+                      fail("polygon(file) needs the body's 'File name' "
+                           "(" +
                            context.file_parameter + ")");
                     }
-                  return make_surface(context.file_name,
-                                      context.file_parameter);
+                  vertices = read_polygon_file(context.file_name,
+                                               context.file_parameter);
                 }
               else
-                {
-                  position = start;
-                  fail("surface(file) is a 3D shape; in 2D use "
-                       "polygon(file)");
-                }
-            }
-          if (shape_name == "rotate")
-            {
-              // rotate(angle; [axis (3D);] [point;] shape)
-              const unsigned int n  = arguments.size();
-              bool               ok = n >= 2 && arguments[n - 1].shape &&
-                        arguments[0].numbers.size() == 1;
-              const unsigned int first_point = (dim == 3) ? 2 : 1;
-              ok                             = ok &&
-                   (dim == 2 || (n >= 3 && arguments[1].numbers.size() == 3));
-              ok = ok && (n == first_point + 1 ||
-                          (n == first_point + 2 &&
-                           arguments[first_point].numbers.size() == dim));
-              if (!ok)
-                {
-                  position = start;
-                  fail(std::string("rotate(...) takes ") +
-                       (dim == 2 ? "angle; [point;] shape" :
-                                   "angle; axis; [point;] shape") +
-                       " (angle in degrees, counterclockwise)");
-                }
-              Tensor<1, 3> axis;
-              axis[2] = 1;
-              if constexpr (dim == 3)
-                for (unsigned int d = 0; d < 3; ++d)
-                  axis[d] = arguments[1].numbers[d];
-              if (axis.norm() == 0)
-                {
-                  position = start;
-                  fail("rotate(...): the rotation axis is zero");
-                }
-              std::unique_ptr<Shape<dim>> shape =
-                std::move(arguments[n - 1].shape);
-              Point<dim> about;
-              if (n == first_point + 2)
-                about = to_point(arguments[first_point].numbers);
-              else
-                {
-                  const BoundingBox<dim> box = shape->bounding_box();
-                  for (unsigned int d = 0; d < dim; ++d)
-                    if (!is_bounded(box, d))
+                for (const auto &argument : arguments)
+                  {
+                    if (argument.shape || argument.is_text ||
+                        argument.is_file || argument.numbers.size() != 2)
                       {
                         position = start;
-                        fail("rotate(...) of an unbounded shape needs the "
-                             "point to rotate about");
+                        fail("polygon(...) takes vertices 'x, y' "
+                             "separated by ';', or 'file'");
                       }
-                  about = box.center();
-                }
-              return make_transformed<dim>(std::move(shape),
-                                           arguments[0].numbers[0] *
-                                             numbers::PI / 180.,
-                                           axis,
-                                           about,
-                                           Tensor<1, dim>());
+                    vertices.emplace_back(argument.numbers[0],
+                                          argument.numbers[1]);
+                  }
+              return make_polygon(vertices, context.where);
             }
-          if (shape_name == "translate")
+          else
             {
-              if (arguments.size() != 2 || arguments[0].numbers.size() != dim ||
-                  !arguments[1].shape)
+              position = start;
+              fail("polygon(...) is a 2D shape; in 3D use a prism as "
+                   "the intersection of half-spaces or a surface(file)");
+            }
+        }
+
+        /** surface(file) (3D). */
+        std::unique_ptr<Shape<dim>>
+        build_surface(const std::vector<Argument<dim>> &arguments,
+                      const std::size_t                 start)
+        {
+          if constexpr (dim == 3)
+            {
+              if (arguments.size() != 1 || !arguments[0].is_file ||
+                  context.file_name.empty())
                 {
                   position = start;
-                  fail("translate(...) takes displacement; shape");
+                  fail("surface(file) reads the body's 'File name' (" +
+                       context.file_parameter + ")");
                 }
-              Tensor<1, 3> axis;
-              axis[2] = 1;
-              return make_transformed<dim>(std::move(arguments[1].shape),
-                                           0,
-                                           axis,
-                                           Point<dim>(),
-                                           to_point(arguments[0].numbers));
+              return make_surface(context.file_name, context.file_parameter);
             }
+          else
+            {
+              position = start;
+              fail("surface(file) is a 3D shape; in 2D use "
+                   "polygon(file)");
+            }
+        }
+
+        /** rotate(angle; [axis (3D);] [point;] shape). */
+        std::unique_ptr<Shape<dim>>
+        build_rotated(std::vector<Argument<dim>> &&arguments,
+                      const std::size_t            start)
+        {
+          // rotate(angle; [axis (3D);] [point;] shape)
+          const unsigned int n  = arguments.size();
+          bool               ok = n >= 2 && arguments[n - 1].shape &&
+                    arguments[0].numbers.size() == 1;
+          const unsigned int first_point = (dim == 3) ? 2 : 1;
+          ok = ok && (dim == 2 || (n >= 3 && arguments[1].numbers.size() == 3));
+          ok = ok && (n == first_point + 1 ||
+                      (n == first_point + 2 &&
+                       arguments[first_point].numbers.size() == dim));
+          if (!ok)
+            {
+              position = start;
+              fail(std::string("rotate(...) takes ") +
+                   (dim == 2 ? "angle; [point;] shape" :
+                               "angle; axis; [point;] shape") +
+                   " (angle in degrees, counterclockwise)");
+            }
+          Tensor<1, 3> axis;
+          axis[2] = 1;
+          if constexpr (dim == 3)
+            for (unsigned int d = 0; d < 3; ++d)
+              axis[d] = arguments[1].numbers[d];
+          if (axis.norm() == 0)
+            {
+              position = start;
+              fail("rotate(...): the rotation axis is zero");
+            }
+          std::unique_ptr<Shape<dim>> shape = std::move(arguments[n - 1].shape);
+          Point<dim>                  about;
+          if (n == first_point + 2)
+            about = to_point(arguments[first_point].numbers);
+          else
+            {
+              const BoundingBox<dim> box = shape->bounding_box();
+              for (unsigned int d = 0; d < dim; ++d)
+                if (!is_bounded(box, d))
+                  {
+                    position = start;
+                    fail("rotate(...) of an unbounded shape needs the "
+                         "point to rotate about");
+                  }
+              about = box.center();
+            }
+          return make_transformed<dim>(std::move(shape),
+                                       arguments[0].numbers[0] * numbers::PI /
+                                         180.,
+                                       axis,
+                                       about,
+                                       Tensor<1, dim>());
+        }
+
+        /** translate(displacement; shape). */
+        std::unique_ptr<Shape<dim>>
+        build_translated(std::vector<Argument<dim>> &&arguments,
+                         const std::size_t            start)
+        {
+          if (arguments.size() != 2 || arguments[0].numbers.size() != dim ||
+              !arguments[1].shape)
+            {
+              position = start;
+              fail("translate(...) takes displacement; shape");
+            }
+          Tensor<1, 3> axis;
+          axis[2] = 1;
+          return make_transformed<dim>(std::move(arguments[1].shape),
+                                       0,
+                                       axis,
+                                       Point<dim>(),
+                                       to_point(arguments[0].numbers));
+        }
+
+        std::unique_ptr<Shape<dim>>
+        build(const std::string           &shape_name,
+              std::vector<Argument<dim>> &&arguments,
+              const std::size_t            start)
+        {
+          if (std::unique_ptr<Shape<dim>> shape =
+                build_primitive(shape_name, arguments, start))
+            return shape;
+          if (shape_name == "polygon")
+            return build_polygon(arguments, start);
+          if (shape_name == "surface")
+            return build_surface(arguments, start);
+          if (shape_name == "rotate")
+            return build_rotated(std::move(arguments), start);
+          if (shape_name == "translate")
+            return build_translated(std::move(arguments), start);
           position = start;
           fail("unknown shape '" + shape_name + "'");
         }

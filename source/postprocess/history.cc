@@ -22,9 +22,22 @@ namespace fmpm
     n_extra          = extra_columns.size();
     with_errors      = errors;
     with_dissipation = dissipation;
-    all_rows.clear();
-    if (!is_root)
-      return;
+    std::vector<HistoryRow<dim>> restored;
+    restored.swap(all_rows);
+    if (is_root)
+      write_header(file_name, reaction_labels, extra_columns);
+    for (const auto &row : restored)
+      add(row);
+  }
+
+
+
+  template <int dim>
+  void
+  History<dim>::write_header(const std::string              &file_name,
+                             const std::vector<std::string> &reaction_labels,
+                             const std::vector<std::string> &extra_columns)
+  {
     file = std::make_unique<std::ofstream>(file_name);
     AssertThrow(*file,
                 ExcMessage("Cannot write <" + file_name +
@@ -74,17 +87,6 @@ namespace fmpm
     *file << ',' << row.volume_change_rms << ',' << row.checkerboard_j << '\n';
     file->flush();
   }
-
-  template <int dim>
-  void
-  History<dim>::restore(const std::vector<HistoryRow<dim>> &saved_rows)
-  {
-    all_rows.clear();
-    for (const auto &row : saved_rows)
-      add(row);
-  }
-
-
 
   template class History<2>;
   template class History<3>;

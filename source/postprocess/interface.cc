@@ -37,6 +37,42 @@ namespace fmpm
       return this->get_simulator().contact.get();
     }
 
+
+
+    template <int dim>
+    const ConditionReactions<dim> &
+    Interface<dim>::get_reactions() const
+    {
+      return this->get_simulator().reactions;
+    }
+
+
+
+    template <int dim>
+    const EnergyBalance<dim> &
+    Interface<dim>::get_energy_balance() const
+    {
+      return this->get_simulator().energy_balance;
+    }
+
+
+
+    template <int dim>
+    std::vector<double>
+    Interface<dim>::mass_matrix_history_values() const
+    {
+      return this->get_simulator().mass_matrix->history_values();
+    }
+
+
+
+    template <int dim>
+    std::pair<double, double>
+    Interface<dim>::contact_history_values() const
+    {
+      return this->get_simulator().contact->history_values();
+    }
+
     template class Interface<2>;
     template class Interface<3>;
   } // namespace Postprocess

@@ -39,22 +39,6 @@
 #include <boost/serialization/utility.hpp>
 #include <boost/serialization/vector.hpp>
 
-namespace boost
-{
-  namespace serialization
-  {
-    template <class Archive, int dim>
-    void
-    serialize(Archive &archive, fmpm::HistoryRow<dim> &row, const unsigned int)
-    {
-      archive &row.step &row.time &row.dt &row.kinetic_energy &row
-        .strain_energy &row.potential_energy &row.total_energy &row
-        .momentum &row.mass &row.error_velocity_l2 &row
-        .error_displacement_l2 &row.dissipated_energy &row.reactions &row
-        .extra &row.volume_change_rms &row.checkerboard_j;
-    }
-  } // namespace serialization
-} // namespace boost
 
 namespace fmpm
 {
@@ -71,7 +55,7 @@ namespace fmpm
 
     /** First line of every state file, and its format version. */
     const std::string  state_magic   = "fmpm checkpoint";
-    const unsigned int state_version = 3;
+    const unsigned int state_version = 4;
 
     namespace fs = std::filesystem;
 
@@ -187,9 +171,7 @@ namespace fmpm
     if (contact)
       archive &*contact;
     velocity_conditions.serialize_state(archive);
-    // The centre-of-mass grid's mass floor, the loads' work and the
-    // conditions' reactions.
-    archive &centre_of_mass.mass_floor &external_loads &reactions;
+    archive &centre_of_mass &external_loads &reactions;
   }
 
 
@@ -271,7 +253,7 @@ namespace fmpm
       Utilities::MPI::max(reactions.max_condition_error, mpi_communicator);
     std::map<std::string, std::map<std::string, std::string>> plugin_state;
     mass_matrix->save(plugin_state["mass matrix"]);
-    particle_update->save(plugin_state["particle update"]);
+    particle_updates.configured->save(plugin_state["particle update"]);
     for (unsigned int m = 0; m < constitutive_models.size(); ++m)
       constitutive_models[m]->save(
         plugin_state[numbered_subsection("Material", m)]);
@@ -289,12 +271,10 @@ namespace fmpm
           unsigned int n_coarse_cells = triangulation.n_global_coarse_cells();
           unsigned int n_ranks =
             Utilities::MPI::n_mpi_processes(mpi_communicator);
-          double wall_seconds               = MPI_Wtime() - counters.wall_start;
-          std::vector<HistoryRow<dim>> rows = history.rows();
           archive &magic &version &dimension &n_properties &n_coarse_cells
             &n_ranks;
           serialize_scalar_state(archive);
-          archive &wall_seconds &rows &plugin_state;
+          archive &plugin_state;
         }
         out.close();
         AssertThrow(out,
@@ -403,7 +383,6 @@ namespace fmpm
 
     // 1. The scalar state: check that it is fmpm's and fits this scene.
     std::map<std::string, std::map<std::string, std::string>> plugin_state;
-    double                                                    wall_seconds  = 0;
     unsigned int                                              saved_n_ranks = 0;
     try
       {
@@ -434,8 +413,7 @@ namespace fmpm
             std::to_string(triangulation.n_global_coarse_cells()) + " and " +
             std::to_string(particle_properties.n_properties()) + "."));
         serialize_scalar_state(archive);
-        archive &wall_seconds    &checkpoint_state
-          .restored_history_rows &plugin_state;
+        archive &plugin_state;
       }
     catch (const boost::archive::archive_exception &e)
       {
@@ -445,9 +423,8 @@ namespace fmpm
                                "). Delete its directory to resume from an "
                                "older checkpoint."));
       }
-    counters.wall_start = MPI_Wtime() - wall_seconds;
     mass_matrix->load(plugin_state["mass matrix"]);
-    particle_update->load(plugin_state["particle update"]);
+    particle_updates.configured->load(plugin_state["particle update"]);
     for (unsigned int m = 0; m < constitutive_models.size(); ++m)
       constitutive_models[m]->load(
         plugin_state[numbered_subsection("Material", m)]);

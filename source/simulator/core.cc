@@ -58,7 +58,8 @@ namespace fmpm
     try
       {
         set_up(prm);
-        find_tracked_points();
+        postprocessors.template find<Postprocess::HistoryFile<dim>>()
+          ->find_tracked_points();
       }
     catch (...)
       {
@@ -87,6 +88,8 @@ namespace fmpm
         contact->initialize_simulator(*this);
         contact->initialize();
       }
+    postprocessors.add(std::make_unique<Postprocess::HistoryFile<dim>>(),
+                       *this);
     if (parameters.output.write_particle_csv)
       postprocessors.add(std::make_unique<Postprocess::PointCsv<dim>>(), *this);
     if (parameters.output.write_vtu)
@@ -287,9 +290,7 @@ namespace fmpm
     try
       {
         GlobalStatistics<dim> statistics = compute_statistics();
-        if (checkpoint_state.resume)
-          history.restore(checkpoint_state.restored_history_rows);
-        else
+        if (!checkpoint_state.resume)
           {
             start_energy_balance(statistics);
             output_results(statistics);
@@ -323,12 +324,7 @@ namespace fmpm
       Utilities::MPI::this_mpi_process(mpi_communicator) == 0;
     if (is_root)
       std::filesystem::create_directories(parameters.output.directory);
-    history.open(parameters.output.directory + "/history.csv",
-                 is_root,
-                 parameters.reference.enable,
-                 parameters.output.track_dissipation,
-                 velocity_conditions.labels(),
-                 history_extra_columns());
+    postprocessors.start();
 
     pcout << "fmpm: " << dim << "D, "
           << Utilities::MPI::n_mpi_processes(mpi_communicator)

@@ -332,14 +332,17 @@ namespace fmpm
     mass_matrix->initialize_simulator(*this);
 
     prm.enter_subsection("Particle update");
-    particle_update = ParticleUpdate::Registry<dim>::instance().create(
-      parameters.method.particle_update, prm);
-    particle_update->set_strain_update(parameters.method.strain_update);
+    particle_updates.configured =
+      ParticleUpdate::Registry<dim>::instance().create(
+        parameters.method.particle_update, prm);
+    particle_updates.configured->set_strain_update(
+      parameters.method.strain_update);
     if (mass_matrix->periodic())
       {
-        lumped_step_update =
+        particle_updates.lumped_step =
           ParticleUpdate::Registry<dim>::instance().create("flip", prm);
-        lumped_step_update->set_strain_update(parameters.method.strain_update);
+        particle_updates.lumped_step->set_strain_update(
+          parameters.method.strain_update);
       }
     prm.leave_subsection();
 
@@ -350,15 +353,16 @@ namespace fmpm
     // step's (doc/studies/stability.md).
     {
       StabilityMethod method;
-      const auto      fields = particle_update->required_fields();
+      const auto      fields = particle_updates.configured->required_fields();
       method.flip_type =
         std::find(fields.begin(), fields.end(), ParticleUpdate::acceleration) !=
         fields.end();
       method.strain_update = parameters.method.strain_update_scheme;
       method.lumped_strain_velocities =
         parameters.method.lumped_strain_velocities;
-      method.position_update_psi = particle_update->position_update_psi();
-      method.shape_function      = shape_function;
+      method.position_update_psi =
+        particle_updates.configured->position_update_psi();
+      method.shape_function = shape_function;
       control.time_step_rule().set_method_limit(
         mass_matrix->stability_limit(method));
     }
@@ -374,10 +378,10 @@ namespace fmpm
       always[ParticleUpdate::velocity] = always[ParticleUpdate::acceleration] =
         true;
     centre_of_mass.field_needed = centre_of_mass.lumped_step_fields = always;
-    for (const auto field : particle_update->required_fields())
+    for (const auto field : particle_updates.configured->required_fields())
       centre_of_mass.field_needed[field] = true;
-    if (lumped_step_update)
-      for (const auto field : lumped_step_update->required_fields())
+    if (particle_updates.lumped_step)
+      for (const auto field : particle_updates.lumped_step->required_fields())
         centre_of_mass.lumped_step_fields[field] = true;
   }
 

@@ -69,7 +69,8 @@ namespace fmpm
                                 control.minimum_cell_size());
     const double t  = control.time();
     const double dt = control.time_step();
-    series_step     = mass_matrix->begin_step(control.step_number(), t, dt);
+    particle_updates.series_step =
+      mass_matrix->begin_step(control.step_number(), t, dt);
     // b(x, t) at the middle of the step: second order in time (first order
     // at t^n, measured on the manufactured solution).
     external_loads.begin_step(t + 0.5 * dt);

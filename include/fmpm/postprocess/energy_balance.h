@@ -11,6 +11,9 @@
 #include <cmath>
 #include <limits>
 
+#include <boost/serialization/split_member.hpp>
+#include <mpi.h>
+
 namespace fmpm
 {
   namespace Postprocess
@@ -161,14 +164,28 @@ namespace fmpm
       /** The share of the wall time the timer sections cover. */
       double timer_coverage = 0;
 
-      /** What a checkpoint keeps (the wall clocks are this run's). */
+      /** What a checkpoint keeps: the counts and the wall time elapsed
+       * (a resumed run's wall clock starts that much earlier). */
       template <class Archive>
       void
-      serialize(Archive &archive, const unsigned int)
+      save(Archive &archive, const unsigned int) const
       {
+        const double wall_seconds = MPI_Wtime() - wall_start;
         archive &particle_steps &mesh_adaptations &cell_steps &max_cells
-          &total_lost_points;
+          &total_lost_points &wall_seconds;
       }
+
+      template <class Archive>
+      void
+      load(Archive &archive, const unsigned int)
+      {
+        double wall_seconds = 0;
+        archive &particle_steps &mesh_adaptations &cell_steps &max_cells
+          &total_lost_points &wall_seconds;
+        wall_start = MPI_Wtime() - wall_seconds;
+      }
+
+      BOOST_SERIALIZATION_SPLIT_MEMBER()
     };
   } // namespace Postprocess
 } // namespace fmpm

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <boost/serialization/vector.hpp>
+
 namespace fmpm
 {
   using namespace dealii;
@@ -43,6 +45,16 @@ namespace fmpm
     std::vector<Tensor<1, dim>> reactions;
     /** The values of open()'s extra columns (per-material sums, contact). */
     std::vector<double> extra;
+
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int)
+    {
+      archive &step &time &dt &kinetic_energy &strain_energy &potential_energy
+        &total_energy &momentum &mass &error_velocity_l2 &error_displacement_l2
+          &dissipated_energy &reactions &extra &volume_change_rms
+            &checkerboard_j;
+    }
   };
 
   /**
@@ -54,7 +66,10 @@ namespace fmpm
   class History
   {
   public:
-    /** @brief Open @p file_name (rank 0 only) and write the header. */
+    /** @brief Open @p file_name (rank 0 only) and write the header, then
+     * the rows a checkpoint restored (serialize()), so that history.csv of
+     * a resumed run holds exactly the rows up to the checkpoint followed by
+     * the new ones. */
     void
     open(const std::string              &file_name,
          const bool                      is_root,
@@ -65,15 +80,6 @@ namespace fmpm
 
     void
     add(const HistoryRow<dim> &row);
-
-    /**
-     * @brief After open(): take @p saved_rows (from a checkpoint) as the
-     * rows so far and write them again, so that history.csv of a resumed
-     * run holds exactly the rows up to the checkpoint followed by the new
-     * ones.
-     */
-    void
-    restore(const std::vector<HistoryRow<dim>> &saved_rows);
 
     const std::vector<HistoryRow<dim>> &
     rows() const
@@ -88,7 +94,21 @@ namespace fmpm
      * its threshold. */
     bool checkerboard_warned = false;
 
+    /** What a checkpoint keeps: the rows so far. */
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int)
+    {
+      archive &all_rows;
+    }
+
   private:
+    /** Open @p file_name and write the header of the columns. */
+    void
+    write_header(const std::string              &file_name,
+                 const std::vector<std::string> &reaction_labels,
+                 const std::vector<std::string> &extra_columns);
+
     std::vector<HistoryRow<dim>>   all_rows;
     std::unique_ptr<std::ofstream> file;
     bool                           with_errors      = false;

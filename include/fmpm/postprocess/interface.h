@@ -11,11 +11,14 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fmpm
 {
   class SimulationControl;
+  template <int dim>
+  struct ConditionReactions;
   namespace Contact
   {
     template <int dim>
@@ -23,11 +26,14 @@ namespace fmpm
   }
 
   /**
-   * @brief What a run writes at its outputs besides history.csv (ASPECT's
-   * postprocessors): the VTU files, the points' csv files.
+   * @brief What a run writes at its outputs (ASPECT's postprocessors):
+   * history.csv, the VTU files, the points' csv files.
    */
   namespace Postprocess
   {
+    template <int dim>
+    class EnergyBalance;
+
     /**
      * @brief A postprocessor: called at every output of the run with the
      * statistics of that instant; keeps what it needs across a restart in
@@ -37,6 +43,12 @@ namespace fmpm
     class Interface : public SimulatorAccess<dim>
     {
     public:
+      /** The run starts or resumes: open files, write headers
+       * (collective). */
+      virtual void
+      start()
+      {}
+
       /** Write this output (collective; times itself). */
       virtual void
       execute(const GlobalStatistics<dim> &statistics) = 0;
@@ -71,6 +83,22 @@ namespace fmpm
       /** Multimaterial contact, or nullptr without it. */
       const Contact::Manager<dim> *
       get_contact() const;
+      /** The reactions of the velocity conditions in the last step. */
+      const ConditionReactions<dim> &
+      get_reactions() const;
+      /** The initial energies, the energy exchanged and dissipated. */
+      const EnergyBalance<dim> &
+      get_energy_balance() const;
+      /** The mass matrix's history.csv values over the steps since the
+       * previous output (MassMatrix::Interface::history_values(), which
+       * starts the next interval). */
+      std::vector<double>
+      mass_matrix_history_values() const;
+      /** Contact's history.csv values: the friction work since the start
+       * and the contact nodes of the last correction
+       * (Contact::Manager::history_values(); collective). */
+      std::pair<double, double>
+      contact_history_values() const;
     };
 
 
@@ -93,6 +121,24 @@ namespace fmpm
       }
 
       /** Every postprocessor's output now. */
+      void
+      start()
+      {
+        for (auto &postprocessor : postprocessors)
+          postprocessor->start();
+      }
+
+      /** The first postprocessor of type @p T, or nullptr. */
+      template <class T>
+      T *
+      find() const
+      {
+        for (const auto &postprocessor : postprocessors)
+          if (T *found = dynamic_cast<T *>(postprocessor.get()))
+            return found;
+        return nullptr;
+      }
+
       void
       execute(const GlobalStatistics<dim> &statistics)
       {
