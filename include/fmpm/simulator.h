@@ -53,6 +53,12 @@
 
 namespace fmpm
 {
+  namespace Transfer
+  {
+    template <int dim>
+    class SupportBuilder;
+  }
+
   /**
    * @brief The material point a failure is about, and what happened to it
    * (Simulator::failure_location_hint() reads it).
@@ -378,14 +384,26 @@ namespace fmpm
     /** The stages the scene's strain-update scheme runs, in order (chosen
      * once, at set-up). */
     std::vector<StepStage> step_stages;
+    /** Which sinks ride on which point loop (chosen with the stages and
+     * printed with them). The supports are built in the loop of the
+     * extrapolation (Transfer::SupportBuilder). */
+    struct PointLoops
+    {
+      /** USL+/USAVG+: p (with contact p^α and the geometry) in the loop
+       * of the particle update. */
+      bool momenta_in_particle_update = false;
+    };
+    PointLoops point_loops;
     void
     choose_step_stages();
-    /** Mesh adaptation when due, Δt, the load curves at t + Δt/2, the
-     * supports S and G. */
+    /** The point loops of the step, for the run's header. */
+    std::string
+    point_loop_description() const;
+    /** Mesh adaptation when due, Δt, the load curves at t + Δt/2. */
     void
     begin_step();
-    /** m, p (and f unless the stresses come first), the conditions, the
-     * first contact correction. */
+    /** The supports S and G; m, p (and f unless the stresses come first),
+     * the conditions, the first contact correction. */
     void
     extrapolate();
     /** USF/USAVG: stresses from v = m̃ₖ⁻¹p, then f. */
@@ -437,25 +455,25 @@ namespace fmpm
                VelocityConditions<dim>::Method::velocity &&
              !velocity_conditions.labels().empty();
     }
-    /**
-     * The support cache: S and G (S̄, Ḡ) of every point for this step.
-     * With @p extrapolate (the step's start) and
-     * extrapolates_with_supports(), also m = SᵀM and p = SᵀMV point by
-     * point as each stored support is complete (the order and bits of
-     * particles_to_grid(), whose next call then only adds the ghosts).
-     */
+    /** Clear the support cache for this step; its materials; whether
+     * classic supports are computed in each pass (affine cells without
+     * hanging nodes) or stored. */
     void
-    compute_supports(const bool extrapolate = false);
-    /** One velocity field, no forces in the first extrapolation (the
-     * stresses are updated first), no m̃ to assemble. */
-    bool
-    extrapolates_with_supports() const
-    {
-      return !contact_active() &&
-             parameters.method.strain_update_scheme.update_first &&
-             !mass_matrix->needs_full_mass_matrix() &&
-             !velocity_conditions.needs_full_mass_matrix();
-    }
+    prepare_supports();
+    /** The reader that builds and stores the supports in a point loop. */
+    Transfer::SupportBuilder<dim>
+    support_builder();
+    /** Report the first point whose support @p builder could not build. */
+    void
+    report_support_failure(const Transfer::SupportBuilder<dim> &builder);
+    /** Transfer::for_each_point() with the step's supports: computed, or
+     * built and stored in this loop (G only if @p with_gradients for
+     * computed ones). */
+    template <typename... Sinks>
+    void
+    for_each_point(const bool with_gradients, Sinks &...sinks);
+    /** Build the step's supports; m, p (and f with @p with_forces), m̃ and
+     * with contact the material fields and geometry, in one point loop. */
     void
     particles_to_grid(const bool with_forces);
     /** The grid operators the velocity-condition methods use. */
@@ -505,11 +523,9 @@ namespace fmpm
      * what the normals and laws read of the moved points (g^α, Σ S M X,
      * u^α, V^α) — with the step's S and M (m, m̃, m^α, m̃^α and the mass
      * matrix's set-up stay those of the first extrapolation), in the order
-     * and with the bits of particles_to_grid(); re_extrapolate() only forms
-     * the sums and adds the ghosts (finish_re_extrapolation()).
+     * and with the bits of particles_to_grid() (point_loops); the stage
+     * re_extrapolate() only forms the sums and adds the ghosts.
      */
-    bool
-    re_extrapolates_in_particle_update() const;
     void
     finish_re_extrapolation();
     void
@@ -648,9 +664,6 @@ namespace fmpm
       centre_of_mass.full_mass_matrix;
     CellwiseMatrix &cellwise_full_mass = centre_of_mass.cellwise_full_mass;
     bool &use_cellwise_full_mass       = centre_of_mass.use_cellwise_full_mass;
-    /** compute_supports() has extrapolated m and p (owned and ghost
-     * entries, not yet added to their owners). */
-    bool supports_extrapolated = false;
 
     /** Grid velocity conditions and the method imposing them. */
     VelocityConditions<dim> velocity_conditions;

@@ -5,14 +5,11 @@
 #include <fmpm/postprocess/checkerboard.h>
 #include <fmpm/postprocess/energy_balance.h>
 #include <fmpm/postprocess/history_file.h>
-#include <fmpm/simulator.h>
 #include <fmpm/simulation_control.h>
+#include <fmpm/simulator.h>
 #include <fmpm/velocity_conditions.h>
 
 #include <deal.II/base/utilities.h>
-
-#include <boost/archive/binary_iarchive.hpp>
-#include <boost/archive/binary_oarchive.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +17,9 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+
+#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_oarchive.hpp>
 
 namespace fmpm
 {
@@ -60,7 +60,7 @@ namespace fmpm
     void
     HistoryFile<dim>::execute(const GlobalStatistics<dim> &statistics)
     {
-      TimerOutput::Scope timer(this->get_computing_timer(), "output");
+      TimerOutput::Scope       timer(this->get_computing_timer(), "output");
       const SimulationControl &control = this->get_simulation_control();
       HistoryRow<dim>          row;
       row.step              = control.step_number();
@@ -234,8 +234,7 @@ namespace fmpm
     {
       using Index                       = PropertyIndex<dim>;
       const MaterialPoints<dim> &points = this->get_material_points();
-      const MPI_Comm             mpi_communicator =
-        this->get_mpi_communicator();
+      const MPI_Comm mpi_communicator   = this->get_mpi_communicator();
       history.tracked_point_ids.clear();
       const std::string &text  = this->get_parameters().output.tracked_points;
       const std::string  where = "Output/Tracked points = <" + text + ">: ";
@@ -273,13 +272,13 @@ namespace fmpm
               bool       has = false;
               for (unsigned int k = 0; k < points.n_points() && !has; ++k)
                 has = points.id[k] == id;
-              AssertThrow(
-                Utilities::MPI::logical_or(has, mpi_communicator),
-                ExcMessage(
-                  where + "no material point has id " + entry +
-                  " (the scene has " +
-                  std::to_string(this->get_simulator().n_material_points()) +
-                  " points)."));
+              AssertThrow(Utilities::MPI::logical_or(has, mpi_communicator),
+                          ExcMessage(
+                            where + "no material point has id " + entry +
+                            " (the scene has " +
+                            std::to_string(
+                              this->get_simulator().n_material_points()) +
+                            " points)."));
               history.tracked_point_ids.push_back(id);
               continue;
             }
@@ -330,8 +329,7 @@ namespace fmpm
                                  " lies outside every body (the nearest "
                                  "material point, id " +
                                  std::to_string(nearest) + ", started " +
-                                 format_number(distance, 6) +
-                                 " m from it)."));
+                                 format_number(distance, 6) + " m from it)."));
           history.tracked_point_ids.push_back(nearest);
         }
     }
@@ -361,14 +359,14 @@ namespace fmpm
     std::vector<double>
     HistoryFile<dim>::tracked_point_values() const
     {
-      using Index                       = PropertyIndex<dim>;
-      const MaterialPoints<dim> &points = this->get_material_points();
-      constexpr unsigned int n_stress   = GlobalStatistics<dim>::n_stress;
-      constexpr unsigned int n_values   = 2 * dim + n_stress;
+      using Index                         = PropertyIndex<dim>;
+      const MaterialPoints<dim> &points   = this->get_material_points();
+      constexpr unsigned int     n_stress = GlobalStatistics<dim>::n_stress;
+      constexpr unsigned int     n_values = 2 * dim + n_stress;
       // The stored stress slots of xx, yy, xy in 2D (xx, yy, zz, xy, xz, yz
       // in 3D), as in compute_statistics().
       constexpr unsigned int stress_slots[6] = {0, 1, 3, 2, 4, 5};
-      const unsigned int     n_tracked = history.tracked_point_ids.size();
+      const unsigned int     n_tracked       = history.tracked_point_ids.size();
       // Each value from the one rank that owns the point, zeros from the
       // others (the sums are exact), and the count of owners.
       std::vector<double> values(n_tracked * (n_values + 1), 0.);
@@ -428,7 +426,7 @@ namespace fmpm
       const auto saved = status_strings.find("History");
       if (saved == status_strings.end())
         return;
-      std::istringstream in(saved->second);
+      std::istringstream              in(saved->second);
       boost::archive::binary_iarchive archive(in);
       archive >> history;
     }

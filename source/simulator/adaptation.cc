@@ -141,7 +141,6 @@ namespace fmpm
       {
         // The lumped grid velocity m⁻¹p, continuous across hanging nodes
         // (supports of the points on the current mesh).
-        compute_supports();
         particles_to_grid(false);
         centre_of_mass.allocate(ParticleUpdate::lumped_velocity);
         GridVectorField &v =

@@ -339,7 +339,8 @@ namespace fmpm
     pcout << "      each step:";
     for (unsigned int s = 0; s < step_stages.size(); ++s)
       pcout << (s == 0 ? " " : ", ") << step_stages[s].name;
-    pcout << std::endl;
+    pcout << std::endl
+          << "      point loops: " << point_loop_description() << std::endl;
     TimeStepRule &rule = control.time_step_rule();
     if (!rule.description().empty())
       pcout << "      " << rule.description() << std::endl;

@@ -5,7 +5,8 @@
 // V, X and the grid fields the update reads (v_p = Σ_i S_pi v_i), the
 // particle update plugin's call, damping and the dissipation measure, and
 // the scatter of V^{n+1}, X^{n+1} and ξ into the store; with USL+/USAVG+
-// the re-extrapolation p = SᵀMV^{n+1} point by point.
+// the re-extrapolation p = SᵀMV^{n+1} point by point; then the sort of
+// the moved points into their new cells (PointSort).
 
 #include <fmpm/simulator.h>
 #include <fmpm/simulator.templates.h>
@@ -273,7 +274,7 @@ namespace fmpm
     // USL+/USAVG+: p = SᵀMV^{n+1} in this sweep (with contact p^α of the
     // point's material α, and what the normals and laws read of the moved
     // points).
-    const bool re_extrapolate = re_extrapolates_in_particle_update();
+    const bool re_extrapolate = point_loops.momenta_in_particle_update;
     Contact::GeometrySink<dim>        no_contact_geometry;
     const Contact::GeometrySink<dim> &contact_geometry =
       re_extrapolate && contact ? this->contact->begin_geometry(points) :
@@ -388,6 +389,24 @@ namespace fmpm
       }
     local_max_point_speed = std::sqrt(max_V2);
   }
+
+  template <int dim>
+  void
+  Simulator<dim>::sort_particles_into_cells()
+  {
+    TimerOutput::Scope timer(computing_timer, "sort points into cells");
+    // The points that left their cells, to their new cells nearby (on this
+    // rank or their new owner's); else deal.II's sort of every point (a
+    // point not found nearby or outside the mesh: it reports lost points).
+    if (parameters.fast_point_sorting && point_sort.sort(points))
+      return;
+    point_sort.prepare_full_sort(points);
+    points_to_handler();
+    particle_handler.sort_particles_into_subdomains_and_cells();
+    points_from_handler();
+  }
+
+
 
   template class Simulator<2>;
   template class Simulator<3>;

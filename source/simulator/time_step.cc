@@ -37,6 +37,23 @@ namespace fmpm
          &Simulator::update_stresses_last});
     step_stages.push_back(
       {"sort points into cells", &Simulator::sort_particles_into_cells});
+    point_loops.momenta_in_particle_update =
+      scheme.update_last && scheme.re_extrapolate;
+  }
+
+
+
+  template <int dim>
+  std::string
+  Simulator<dim>::point_loop_description() const
+  {
+    std::string description =
+      "extrapolate to the grid: supports built in its loop";
+    if (shape_function == ShapeFunction::Type::classic)
+      description += " (computed in each loop on affine cells)";
+    if (point_loops.momenta_in_particle_update)
+      description += "; re-extrapolate the momenta: in the particle update";
+    return description;
   }
 
 
@@ -85,7 +102,6 @@ namespace fmpm
                                             "velocity conditions");
         velocity_conditions.move_nodes(t);
       }
-    compute_supports(/*extrapolate=*/true);
   }
 
 
@@ -262,7 +278,7 @@ namespace fmpm
     // the conditions, and with contact a third correction.
     using namespace ParticleUpdate;
     const double t_end = control.time() + control.time_step();
-    Assert(re_extrapolates_in_particle_update(), ExcInternalError());
+    Assert(point_loops.momenta_in_particle_update, ExcInternalError());
     finish_re_extrapolation();
     {
       TimerOutput::Scope timer(computing_timer, "grid solve");

@@ -6,11 +6,18 @@
 
 #include <deal.II/base/config.h>
 #include <fmpm/external_loads.h>
+#include <fmpm/grid_transfer.h>
+#include <fmpm/grid_vectors.h>
 #include <fmpm/material_points.h>
 #include <fmpm/particle_properties.h>
+#include <fmpm/support_cache.h>
 
+#include <deal.II/base/partitioner.h>
 #include <deal.II/base/tensor.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
 
+#include <algorithm>
+#include <type_traits>
 #include <vector>
 
 namespace fmpm
@@ -23,6 +30,9 @@ namespace fmpm
    * count n is an `unsigned int` for stored supports and a compile-time
    * constant for computed ones, so that S and G stay in registers. A sink
    * reads the store's columns through pointers taken once per pass.
+   * Transfer::for_each_point() (point_loop.h) calls them; a sink with
+   * begin_cell(c)/end_cell(c) is also told where each cell of points
+   * begins and ends.
    */
   namespace Transfer
   {
@@ -177,6 +187,274 @@ namespace fmpm
 
       const unsigned char *material;
       std::vector<Sink>    sinks;
+    };
+
+    /**
+     * @brief A sink switched on or off for a whole pass (e.g. the force
+     * without forces): one predictable branch per point.
+     */
+    template <typename Sink>
+    struct IfActive
+    {
+      IfActive(const Sink &sink, const bool active)
+        : sink(sink)
+        , active(active)
+      {}
+
+      template <typename Count, int dim>
+      DEAL_II_ALWAYS_INLINE void
+      point(const unsigned int          k,
+            const unsigned int *const   node,
+            const double *const         S,
+            const Tensor<1, dim> *const G,
+            const Count                 n) const
+      {
+        if (active)
+          sink.point(k, node, S, G, n);
+      }
+
+      const Sink &sink;
+      const bool  active;
+    };
+
+    /**
+     * @brief The full mass matrix cell by cell, m̃_c = Σ_{p in c} M S Sᵀ
+     * (Eq. 1.9), and with contact m̃^α_c of each material α (seed 004 Eq.
+     * 37), over the union of the cell's points' supports: a dense local
+     * matrix into a CellwiseMatrix or the assembled Trilinos matrix, or for
+     * a large union (GIMP, CPDI) the points' supports themselves
+     * (CellwiseMatrix::begin_factored_cell()).
+     *
+     * Computed supports (the cell's own nodes) are added point by point;
+     * stored ones at the end of the cell from the cache (the cell's entries
+     * are complete then, also when the loop builds them), in the same
+     * order: point by point, entry by entry.
+     */
+    template <int dim>
+    class FullMassCellSink
+    {
+    public:
+      /** Where m̃ goes: @p cellwise or @p assembled (with @p partitioner to
+       * name its rows) or neither; m̃^α into @p material (one per
+       * material) or not. */
+      struct Targets
+      {
+        CellwiseMatrix                    *cellwise    = nullptr;
+        TrilinosWrappers::SparseMatrix    *assembled   = nullptr;
+        const Utilities::MPI::Partitioner *partitioner = nullptr;
+        std::vector<CellwiseMatrix>       *material    = nullptr;
+      };
+
+      FullMassCellSink(const MaterialPoints<dim> &points,
+                       const SupportCache<dim>   &supports,
+                       const GridTransfer<dim>   &transfer,
+                       const Targets             &targets)
+        : points(points)
+        , supports(supports)
+        , transfer(transfer)
+        , targets(targets)
+        , mass(points.column(PropertyIndex<dim>::mass))
+        , total(targets.cellwise != nullptr || targets.assembled != nullptr)
+        , computed(supports.implicit_classic)
+        , local_material(targets.material ? targets.material->size() : 0)
+        , material_in_cell(local_material.size(), 0)
+      {}
+
+      /** Whether m̃ or m̃^α is formed at all. */
+      bool
+      active() const
+      {
+        return total || targets.material != nullptr;
+      }
+
+      void
+      begin_cell(const unsigned int c)
+      {
+        if (computed && active())
+          {
+            n_cell_nodes = GridTransfer<dim>::n_nodes;
+            cell_node =
+              transfer.cell_data(points.cell_index[c]).local_index.data();
+            if (total)
+              local.assign(n_cell_nodes * n_cell_nodes, 0.);
+          }
+      }
+
+      template <typename Count>
+      DEAL_II_ALWAYS_INLINE void
+      point(const unsigned int k,
+            const unsigned int *,
+            const double *const S,
+            const Tensor<1, dim> *,
+            const Count n)
+      {
+        // (Stored supports: at the cell's end.)
+        if constexpr (!std::is_same_v<Count, unsigned int>)
+          {
+            if (total)
+              add_dense(local, mass[k], n, S, [](const unsigned int j) {
+                return j;
+              });
+            if (targets.material != nullptr)
+              add_dense(material_matrix(k), mass[k], n, S, [](auto j) {
+                return j;
+              });
+          }
+      }
+
+      void
+      end_cell(const unsigned int c)
+      {
+        if (!active())
+          return;
+        bool factored_total = false, factored_material = false;
+        if (!computed)
+          stored_cell(c, factored_total, factored_material);
+        if (targets.material != nullptr)
+          for (unsigned int a = 0; a < material_in_cell.size(); ++a)
+            if (material_in_cell[a])
+              {
+                if (!factored_material)
+                  (*targets.material)[a].add_cell(n_cell_nodes,
+                                                  cell_node,
+                                                  local_material[a].data());
+                material_in_cell[a] = 0;
+              }
+        if (!factored_total)
+          add_total_cell();
+      }
+
+    private:
+      /** row(place(i)) += M S_i S_j over the point's entries (Eq. 1.9). */
+      template <typename Count, typename Place>
+      DEAL_II_ALWAYS_INLINE void
+      add_dense(std::vector<double> &matrix,
+                const double         M,
+                const Count          n,
+                const double *const  S,
+                const Place         &place) const
+      {
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const double MS_i = M * S[i];
+            double      *row  = &matrix[place(i) * n_cell_nodes];
+            for (unsigned int j = 0; j < n; ++j)
+              row[place(j)] += MS_i * S[j];
+          }
+      }
+
+      /** The local m̃^α of point @p k's material (zeroed at its first
+       * point in the cell). */
+      std::vector<double> &
+      material_matrix(const unsigned int k)
+      {
+        const unsigned int alpha = supports.material[k];
+        if (!material_in_cell[alpha])
+          {
+            local_material[alpha].assign(n_cell_nodes * n_cell_nodes, 0.);
+            material_in_cell[alpha] = 1;
+          }
+        return local_material[alpha];
+      }
+
+      /** The cell's nodes (the union of its points' supports, in the order
+       * of the entries), the place of each entry in them, and the cell's
+       * points added. */
+      void
+      stored_cell(const unsigned int c,
+                  bool              &factored_total,
+                  bool              &factored_material)
+      {
+        const unsigned int first_point = points.cell_point_begin[c];
+        const unsigned int end_point   = points.cell_point_begin[c + 1];
+        const unsigned int first_entry = supports.support_begin[first_point];
+        const unsigned int entry_end   = supports.support_begin[end_point];
+        cell_nodes.clear();
+        slot.resize(entry_end - first_entry);
+        for (unsigned int j = first_entry; j < entry_end; ++j)
+          {
+            const auto place =
+              std::find(cell_nodes.begin(), cell_nodes.end(), supports.node[j]);
+            slot[j - first_entry] = place - cell_nodes.begin();
+            if (place == cell_nodes.end())
+              cell_nodes.push_back(supports.node[j]);
+          }
+        cell_node    = cell_nodes.data();
+        n_cell_nodes = cell_nodes.size();
+        const bool factored =
+          CellwiseMatrix::factored_is_cheaper(n_cell_nodes,
+                                              entry_end - first_entry);
+        factored_total    = factored && targets.cellwise != nullptr;
+        factored_material = factored && targets.material != nullptr;
+        if (factored_total)
+          targets.cellwise->begin_factored_cell(n_cell_nodes, cell_node);
+        else if (total)
+          local.assign(n_cell_nodes * n_cell_nodes, 0.);
+        for (unsigned int k = first_point; k < end_point; ++k)
+          {
+            const unsigned int        begin = supports.support_begin[k];
+            const unsigned int        n = supports.support_begin[k + 1] - begin;
+            const unsigned int *const entry_slot =
+              slot.data() + (begin - first_entry);
+            const double *const S     = supports.S.data() + begin;
+            const double        M     = mass[k];
+            const auto          place = [entry_slot](const unsigned int j) {
+              return entry_slot[j];
+            };
+            if (factored_total)
+              targets.cellwise->add_point(M, n, entry_slot, S);
+            if (factored_material)
+              {
+                const unsigned int alpha         = supports.material[k];
+                CellwiseMatrix    &m_tilde_alpha = (*targets.material)[alpha];
+                if (!material_in_cell[alpha])
+                  {
+                    m_tilde_alpha.begin_factored_cell(n_cell_nodes, cell_node);
+                    material_in_cell[alpha] = 1;
+                  }
+                m_tilde_alpha.add_point(M, n, entry_slot, S);
+              }
+            if (total && !factored_total)
+              add_dense(local, M, n, S, place);
+            if (targets.material != nullptr && !factored_material)
+              add_dense(material_matrix(k), M, n, S, place);
+          }
+      }
+
+      /** The cell's m̃ into the cell-wise or the assembled matrix. */
+      void
+      add_total_cell()
+      {
+        if (targets.cellwise != nullptr)
+          targets.cellwise->add_cell(n_cell_nodes, cell_node, local.data());
+        else if (targets.assembled != nullptr)
+          {
+            dofs.resize(n_cell_nodes);
+            for (unsigned int i = 0; i < n_cell_nodes; ++i)
+              dofs[i] = targets.partitioner->local_to_global(cell_node[i]);
+            for (unsigned int i = 0; i < n_cell_nodes; ++i)
+              targets.assembled->add(dofs[i],
+                                     n_cell_nodes,
+                                     dofs.data(),
+                                     &local[i * n_cell_nodes]);
+          }
+      }
+
+      const MaterialPoints<dim> &points;
+      const SupportCache<dim>   &supports;
+      const GridTransfer<dim>   &transfer;
+      const Targets              targets;
+      const double *const        mass;
+      const bool                 total;
+      const bool                 computed;
+
+      unsigned int                         n_cell_nodes = 0;
+      const unsigned int                  *cell_node    = nullptr;
+      std::vector<unsigned int>            cell_nodes, slot;
+      std::vector<double>                  local;
+      std::vector<std::vector<double>>     local_material;
+      std::vector<char>                    material_in_cell;
+      std::vector<types::global_dof_index> dofs;
     };
   } // namespace Transfer
 } // namespace fmpm
