@@ -150,7 +150,8 @@ namespace
         type,
         0.,
         triangulation.n_active_cells(),
-        {gimp, gimp_of_cell, cpdi, cpdi_of_cell});
+        {gimp, gimp_of_cell, cpdi, cpdi_of_cell},
+        nullptr);
     }
   };
 
