@@ -150,10 +150,13 @@ namespace fmpm
                                                   p);
         material_force.sinks.emplace_back(points, external_loads, f);
       }
+    const auto &partitioner = *centre_of_mass.mass.get_partitioner();
     Transfer::FullMassCellSink<dim> full_mass(points,
                                               supports,
                                               transfer,
-                                              full_mass_targets);
+                                              full_mass_targets,
+                                              partitioner.locally_owned_size() +
+                                                partitioner.n_ghost_indices());
 
     const bool with_gradients =
       with_forces || contact_geometry.needs_gradients();

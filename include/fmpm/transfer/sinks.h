@@ -245,10 +245,12 @@ namespace fmpm
         std::vector<CellwiseMatrix>       *material    = nullptr;
       };
 
+      /** @p n_local_nodes: the ghosted grid vectors' local size. */
       FullMassCellSink(const MaterialPoints<dim> &points,
                        const SupportCache<dim>   &supports,
                        const GridTransfer<dim>   &transfer,
-                       const Targets             &targets)
+                       const Targets             &targets,
+                       const unsigned int         n_local_nodes)
         : points(points)
         , supports(supports)
         , transfer(transfer)
@@ -258,6 +260,13 @@ namespace fmpm
         , computed(supports.implicit_classic)
         , local_material(targets.material ? targets.material->size() : 0)
         , material_in_cell(local_material.size(), 0)
+        , slot_of_node((targets.cellwise != nullptr ||
+                        targets.assembled != nullptr ||
+                        targets.material != nullptr) &&
+                           !supports.implicit_classic ?
+                         n_local_nodes :
+                         0,
+                       numbers::invalid_unsigned_int)
       {}
 
       /** Whether m̃ or m̃^α is formed at all. */
@@ -371,14 +380,20 @@ namespace fmpm
         const unsigned int entry_end   = supports.support_begin[end_point];
         cell_nodes.clear();
         slot.resize(entry_end - first_entry);
+        // Slots in the order of first appearance (a node's slot looked up
+        // in slot_of_node, reset after the cell).
         for (unsigned int j = first_entry; j < entry_end; ++j)
           {
-            const auto place =
-              std::find(cell_nodes.begin(), cell_nodes.end(), supports.node[j]);
-            slot[j - first_entry] = place - cell_nodes.begin();
-            if (place == cell_nodes.end())
-              cell_nodes.push_back(supports.node[j]);
+            unsigned int &place = slot_of_node[supports.node[j]];
+            if (place == numbers::invalid_unsigned_int)
+              {
+                place = cell_nodes.size();
+                cell_nodes.push_back(supports.node[j]);
+              }
+            slot[j - first_entry] = place;
           }
+        for (const unsigned int node : cell_nodes)
+          slot_of_node[node] = numbers::invalid_unsigned_int;
         cell_node    = cell_nodes.data();
         n_cell_nodes = cell_nodes.size();
         const bool factored =
@@ -448,9 +463,11 @@ namespace fmpm
       const bool                 total;
       const bool                 computed;
 
-      unsigned int                         n_cell_nodes = 0;
-      const unsigned int                  *cell_node    = nullptr;
-      std::vector<unsigned int>            cell_nodes, slot;
+      unsigned int              n_cell_nodes = 0;
+      const unsigned int       *cell_node    = nullptr;
+      std::vector<unsigned int> cell_nodes, slot;
+      /** Each local node's slot in the cell being added (invalid: none). */
+      std::vector<unsigned int>            slot_of_node;
       std::vector<double>                  local;
       std::vector<std::vector<double>>     local_material;
       std::vector<char>                    material_in_cell;
