@@ -402,8 +402,8 @@ namespace fmpm
         for (unsigned int d = 0; d < dim; ++d)
           AssertThrow(
             !Geometry::is_bounded(box, d) ||
-              box.lower_bound(d) >= mesh_box.lower_bound(d) - tolerance &&
-                box.upper_bound(d) <= mesh_box.upper_bound(d) + tolerance,
+              (box.lower_bound(d) >= mesh_box.lower_bound(d) - tolerance &&
+               box.upper_bound(d) <= mesh_box.upper_bound(d) + tolerance),
             ExcMessage(numbered_subsection("Body", b) +
                        " reaches outside the mesh in direction " +
                        std::to_string(d) + ": the body spans [" +

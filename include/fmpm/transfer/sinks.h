@@ -463,14 +463,14 @@ namespace fmpm
       const bool                 total;
       const bool                 computed;
 
-      unsigned int              n_cell_nodes = 0;
-      const unsigned int       *cell_node    = nullptr;
-      std::vector<unsigned int> cell_nodes, slot;
+      unsigned int                     n_cell_nodes = 0;
+      const unsigned int              *cell_node    = nullptr;
+      std::vector<unsigned int>        cell_nodes, slot;
+      std::vector<double>              local;
+      std::vector<std::vector<double>> local_material;
+      std::vector<char>                material_in_cell;
       /** Each local node's slot in the cell being added (invalid: none). */
       std::vector<unsigned int>            slot_of_node;
-      std::vector<double>                  local;
-      std::vector<std::vector<double>>     local_material;
-      std::vector<char>                    material_in_cell;
       std::vector<types::global_dof_index> dofs;
     };
   } // namespace Transfer
