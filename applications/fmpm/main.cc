@@ -26,11 +26,16 @@ namespace
    * MPI_Init starts a runtime daemon (orted) and probes the UCX network
    * layer, about 0.35 s before the first line of a serial run. One process
    * needs neither: ask for an isolated singleton that talks to itself only.
-   * Isolated singletons share one run-time folder, where the shared-memory
-   * component of MPI-IO's shared file pointer (sharedfp sm) keeps its
-   * files: concurrent serial runs then collide; the other components keep
-   * a lock file beside the data file. Settings the user made win; runs
-   * under a launcher are untouched; other MPI libraries ignore the names.
+   * Isolated singletons all have job id 0, so by default they share one
+   * run-time folder (<tmp>/ompi.<host>.<uid>/jf.0/1/0): one run's
+   * MPI_Finalize removes it while another run's MPI_Init creates it, and
+   * that MPI_Init fails ("A call to mkdir was unable to create the desired
+   * directory"). Each run gets its own run-time folder, which Open MPI
+   * creates and removes. In that shared folder the shared-memory component
+   * of MPI-IO's shared file pointer (sharedfp sm) also kept its files; the
+   * other components keep a lock file beside the data file. Settings the
+   * user made win; runs under a launcher are untouched; other MPI
+   * libraries ignore the names.
    */
   void
   prefer_quick_singleton_start()
@@ -47,6 +52,11 @@ namespace
     setenv("OMPI_MCA_pml", "ob1", 0);
     setenv("OMPI_MCA_btl", "self", 0);
     setenv("OMPI_MCA_sharedfp", "^sm", 0);
+    const char       *tmp = std::getenv("TMPDIR");
+    const std::string run_time_folder =
+      std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") +
+      "/fmpm-mpi." + std::to_string(getpid());
+    setenv("OMPI_MCA_orte_top_session_dir", run_time_folder.c_str(), 0);
   }
 
   const char *usage =
