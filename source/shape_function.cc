@@ -553,6 +553,15 @@ namespace fmpm
               quadrature.integrate(lo, hi, 0, 0);
               return quadrature.status;
             }
+
+          case Type::b2spline:
+          case Type::b3spline:
+          case Type::b2gimp:
+          case Type::b2cpdi:
+            Assert(false,
+                   ExcMessage("B-spline supports are built on their lattice "
+                              "(ShapeFunction::BSplineSupports)."));
+            break;
         }
       return Status::ok;
     }

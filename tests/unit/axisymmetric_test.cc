@@ -783,8 +783,10 @@ namespace
             if (std::abs(x_i[0] - R) < 1e-12 && !on_z_faces)
               expected[0] = -p * R * h;
             if (!on_z_faces)
-              EXPECT_NEAR((f - expected).norm(), 0, 1e-14)
-                << where << " at node " << x_i;
+              {
+                EXPECT_NEAR((f - expected).norm(), 0, 1e-14)
+                  << where << " at node " << x_i;
+              }
             if (!on_z_faces && x_i[0] < R - 1e-12)
               largest_without_hoop =
                 std::max(largest_without_hoop,
