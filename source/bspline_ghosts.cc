@@ -37,8 +37,7 @@ namespace fmpm
     {
       // The box and cell size of the lattice, as Lattice::of_mesh() finds
       // them: lowest, highest (negated) and largest extent, combined.
-      std::vector<double> combined(3 * dim,
-                                   std::numeric_limits<double>::max());
+      std::vector<double> combined(3 * dim, std::numeric_limits<double>::max());
       for (const auto &cell : dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
           {
@@ -119,23 +118,22 @@ namespace fmpm
                     const int i = index_of(box.lower_bound(d), d) - r +
                                   static_cast<int>(rest % per_side);
                     rest /= per_side;
-                    inside = inside && i >= 0 &&
-                             i < static_cast<int>(n_vertices[d]);
+                    inside =
+                      inside && i >= 0 && i < static_cast<int>(n_vertices[d]);
                     index[d] = i;
                   }
                 if (!inside)
                   continue;
-                const std::size_t number = number_of(index);
-                const types::global_dof_index dof = dof_of_vertex[number];
+                const std::size_t             number = number_of(index);
+                const types::global_dof_index dof    = dof_of_vertex[number];
                 if (dof > 0 && !locally_relevant_dofs.is_element(dof - 1))
                   numbers.push_back(number);
               }
           }
       std::sort(numbers.begin(), numbers.end());
-      numbers.erase(std::unique(numbers.begin(), numbers.end()),
-                    numbers.end());
+      numbers.erase(std::unique(numbers.begin(), numbers.end()), numbers.end());
 
-      VerticesBeyondGhostCells<dim> result;
+      VerticesBeyondGhostCells<dim>                               result;
       std::vector<std::pair<types::global_dof_index, Point<dim>>> found;
       found.reserve(numbers.size());
       for (const std::size_t number : numbers)
@@ -144,14 +142,15 @@ namespace fmpm
           Point<dim>  x;
           for (unsigned int d = 0; d < dim; ++d)
             {
-              x[d] = lower[d] + h[d] * static_cast<double>(rest % n_vertices[d]);
+              x[d] =
+                lower[d] + h[d] * static_cast<double>(rest % n_vertices[d]);
               rest /= n_vertices[d];
             }
           found.emplace_back(dof_of_vertex[number] - 1, x);
         }
-      std::sort(found.begin(),
-                found.end(),
-                [](const auto &a, const auto &b) { return a.first < b.first; });
+      std::sort(found.begin(), found.end(), [](const auto &a, const auto &b) {
+        return a.first < b.first;
+      });
       for (const auto &[dof, x] : found)
         {
           result.dofs.push_back(dof);

@@ -486,10 +486,19 @@ namespace fmpm
         AssertThrow(!parameters.refinement.adaptive(),
                     ExcMessage(type + " needs a fixed mesh of equal boxes: "
                                       "set Mesh refinement/Strategy = none."));
+        // The contact tests of 'average gradient' (delta_c = 0.92, 0.96)
+        // and 'd fit' (the edge distance d(x)) are fitted to the hat
+        // functions (seed 004 Eqs. 15-17), not to the wider B-splines.
+        const std::string &normals = parameters.contact.normals_name;
         AssertThrow(!(parameters.contact.multimaterial &&
-                      parameters.size.n_materials > 1),
-                    ExcMessage(type + " is not available with Contact/Model "
-                                      "name = multimaterial yet."));
+                      parameters.size.n_materials > 1) ||
+                      (normals != "average gradient" && normals != "d fit"),
+                    ExcMessage(type + " with Contact/Normals = " + normals +
+                               ": its contact test is fitted to the linear "
+                               "shape functions. Use 'logistic regression', "
+                               "'contact position' (with your Critical "
+                               "separation), 'velocity only' or "
+                               "'specified'."));
         const auto &conditions = parameters.boundary_conditions;
         AssertThrow(parameters.method.bspline_boundary != "padding" ||
                       (conditions.fixed.empty() && conditions.roller.empty() &&

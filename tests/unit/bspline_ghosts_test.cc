@@ -88,8 +88,10 @@ namespace
       ASSERT_EQ(positions.size(), dof_handler.n_dofs());
     }
 
-    const auto beyond =
-      fmpm::BSpline::vertices_beyond_ghost_cells(dof_handler, relevant, 2, comm);
+    const auto beyond = fmpm::BSpline::vertices_beyond_ghost_cells(dof_handler,
+                                                                   relevant,
+                                                                   2,
+                                                                   comm);
     ASSERT_EQ(beyond.dofs.size(), beyond.positions.size());
     if (n_ranks == 1)
       {
@@ -154,11 +156,8 @@ namespace
                {Boundary::open_knots, Boundary::padding})
             {
               fmpm::ShapeFunction::BSplineSupports<dim> supports;
-              supports.reinit(type,
-                              boundary,
-                              transfer,
-                              triangulation.n_active_cells(),
-                              comm);
+              supports.reinit(
+                type, boundary, transfer, triangulation.n_active_cells(), comm);
               if (with_beyond)
                 {
                   std::vector<unsigned int> local;
@@ -169,9 +168,9 @@ namespace
               // Points near the corners and the centre of every owned
               // cell, domains of 0.45 cells, F stretching and shearing
               // them (CPDI corners up to 0.99 cells away).
-              unsigned int n_ok = 0, n_missing = 0;
-              double       largest_defect = 0;
-              const double fractions[3]   = {0.02, 0.5, 0.98};
+              unsigned int   n_ok = 0, n_missing = 0;
+              double         largest_defect = 0;
+              const double   fractions[3]   = {0.02, 0.5, 0.98};
               Tensor<1, dim> l0;
               Tensor<2, dim> F;
               for (unsigned int d = 0; d < dim; ++d)
@@ -188,11 +187,13 @@ namespace
                       unsigned int rest = q;
                       for (unsigned int d = 0; d < dim; ++d)
                         {
-                          x[d] = cell->vertex(0)[d] + fractions[rest % 3] * h[d];
+                          x[d] =
+                            cell->vertex(0)[d] + fractions[rest % 3] * h[d];
                           rest /= 3;
                         }
-                      constexpr unsigned int n_max = fmpm::ShapeFunction::
-                        BSplineSupports<dim>::max_support_size;
+                      constexpr unsigned int n_max =
+                        fmpm::ShapeFunction::BSplineSupports<
+                          dim>::max_support_size;
                       unsigned int   node[n_max], count = 0;
                       double         S[n_max];
                       Tensor<1, dim> G[n_max];
