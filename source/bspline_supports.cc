@@ -19,6 +19,88 @@
 
 namespace fmpm
 {
+  namespace BSpline
+  {
+    template <int dim>
+    void
+    VertexMap<dim>::add(const Lattice<dim>              &lattice,
+                        const std::vector<Point<dim>>   &positions,
+                        const std::vector<unsigned int> &local_indices)
+    {
+      AssertDimension(positions.size(), local_indices.size());
+      if (positions.empty())
+        return;
+      std::vector<std::array<int, dim>> indices(positions.size());
+      int                               new_first[dim], new_last[dim];
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          new_first[d] =
+            count[d] > 0 ? first[d] : std::numeric_limits<int>::max();
+          new_last[d] = count[d] > 0 ? first[d] + int(count[d]) - 1 :
+                                       std::numeric_limits<int>::min();
+        }
+      for (unsigned int v = 0; v < positions.size(); ++v)
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const Basis1D &basis = lattice.basis(d);
+            indices[v][d]        = static_cast<int>(std::round(
+              (positions[v][d] - basis.vertex(0)) / basis.cell_size()));
+            new_first[d]         = std::min(new_first[d], indices[v][d]);
+            new_last[d]          = std::max(new_last[d], indices[v][d]);
+          }
+      // The dense box grows to hold them: copy the old entries over.
+      unsigned int new_count[dim];
+      std::size_t  size = 1;
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          new_count[d] = new_last[d] - new_first[d] + 1;
+          size *= new_count[d];
+        }
+      std::vector<unsigned int> new_local(size, numbers::invalid_unsigned_int);
+      const auto                entry = [&](const std::array<int, dim> &index) {
+        std::size_t e = 0, stride = 1;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            e += stride * (index[d] - new_first[d]);
+            stride *= new_count[d];
+          }
+        return e;
+      };
+      for (std::size_t e = 0; e < local.size(); ++e)
+        {
+          std::array<int, dim> index;
+          std::size_t          rest = e;
+          for (unsigned int d = 0; d < dim; ++d)
+            {
+              index[d] = first[d] + static_cast<int>(rest % count[d]);
+              rest /= count[d];
+            }
+          new_local[entry(index)] = local[e];
+        }
+      for (unsigned int v = 0; v < positions.size(); ++v)
+        new_local[entry(indices[v])] = local_indices[v];
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          first[d] = new_first[d];
+          count[d] = new_count[d];
+        }
+      local.swap(new_local);
+    }
+
+
+
+    template void
+    VertexMap<2>::add(const Lattice<2> &,
+                      const std::vector<Point<2>> &,
+                      const std::vector<unsigned int> &);
+    template void
+    VertexMap<3>::add(const Lattice<3> &,
+                      const std::vector<Point<3>> &,
+                      const std::vector<unsigned int> &);
+  } // namespace BSpline
+
+
+
   namespace ShapeFunction
   {
     template <int dim>

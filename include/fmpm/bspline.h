@@ -910,6 +910,13 @@ namespace fmpm
              const GridTransfer<dim> &transfer,
              const unsigned int       n_active_cells);
 
+      /** @brief Adds the vertices at @p positions with local indices @p
+       * local_indices (ghost entries beyond the cached cells). */
+      void
+      add(const Lattice<dim>              &lattice,
+          const std::vector<Point<dim>>   &positions,
+          const std::vector<unsigned int> &local_indices);
+
       /** The local index of a vertex, or numbers::invalid_unsigned_int if
        * no cached cell has it. */
       unsigned int

@@ -650,6 +650,18 @@ namespace fmpm
              const unsigned int       n_active_cells,
              const MPI_Comm           communicator);
 
+      /**
+       * @brief Makes the lattice vertices at @p positions, beyond the cells
+       * GridTransfer caches, known with @p local_indices in the ghosted
+       * vectors (BSpline::vertices_beyond_ghost_cells()).
+       */
+      void
+      add_vertices(const std::vector<Point<dim>>   &positions,
+                   const std::vector<unsigned int> &local_indices)
+      {
+        vertices.add(lattice, positions, local_indices);
+      }
+
       const BSpline::Lattice<dim> &
       get_lattice() const
       {

@@ -113,7 +113,9 @@ namespace fmpm
         "cells), 'b2gimp' the quadratic B-splines averaged over the box of "
         "the initial half-lengths (at most half a cell), 'b2cpdi' over the "
         "CPDI corners (at most a cell from the point); see 'B-spline "
-        "boundary'. b2gimp and b2cpdi run on one MPI rank. Units: none.");
+        "boundary'. On more than one MPI rank the lattice vertices two cells "
+        "beyond a rank's cells, which b2cpdi corners reach, are ghost nodes "
+        "too. Units: none.");
       prm.declare_entry(
         "CPDI critical radius",
         format_number(defaults.cpdi_critical_radius),

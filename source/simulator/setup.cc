@@ -5,6 +5,7 @@
 // grid velocity conditions, the plugins and the scene's checks (the material
 // points: point_setup.cc).
 
+#include <fmpm/bspline_ghosts.h>
 #include <fmpm/function_parser.h>
 #include <fmpm/geometry/body_shape.h>
 #include <fmpm/geometry/mesh_body.h>
@@ -126,6 +127,20 @@ namespace fmpm
     const IndexSet locally_owned_dofs = dof_handler.locally_owned_dofs();
     IndexSet       locally_relevant_dofs;
     DoFTools::extract_locally_relevant_dofs(dof_handler, locally_relevant_dofs);
+    // b2cpdi corners up to a cell from the point reach vertices two cells
+    // beyond its cell, one further than the ghost cells (b2gimp's boxes of
+    // at most h/2 reach them only at that limit, to round-off): the
+    // vertices there become ghost entries too.
+    BSpline::VerticesBeyondGhostCells<dim> vertices_beyond_ghost_cells;
+    if ((shape_function == ShapeFunction::Type::b2gimp ||
+         shape_function == ShapeFunction::Type::b2cpdi) &&
+        Utilities::MPI::n_mpi_processes(mpi_communicator) > 1)
+      {
+        vertices_beyond_ghost_cells = BSpline::vertices_beyond_ghost_cells(
+          dof_handler, locally_relevant_dofs, 2, mpi_communicator);
+        locally_relevant_dofs.add_indices(
+          vertices_beyond_ghost_cells.index_set(dof_handler.n_dofs()));
+      }
 
     // Only hanging-node and periodicity constraints: velocity conditions
     // are applied to the nodal fields directly, as seed 000 §2.1 describes.
@@ -182,6 +197,13 @@ namespace fmpm
                             transfer,
                             triangulation.n_active_cells(),
                             mpi_communicator);
+    {
+      std::vector<unsigned int> local_indices;
+      for (const types::global_dof_index dof : vertices_beyond_ghost_cells.dofs)
+        local_indices.push_back(partitioner->global_to_local(dof));
+      bspline_supports.add_vertices(vertices_beyond_ghost_cells.positions,
+                                    local_indices);
+    }
     // The locally owned cells in the order of the passes.
     std::vector<typename Triangulation<dim>::active_cell_iterator>
       owned_cells_in_id_order;
@@ -464,18 +486,19 @@ namespace fmpm
         AssertThrow(!parameters.refinement.adaptive(),
                     ExcMessage(type + " needs a fixed mesh of equal boxes: "
                                       "set Mesh refinement/Strategy = none."));
+        // The contact tests of 'average gradient' (delta_c = 0.92, 0.96)
+        // and 'd fit' (the edge distance d(x)) are fitted to the hat
+        // functions (seed 004 Eqs. 15-17), not to the wider B-splines.
+        const std::string &normals = parameters.contact.normals_name;
         AssertThrow(!(parameters.contact.multimaterial &&
-                      parameters.size.n_materials > 1),
-                    ExcMessage(type + " is not available with Contact/Model "
-                                      "name = multimaterial yet."));
-        AssertThrow((shape_function != ShapeFunction::Type::b2gimp &&
-                     shape_function != ShapeFunction::Type::b2cpdi) ||
-                      Utilities::MPI::n_mpi_processes(mpi_communicator) == 1,
-                    ExcMessage(type +
-                               " reaches two cells beyond a point's cell, "
-                               "further than the one layer of ghost cells: "
-                               "run it on one MPI rank, or use b2spline or "
-                               "b3spline."));
+                      parameters.size.n_materials > 1) ||
+                      (normals != "average gradient" && normals != "d fit"),
+                    ExcMessage(type + " with Contact/Normals = " + normals +
+                               ": its contact test is fitted to the linear "
+                               "shape functions. Use 'logistic regression', "
+                               "'contact position' (with your Critical "
+                               "separation), 'velocity only' or "
+                               "'specified'."));
         const auto &conditions = parameters.boundary_conditions;
         AssertThrow(parameters.method.bspline_boundary != "padding" ||
                       (conditions.fixed.empty() && conditions.roller.empty() &&
