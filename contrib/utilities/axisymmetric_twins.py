@@ -17,7 +17,9 @@ For each scene and shape function it
    the points of stress_xx (sigma_rr), stress_yy (sigma_zz) and stress_hoop
    (sigma_thetatheta), averaged over the outputs of the last tenth of the run
    (the hold phase; NairnMPM's scripts average their global archive the same
-   way);
+   way), and the same means without the points of the loaded cell
+   (fmpm applies a traction as forces at the loaded points, Eq. 2.10, so
+   the cell under the load carries part of it only; reported, not checked);
 2. times N pairs of runs, fmpm (no output but the first and last) and
    NairnMPM (1 thread), interleaved fmpm, NairnMPM, fmpm, ..., one process
    at a time, and reports particle-steps per second (points x steps / wall
@@ -46,11 +48,15 @@ SCENES = {
         "nairn": ROOT / "contrib" / "utilities" / "nairn_axial_cylinder.sh",
         # sigma_rr, sigma_zz, sigma_thetatheta (Pa)
         "exact": (NU / (1 - NU) * -2.3e6, -2.3e6, NU / (1 - NU) * -2.3e6),
+        # the points of the loaded cell (top, z > L - h)
+        "loaded": lambda r, z: z > 0.018,
     },
     "disk": {
         "prm": ROOT / "parameters" / "radial_pressure_disk.prm",
         "nairn": ROOT / "contrib" / "utilities" / "nairn_radial_disk.sh",
         "exact": (-2.3e6, 2 * NU * -2.3e6, -2.3e6),
+        # the points of the loaded cell (outer, r > b - h)
+        "loaded": lambda r, z: r > 0.0475,
     },
 }
 NAIRN_SHAPE = {"cpdi": "lCPDI", "ugimp": "uGIMP", "classic": "Dirac"}
@@ -80,23 +86,28 @@ def read_history(directory):
 
 
 def fmpm_hold_means(fmpm, scene, shape, workdir):
-    """Hold-phase means of the three stresses (Pa), points and steps."""
+    """Hold-phase means of the three stresses (Pa) over all points and over
+    the points outside the loaded cell, points and steps."""
     out = Path(workdir) / f"stress_{shape}"
     run_fmpm(fmpm, SCENES[scene]["prm"],
              f"subsection Shape function\n  set Type = {shape}\nend\n"
              f"subsection Output\n  set Directory = {out}\nend\n", workdir)
     files = sorted(glob.glob(str(out / "particles_*.csv")))
     first = int(0.9 * (len(files) - 1))
-    sums, n_points = [0.0, 0.0, 0.0], 0
+    loaded = SCENES[scene]["loaded"]
+    sums, inner_sums, n_points = [0.0] * 3, [0.0] * 3, 0
     for name in files[first:]:
         with open(name, newline="") as f:
             rows = list(csv.DictReader(f))
         n_points = len(rows)
+        inner = [r for r in rows if not loaded(float(r["x"]), float(r["y"]))]
         for c, column in enumerate(FMPM_COLUMNS):
             sums[c] += sum(float(r[column]) for r in rows) / len(rows)
+            inner_sums[c] += sum(float(r[column]) for r in inner) / len(inner)
     means = [s / len(files[first:]) for s in sums]
+    inner_means = [s / len(files[first:]) for s in inner_sums]
     steps = int(read_history(out)[-1]["step"])
-    return means, n_points, steps
+    return means, inner_means, n_points, steps
 
 
 def time_fmpm(fmpm, scene, shape, workdir):
@@ -149,8 +160,8 @@ def main():
     for scene in args.scenes:
         exact = SCENES[scene]["exact"]
         for shape in args.shapes:
-            means, n_points, steps = fmpm_hold_means(fmpm, scene, shape,
-                                                     workdir)
+            means, inner_means, n_points, steps = fmpm_hold_means(
+                fmpm, scene, shape, workdir)
             nairn = None if args.no_nairn else run_nairn(scene, shape)
             walls = {"fmpm": [], "NairnMPM": []}
             for _ in range(args.repeat):
@@ -191,6 +202,14 @@ def main():
                                                for w, _, _ in timings),
                              "particle_steps_per_s": " ".join(
                                  f"{r:.4g}" for r in rates)})
+            cells = " | ".join(f"{s / 1e6:.5f} ({s / x - 1:+.1e})"
+                               for s, x in zip(inner_means, exact))
+            print(f"| {scene} | {shape} | fmpm, outside the loaded cell | "
+                  f"| | {cells} | | |")
+            rows.append({"scene": scene, "shape": shape,
+                         "code": "fmpm, outside the loaded cell",
+                         **dict(zip(COMPONENTS, inner_means)),
+                         "walls": "", "particle_steps_per_s": ""})
     with open(workdir / "twins.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
