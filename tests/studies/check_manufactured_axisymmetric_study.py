@@ -16,11 +16,14 @@ DIR and checks from convergence_orders.csv that
 
 Why these numbers: the plane-strain velocity errors of the quick study fall
 as 0.127, 0.0279, 0.00677 (orders 2.19 and 2.04, least squares 2.12; on
-64^2 cells 0.00168, order 2.01), second order since fmpm takes the body force
+64^2 cells 0.00168, order 2.01), the axisymmetric ones as 0.130, 0.0289,
+0.00705 (least squares 2.11; 0.00176 on 64^2), second order since fmpm takes the body force
 at the middle of the step. MIN_ORDER = 1.8 and ORDER_TOLERANCE = 0.25 catch
 the errors that matter: a missing or wrong hoop term (hoop force
 -V sigma_thetatheta T or hoop strain rate v_r T) is an O(1) error in the
-radial momentum balance that stops the convergence (order near 0), a
+radial momentum balance that stops the convergence (order near 0: the
+axisymmetric scene driven by the plane-strain body force, which lacks the
+hoop terms, gives 0.451, 0.474, 0.482 on 8, 16, 32 cells), a
 first-order error (the body force half a step off, a first-order transfer
 near the axis) gives order 1.1-1.2.
 
