@@ -88,7 +88,7 @@ def read_history(directory):
 def fmpm_hold_means(fmpm, scene, shape, workdir):
     """Hold-phase means of the three stresses (Pa) over all points and over
     the points outside the loaded cell, points and steps."""
-    out = Path(workdir) / f"stress_{shape}"
+    out = Path(workdir) / f"stress_{scene}_{shape}"
     run_fmpm(fmpm, SCENES[scene]["prm"],
              f"subsection Shape function\n  set Type = {shape}\nend\n"
              f"subsection Output\n  set Directory = {out}\nend\n", workdir)
@@ -111,7 +111,7 @@ def fmpm_hold_means(fmpm, scene, shape, workdir):
 
 
 def time_fmpm(fmpm, scene, shape, workdir):
-    out = Path(workdir) / f"timing_{shape}"
+    out = Path(workdir) / f"timing_{scene}_{shape}"
     wall = run_fmpm(
         fmpm, SCENES[scene]["prm"],
         f"subsection Shape function\n  set Type = {shape}\nend\n"
