@@ -93,8 +93,13 @@ namespace fmpm
      * with the point's body acceleration b (tractions included; g unless
      * the loads depend on the point). Without b the body term is left out
      * (the same bits, M S ≥ 0).
+     *
+     * @tparam hoop axisymmetric (2D, per radian): also the hoop force
+     * f_r −= V σ_θθ T on the radial component (Nairn and Guilkey 2015,
+     * GIMP_Theory Eq. 5.13), T the support's hoop function in the
+     * SupportCache (read_hoop_function(); stored supports only).
      */
-    template <int dim>
+    template <int dim, bool hoop = false>
     struct ForceSink
     {
       /** Targets @p f[d]; M, V and σ from @p points; b from @p loads. */
@@ -151,8 +156,26 @@ namespace fmpm
                   f_a -= V * sigma[a][c] * G[j][c];
                 f[a][node[j]] += f_a;
               }
+        if constexpr (hoop)
+          {
+            // T_j at the index of S_j in the cache (read here: the
+            // builder may grow the cache during the loop).
+            const double *const T =
+              hoop_cache->T.data() + (S - hoop_cache->S.data());
+            const double V_sigma_hoop = V * stress[2][k];
+            for (unsigned int j = 0; j < n; ++j)
+              f[0][node[j]] -= V_sigma_hoop * T[j];
+          }
       }
 
+      /** The entries' hoop function T (hoop only). */
+      void
+      read_hoop_function(const SupportCache<dim> &cache)
+      {
+        hoop_cache = &cache;
+      }
+
+      const SupportCache<dim>   *hoop_cache = nullptr;
       const MaterialPoints<dim> *points;
       ExternalLoads<dim>        *loads;
       const double              *mass, *volume, *stress[6];
