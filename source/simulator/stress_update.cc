@@ -77,10 +77,12 @@ namespace fmpm
 
       BatchSupports(const SupportCache<dim> &supports,
                     const GridTransfer<dim> &transfer,
-                    const unsigned int      *point_cell)
+                    const unsigned int      *point_cell,
+                    const Point<dim>        *points_position)
         : supports(supports)
         , transfer(transfer)
         , point_cell(point_cell)
+        , points_position(points_position)
         , support_of(supports, transfer, point_cell)
       {}
 
@@ -111,6 +113,22 @@ namespace fmpm
                   v,
                   L,
                   q);
+                if constexpr (hoop)
+                  {
+                    // Classic: T = S/r_p (the bits the builder stores).
+                    const double inverse_r = 1 / points_position[k][0];
+                    std::array<double, n_nodes> T;
+                    for (unsigned int i = 0; i < n_nodes; ++i)
+                      T[i] = S[b][i] * inverse_r;
+                    Kinematics::hoop_rate(
+                      node[b],
+                      T.data(),
+                      0,
+                      std::integral_constant<unsigned int, n_nodes>(),
+                      v[0],
+                      L,
+                      q);
+                  }
               }
             else
               support_of.visit(k,
@@ -165,9 +183,11 @@ namespace fmpm
       }
 
     private:
-      const SupportCache<dim>            &supports;
-      const GridTransfer<dim>            &transfer;
-      const unsigned int *const           point_cell;
+      const SupportCache<dim>  &supports;
+      const GridTransfer<dim>  &transfer;
+      const unsigned int *const point_cell;
+      /** The points' positions (r_p of axisymmetric classic supports). */
+      const Point<dim> *const             points_position;
       const SupportReader<dim>            support_of;
       std::array<double, n_nodes>         S[stress_batch_size];
       std::array<Tensor<1, dim>, n_nodes> G[stress_batch_size];
@@ -509,7 +529,10 @@ namespace fmpm
         v_a[a] = v.block(a).begin();
     };
     view_velocities(centre_of_mass.fields[field]);
-    BatchSupports<dim> batch_supports(supports, transfer, points.cell.data());
+    BatchSupports<dim>       batch_supports(supports,
+                                      transfer,
+                                      points.cell.data(),
+                                      points.position.data());
     const StressColumns<dim> columns(points);
 
     // USF/USAVG: f (and with contact f^α0, Eq. 29) from the new stresses

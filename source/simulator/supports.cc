@@ -77,6 +77,14 @@ namespace fmpm
     {
       c    = points.cell_index[cell_number];
       data = &transfer.cell_data(c);
+      if constexpr (dim == 2)
+        if (axisymmetric)
+          {
+            axisymmetric_gimp_patch_ready = gimp && data->uniform_patch;
+            if (axisymmetric_gimp_patch_ready)
+              axisymmetric_gimp_patch.reinit(transfer, c);
+            return;
+          }
       if (gimp && data->uniform_patch)
         {
           if (patches.gimp_of_cell[c] == numbers::invalid_unsigned_int)
@@ -385,6 +393,20 @@ namespace fmpm
               GridTransfer<dim>::values_and_gradients(
                 *data, points.reference_position[k], S, G);
               const double inverse_r = 1 / x[0];
+              if (!data->has_constraints)
+                {
+                  // The cell's nodes, straight into the cache.
+                  cache.make_room(n);
+                  if (cache.T.size() < cache.node.size())
+                    cache.T.resize(cache.node.size());
+                  double *const T_out = cache.T.data() + first;
+                  for (unsigned int i = 0; i < n; ++i)
+                    {
+                      T_out[i] = S[i] * inverse_r;
+                      cache.append(data->local_index[i], S[i], G[i]);
+                    }
+                  return;
+                }
               for (unsigned int i = 0; i < n; ++i)
                 add_axisymmetric_node(first,
                                       data->local_index[i],
@@ -402,6 +424,31 @@ namespace fmpm
               l0[a] = l0_column[a][k];
               for (unsigned int b = 0; b < dim; ++b)
                 F[a][b] = F_column[a][b][k];
+            }
+          // GIMP on a uniform patch: the closed forms of the cell's patch
+          // (no hanging nodes), straight into the cache.
+          if (axisymmetric_gimp_patch_ready)
+            {
+              const Tensor<1, dim> l =
+                ShapeFunction::gimp_half_lengths(shape_function, F, l0);
+              if (axisymmetric_gimp_patch.applies(x, l))
+                {
+                  cache.make_room(16);
+                  if (cache.T.size() < cache.node.size())
+                    cache.T.resize(cache.node.size());
+                  axisymmetric_gimp_patch.for_each_node(
+                    x,
+                    l,
+                    [&](const unsigned int local_index,
+                        const types::global_dof_index,
+                        const double          S_ip,
+                        const Tensor<1, dim> &G_ip,
+                        const double          T_ip) {
+                      cache.T[cache.n_stored] = T_ip;
+                      cache.append(local_index, S_ip, G_ip);
+                    });
+                  return;
+                }
             }
           const Axisymmetric::Status status = Axisymmetric::compute_support(
             shape_function, transfer, c, x, F, l0, axisymmetric_support);
@@ -455,9 +502,11 @@ namespace fmpm
 
     // Classic on affine cells without hanging nodes: the passes compute the
     // entries from the step's ξ (Transfer::ComputedSupports).
-    // (Axisymmetric runs store their entries with the hoop function.)
+    // (Axisymmetric: T = S/r_p from the computed S and the step's r_p,
+    // with USF only: after the particle update x_p has moved.)
     if (shape_function != ShapeFunction::Type::classic ||
-        parameters.axisymmetric)
+        (parameters.axisymmetric &&
+         parameters.method.strain_update_scheme.update_last))
       return;
     bool affine_without_hanging_nodes = true;
     for (unsigned int c = 0; c < points.n_cells(); ++c)

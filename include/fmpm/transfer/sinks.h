@@ -97,7 +97,8 @@ namespace fmpm
      * @tparam hoop axisymmetric (2D, per radian): also the hoop force
      * f_r −= V σ_θθ T on the radial component (Nairn and Guilkey 2015,
      * GIMP_Theory Eq. 5.13), T the support's hoop function in the
-     * SupportCache (read_hoop_function(); stored supports only).
+     * SupportCache (read_hoop_function()) for stored supports, S/r_p for
+     * computed classic ones.
      */
     template <int dim, bool hoop = false>
     struct ForceSink
@@ -158,13 +159,24 @@ namespace fmpm
               }
         if constexpr (hoop)
           {
-            // T_j at the index of S_j in the cache (read here: the
-            // builder may grow the cache during the loop).
-            const double *const T =
-              hoop_cache->T.data() + (S - hoop_cache->S.data());
             const double V_sigma_hoop = V * stress[2][k];
-            for (unsigned int j = 0; j < n; ++j)
-              f[0][node[j]] -= V_sigma_hoop * T[j];
+            if constexpr (std::is_same_v<Count, unsigned int>)
+              {
+                // Stored: T_j at the index of S_j in the cache (read here:
+                // the builder may grow the cache during the loop).
+                const double *const T =
+                  hoop_cache->T.data() + (S - hoop_cache->S.data());
+                for (unsigned int j = 0; j < n; ++j)
+                  f[0][node[j]] -= V_sigma_hoop * T[j];
+              }
+            else
+              {
+                // Computed classic supports: T_j = S_j / r_p (the bits
+                // the builder stores).
+                const double inverse_r = 1 / points->position[k][0];
+                for (unsigned int j = 0; j < n; ++j)
+                  f[0][node[j]] -= V_sigma_hoop * (S[j] * inverse_r);
+              }
           }
       }
 

@@ -156,6 +156,10 @@ namespace fmpm
       std::array<Tensor<1, dim>, n>                  G;
       std::vector<ShapeFunction::Node<dim>>          support;
       std::vector<ShapeFunction::Axisymmetric::Node> axisymmetric_support;
+      /** Axisymmetric GIMP: the closed forms around the current cell (2D,
+       * uniform patches; rebuilt per cell of each pass). */
+      ShapeFunction::Axisymmetric::UniformGimpPatch axisymmetric_gimp_patch;
+      bool axisymmetric_gimp_patch_ready = false;
     };
   } // namespace Transfer
 } // namespace fmpm
