@@ -81,8 +81,18 @@ namespace fmpm
               bool        overlaps = true;
               for (unsigned int d = 0; d < 2; ++d)
                 {
-                  a[d]     = std::max(lo[d], cell.lower()[d]);
-                  b[d]     = std::min(hi[d], cell.upper()[d]);
+                  // A boundary cell's basis extends half a cell beyond the
+                  // mesh (as GridTransfer::locate()): a box that pokes out
+                  // of the mesh by less is integrated there.
+                  const double half = 0.5 * (cell.upper()[d] - cell.lower()[d]);
+                  const double lower =
+                    cell.lower()[d] -
+                    ((cell.boundary_faces >> (2 * d)) & 1 ? half : 0.);
+                  const double upper =
+                    cell.upper()[d] +
+                    ((cell.boundary_faces >> (2 * d + 1)) & 1 ? half : 0.);
+                  a[d]     = std::max(lo[d], lower);
+                  b[d]     = std::min(hi[d], upper);
                   overlaps = overlaps && b[d] > a[d];
                 }
               if (!overlaps)
@@ -260,8 +270,10 @@ namespace fmpm
                   return gimp_quadrature(transfer, cell_index, x, l, support);
                 UniformGimpPatch patch;
                 patch.reinit(transfer, cell_index);
+                // (A box beyond the patch's cells, e.g. out of the mesh:
+                // the quadrature.)
                 if (!patch.applies(x, l))
-                  return Status::beyond_neighbors;
+                  return gimp_quadrature(transfer, cell_index, x, l, support);
                 patch.for_each_node(
                   x,
                   l,

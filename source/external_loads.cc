@@ -36,7 +36,8 @@ namespace fmpm
     body_acceleration_at_initial_position =
       parameters.body_acceleration_at_initial_position;
 
-    tractions = parameters.boundary_conditions.tractions;
+    tractions    = parameters.boundary_conditions.tractions;
+    axisymmetric = parameters.axisymmetric;
     if (!tractions.empty())
       traction_slot = properties.request("traction", 2);
     for (unsigned int n = 0; n < tractions.size(); ++n)
@@ -101,6 +102,22 @@ namespace fmpm
             for (unsigned int d = 0; d < dim; ++d)
               if (d != traction.normal_axis)
                 area *= 2 * p[PropertyIndex<dim>::initial_half_length + d];
+            // Axisymmetric: the face area per radian, ∫ r dA over the face:
+            // a face z = const 2 l_r r_p; a face r = const 2 l_z r_f, r_f
+            // the point's side toward the traction box's centre.
+            if (axisymmetric)
+              {
+                double face_r = X[0];
+                if (traction.normal_axis == 0)
+                  {
+                    const double l = p[PropertyIndex<dim>::initial_half_length];
+                    face_r += X[0] < 0.5 * (traction.box_lower[0] +
+                                            traction.box_upper[0]) ?
+                                l :
+                                -l;
+                  }
+                area *= face_r;
+              }
             p[traction_slot]     = n + 1;
             p[traction_slot + 1] = area;
           }

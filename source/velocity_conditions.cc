@@ -190,6 +190,9 @@ namespace fmpm
         if (names_any(bc.fixed_region, "t"))
           moving_nodes = true;
       }
+    // Axisymmetric: the nodes on the axis r = 0 hold v_r = 0.
+    axis       = parameters.axisymmetric;
+    axis_label = axis ? label_index("axis") : 0;
     for (auto &values : cached_values)
       values.clear();
     cached_time.fill(std::numeric_limits<double>::quiet_NaN());
@@ -473,7 +476,7 @@ namespace fmpm
     // The nodes' positions only for walls given by a region or box, for
     // velocities in x, and for a fixed region.
     const bool needs_positions =
-      any_velocity_in_x || fixed_region ||
+      any_velocity_in_x || fixed_region || axis ||
       std::any_of(walls.begin(), walls.end(), [](const auto &wall) {
         return wall.boundary_ids.empty();
       });
@@ -618,6 +621,13 @@ namespace fmpm
                                          label_of(
                                            std::to_string(entry.first.first)),
                                          -1});
+
+    if (axis)
+      for (unsigned int i = 0; i < n_owned; ++i)
+        if (node_position[i][0] <= 0)
+          add_node_condition(
+            per_node,
+            NodeCondition{i, Point<dim>::unit_vector(0), axis_label, -1});
 
     conditions.clear();
     for (const auto &list : per_node)

@@ -16,33 +16,15 @@
 # env: SHAPE (lCPDI | uGIMP | Dirac; default lCPDI), CELL (mm, default 2), SZZ, MULT, RAMP, CFL (default 0.1)
 set -euo pipefail
 np=${1:-1}
-here=$(cd "$(dirname "$0")" && pwd); source "$here/nairn_common.sh"
+here=$(cd "$(dirname "$0")" && pwd); source "$here/nairn_common.sh"; source "$here/nairn_axisymmetric.sh"
 nairn_binary
 SHAPE=${SHAPE:-lCPDI}; CELL=${CELL:-2}; SZZ=${SZZ:--2.3}; MULT=${MULT:-40}; RAMP=${RAMP:-0.5}; CFL=${CFL:-0.1}
-m() { awk "BEGIN{printf \"%.10g\", $*}"; }
 E=2300; nu=0.33; rho=0.0012; L=20; Ro=20; border=3
 tmax=$(m "$MULT*$L/sqrt($E/$rho)"); tramp=$(m "$RAMP*$tmax"); rate=$(m "$SZZ/$tramp")
 nairn_workdir ncylinder
-cat > in.xml <<X
-<?xml version='1.0'?>
-<!DOCTYPE JANFEAInput SYSTEM "NairnMPM.dtd">
-<JANFEAInput version='3'>
-  <Header><Description>axially loaded cylinder</Description><Analysis>13</Analysis>
-    <ConsistentUnits length="mm" mass="g" time="ms"/></Header>
-  <MPMHeader>
-    <MPMMethod>2</MPMMethod>
-    <GIMP type="$SHAPE"/>
-    <MatlPtsPerElement>4</MatlPtsPerElement>
-    <Timing CFL="$CFL"/>
-    <MaxTime>$tmax</MaxTime>
-    <ArchiveTime>$tmax</ArchiveTime>
-    <ArchiveRoot>Results_cylinder/cyl.</ArchiveRoot>
-    <MPMArchiveOrder>iYYYNNNNNNNNNNNNNN</MPMArchiveOrder>
-    <GlobalArchiveTime>$(m "$tmax/200")</GlobalArchiveTime>
-    <GlobalArchive type="sxx"/>
-    <GlobalArchive type="syy"/>
-    <GlobalArchive type="szz"/>
-  </MPMHeader>
+{
+nairn_axi_head 'axially loaded cylinder' 'Results_cylinder/cyl.'
+cat <<X
   <Mesh output="file">
     <Grid xmin="-$CELL" xmax="$(m "$Ro+$border*$CELL")" ymin="-$(m "$border*$CELL")" ymax="$(m "$L+$border*$CELL")">
       <Horiz cellsize="$CELL"/><Vert cellsize="$CELL" symmin="0"/>
@@ -51,7 +33,9 @@ cat > in.xml <<X
   <MaterialPoints>
     <Body matname="cylinder" thick="1"><Rect xmin="0" xmax="$Ro" ymin="0" ymax="$L"/></Body>
   </MaterialPoints>
-  <Material Type="1" Name="cylinder"><rho>$rho</rho><E>$E</E><nu>$nu</nu><alpha>0</alpha></Material>
+X
+nairn_axi_material cylinder
+cat <<X
   <GridBCs>
     <BCLine x1="-$(m "$CELL/2")" x2="-$(m "$CELL/2")" y1="-$(m "$border*$CELL")" y2="$(m "$L+$border*$CELL")" tolerance="$(m "0.55*$CELL")"><DisBC dir="1" style="1" vel="0"/></BCLine>
     <BCLine x1="$(m "$Ro+$CELL/2")" x2="$(m "$Ro+$CELL/2")" y1="-$(m "$border*$CELL")" y2="$(m "$L+$border*$CELL")" tolerance="$(m "0.55*$CELL")"><DisBC dir="1" style="1" vel="0"/></BCLine>
@@ -64,22 +48,6 @@ cat > in.xml <<X
   </ParticleBCs>
 </JANFEAInput>
 X
+} > in.xml
 nairn_run "$np"
-PYTHONPATH="$here" python3 - "$SHAPE" "$np" "$nairn_wall" "$SZZ" "$nu" "$E" <<'PY'
-import sys
-import nairn_results
-shape, np_, wall, szz, nu = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4]), float(sys.argv[5])
-E = float(sys.argv[6])
-steps, npts, rows, col = nairn_results.load()
-exact = {'sxx': nu / (1 - nu) * szz, 'syy': szz, 'szz': nu / (1 - nu) * szz}
-label = {'sxx': 'sigma_rr', 'syy': 'sigma_zz', 'szz': 'sigma_thetatheta'}
-# J = 1 + tr(eps) from the exact strains.
-J = 1 + (1 - 2 * nu) / E * sum(exact.values())
-tail = rows[-max(1, len(rows) // 10):]
-print(f'NairnMPM axial cylinder {shape} threads={np_} points={npts} steps={steps} wall_s={wall:.2f} '
-      f'particle_steps_per_s={npts*steps/wall:.3g}')
-for q in ('sxx', 'syy', 'szz'):
-    end, mean = rows[-1][col[q]], sum(r[col[q]] for r in tail) / len(tail)
-    print(f'  {label[q]}: exact={exact[q]:.6g} end={end:.6g} ({end/exact[q]-1:+.2e}) '
-          f'mean_last_tenth={mean:.6g} ({mean/exact[q]-1:+.2e}; against J sigma_exact {mean/(J*exact[q])-1:+.2e})')
-PY
+nairn_axi_report 'axial cylinder' "$(m "$nu/(1-$nu)*$SZZ")" "$SZZ" "$(m "$nu/(1-$nu)*$SZZ")"

@@ -16,33 +16,15 @@
 # env: SHAPE (lCPDI | uGIMP | Dirac; default lCPDI), CELL (mm, default 2.5), PO, MULT, RAMP, CFL (default 0.4)
 set -euo pipefail
 np=${1:-1}
-here=$(cd "$(dirname "$0")" && pwd); source "$here/nairn_common.sh"
+here=$(cd "$(dirname "$0")" && pwd); source "$here/nairn_common.sh"; source "$here/nairn_axisymmetric.sh"
 nairn_binary
 SHAPE=${SHAPE:-lCPDI}; CELL=${CELL:-2.5}; PO=${PO:--2.3}; MULT=${MULT:-100}; RAMP=${RAMP:-0.5}; CFL=${CFL:-0.4}
-m() { awk "BEGIN{printf \"%.10g\", $*}"; }
 E=2300; nu=0.33; rho=0.0012; b=50; depth=10; border=2
 tmax=$(m "$MULT*$b/sqrt($E/$rho)"); tramp=$(m "$RAMP*$tmax"); rate=$(m "$PO/$tramp")
 nairn_workdir ndisk
-cat > in.xml <<X
-<?xml version='1.0'?>
-<!DOCTYPE JANFEAInput SYSTEM "NairnMPM.dtd">
-<JANFEAInput version='3'>
-  <Header><Description>disk under radial pressure</Description><Analysis>13</Analysis>
-    <ConsistentUnits length="mm" mass="g" time="ms"/></Header>
-  <MPMHeader>
-    <MPMMethod>2</MPMMethod>
-    <GIMP type="$SHAPE"/>
-    <MatlPtsPerElement>4</MatlPtsPerElement>
-    <Timing CFL="$CFL"/>
-    <MaxTime>$tmax</MaxTime>
-    <ArchiveTime>$tmax</ArchiveTime>
-    <ArchiveRoot>Results_disk/disk.</ArchiveRoot>
-    <MPMArchiveOrder>iYYYNNNNNNNNNNNNNN</MPMArchiveOrder>
-    <GlobalArchiveTime>$(m "$tmax/200")</GlobalArchiveTime>
-    <GlobalArchive type="sxx"/>
-    <GlobalArchive type="syy"/>
-    <GlobalArchive type="szz"/>
-  </MPMHeader>
+{
+nairn_axi_head 'disk under radial pressure' 'Results_disk/disk.'
+cat <<X
   <Mesh output="file">
     <Grid xmin="-$(m "$border*$CELL")" xmax="$(m "$b+$border*$CELL")" ymin="-$(m "$border*$CELL")" ymax="$(m "$depth+$border*$CELL")">
       <Horiz cellsize="$CELL"/><Vert cellsize="$CELL" symmin="0" symmax="$depth"/>
@@ -51,7 +33,9 @@ cat > in.xml <<X
   <MaterialPoints>
     <Body matname="disk" thick="1"><Rect xmin="0" xmax="$b" ymin="0" ymax="$depth"/></Body>
   </MaterialPoints>
-  <Material Type="1" Name="disk"><rho>$rho</rho><E>$E</E><nu>$nu</nu><alpha>0</alpha></Material>
+X
+nairn_axi_material disk
+cat <<X
   <GridBCs>
     <BCLine x1="-$(m "$CELL/2")" x2="-$(m "$CELL/2")" y1="-$(m "$border*$CELL")" y2="$(m "$depth+$border*$CELL")" tolerance="$(m "0.55*$CELL")"><DisBC dir="1" style="1" vel="0"/></BCLine>
   </GridBCs>
@@ -63,22 +47,6 @@ cat > in.xml <<X
   </ParticleBCs>
 </JANFEAInput>
 X
+} > in.xml
 nairn_run "$np"
-PYTHONPATH="$here" python3 - "$SHAPE" "$np" "$nairn_wall" "$PO" "$nu" "$E" <<'PY'
-import sys
-import nairn_results
-shape, np_, wall, po, nu = sys.argv[1], int(sys.argv[2]), float(sys.argv[3]), float(sys.argv[4]), float(sys.argv[5])
-E = float(sys.argv[6])
-steps, npts, rows, col = nairn_results.load()
-exact = {'sxx': po, 'syy': 2 * nu * po, 'szz': po}
-label = {'sxx': 'sigma_rr', 'syy': 'sigma_zz', 'szz': 'sigma_thetatheta'}
-# J = 1 + tr(eps) from the exact strains.
-J = 1 + (1 - 2 * nu) / E * sum(exact.values())
-tail = rows[-max(1, len(rows) // 10):]
-print(f'NairnMPM radial disk {shape} threads={np_} points={npts} steps={steps} wall_s={wall:.2f} '
-      f'particle_steps_per_s={npts*steps/wall:.3g}')
-for q in ('sxx', 'syy', 'szz'):
-    end, mean = rows[-1][col[q]], sum(r[col[q]] for r in tail) / len(tail)
-    print(f'  {label[q]}: exact={exact[q]:.6g} end={end:.6g} ({end/exact[q]-1:+.2e}) '
-          f'mean_last_tenth={mean:.6g} ({mean/exact[q]-1:+.2e}; against J sigma_exact {mean/(J*exact[q])-1:+.2e})')
-PY
+nairn_axi_report 'radial disk' "$PO" "$(m "2*$nu*$PO")" "$PO"

@@ -163,6 +163,8 @@ namespace fmpm
     /** t(t) of each traction, its box and normal axis. */
     std::vector<std::unique_ptr<FunctionParser<1>>> traction_functions;
     std::vector<TractionParameters>                 tractions;
+    /** Axisymmetric: face areas per radian (r times the length). */
+    bool axisymmetric = false;
     /** The first of the points' traction slots (index + 1, face area). */
     unsigned int traction_slot = numbers::invalid_unsigned_int;
     /** This rank's Σ F_p · V_p and Σ |F_p| in the current step. */

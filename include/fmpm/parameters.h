@@ -520,6 +520,12 @@ namespace fmpm
     FailureParameters           failure;
     ReferenceSolutionParameters reference;
     bool                        test_mode = false;
+    /** 'Geometry': plane strain (false) or axisymmetric (true: 2D scenes in
+     * the r–z plane, x = r, y = z; masses, volumes, forces and energies per
+     * radian). */
+    bool                                     axisymmetric = false;
+    static constexpr SelectionNames<bool, 2> geometry_names{
+      {"plane strain", "axisymmetric"}};
     /** Move only the points that left their cell (else deal.II's sort). */
     bool fast_point_sorting = true;
     /** 'Timer/Type = summary' (true) or 'none'. */

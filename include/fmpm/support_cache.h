@@ -83,6 +83,10 @@ namespace fmpm
     std::vector<double> S;
     /** G_ip = ∇S_i(x_p). Units: 1/m. */
     std::vector<Tensor<1, dim>> G;
+    /** T_ip, the hoop function of axisymmetric runs (at the index of S_ip;
+     * sized by Transfer::SupportBuilder in those runs only, else empty).
+     * Units: 1/m. */
+    std::vector<double> T;
     /** @} */
 
     /** @brief Number of cached points. */
@@ -171,7 +175,7 @@ namespace fmpm
              material.capacity() +
              (support_begin.capacity() + node.capacity()) *
                sizeof(unsigned int) +
-             S.capacity() * sizeof(double) +
+             (S.capacity() + T.capacity()) * sizeof(double) +
              G.capacity() * sizeof(Tensor<1, dim>);
     }
   };

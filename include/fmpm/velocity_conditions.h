@@ -348,6 +348,10 @@ namespace fmpm
     /** The region of 'Fixed region' (nullptr without). */
     std::unique_ptr<FunctionParser<dim>> fixed_region;
     unsigned int                         fixed_region_label = 0;
+    /** Axisymmetric: v_r = 0 on the nodes at r <= 0 (the axis; the mesh
+     * starts at r = 0 or beyond), reaction label "axis". */
+    bool         axis       = false;
+    unsigned int axis_label = 0;
     /** Box walls that move or regions in t. */
     bool   moving_nodes = false;
     double current_time = 0;

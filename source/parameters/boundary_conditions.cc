@@ -142,7 +142,11 @@ namespace fmpm
                       Patterns::Integer(0, dim - 1),
                       "Axis of the loaded face's normal; a point's face "
                       "area is the product of its initial side lengths "
-                      "along the other axes. Units: none.");
+                      "along the other axes (Geometry = axisymmetric: "
+                      "per radian, times the radius of the face: the "
+                      "point's r for Normal axis = 1, its side r +- l_r "
+                      "toward the box's centre for Normal axis = 0). "
+                      "Units: none.");
     prm.declare_entry("Function constants",
                       defaults.constants,
                       Patterns::Anything(),

@@ -4,6 +4,7 @@
 // The scene size and all parameters of a scene.
 
 #include <fmpm/parameters.h>
+#include <fmpm/shape_function.h>
 
 namespace fmpm
 {
@@ -60,6 +61,18 @@ namespace fmpm
     const unsigned int dim = size.dimension;
     const Parameters   defaults;
     SceneSize::declare_parameters(prm);
+    prm.declare_entry(
+      "Geometry",
+      geometry_names.name(defaults.axisymmetric),
+      Patterns::Selection(geometry_names.pattern()),
+      "What a 2D scene stands for: 'plane strain' (a slice of unit "
+      "thickness, the default) or 'axisymmetric' (a body of revolution about "
+      "the y axis: x = r >= 0, y = z; the mesh must start at r = 0 or beyond; "
+      "nodes on r = 0 keep zero radial velocity; masses, volumes, forces, "
+      "tractions and energies are per radian). Axisymmetric scenes take the "
+      "shape functions classic, ugimp, cpgimp and cpdi, and no multimaterial "
+      "contact. Dimension = 3 takes only 'plane strain' (which then means "
+      "nothing). Units: none.");
     MeshParameters::declare_parameters(prm, dim);
     MeshRefinementParameters::declare_parameters(prm);
     BoundaryConditionParameters::declare_parameters(prm, size);
@@ -130,6 +143,12 @@ namespace fmpm
   Parameters::parse_parameters(ParameterHandler &prm)
   {
     size.parse_parameters(prm);
+    axisymmetric = geometry_names.value(prm.get("Geometry"));
+    AssertThrow(!axisymmetric || size.dimension == 2,
+                ExcMessage("Geometry = axisymmetric needs Dimension = 2 (the "
+                           "r-z plane), not Dimension = " +
+                           std::to_string(size.dimension) +
+                           "; allowed for 3D: Geometry = plane strain."));
     mesh.parse_parameters(prm, size.dimension);
     refinement.parse_parameters(prm, mesh);
     boundary_conditions.parse_parameters(prm, size);
@@ -159,6 +178,24 @@ namespace fmpm
 
     output.parse_parameters(prm);
     contact.parse_parameters(prm, size.n_materials);
+    if (axisymmetric)
+      {
+        const ShapeFunction::Type type =
+          ShapeFunction::parse(method.shape_function);
+        AssertThrow(!ShapeFunction::is_bspline(type),
+                    ExcMessage("Geometry = axisymmetric does not support "
+                               "Shape function/Type = " +
+                               method.shape_function +
+                               " yet; allowed: classic, ugimp, cpgimp, cpdi."));
+        AssertThrow(!contact.multimaterial || size.n_materials < 2,
+                    ExcMessage(
+                      "Geometry = axisymmetric does not support "
+                      "multimaterial contact yet (Contact/Model name); "
+                      "use the single velocity field."));
+        AssertThrow(!mesh.periodic[0],
+                    ExcMessage("Geometry = axisymmetric: Mesh/Periodic "
+                               "directions cannot include x (= r)."));
+      }
     checkpoint.parse_parameters(prm);
     failure.parse_parameters(prm);
     reference.parse_parameters(prm);

@@ -42,6 +42,8 @@ namespace fmpm
     AssertThrow(*file,
                 ExcMessage("Cannot write <" + file_name +
                            ">: check that the output directory is writable."));
+    if (!preamble.empty())
+      *file << "# " << preamble << '\n';
     *file << "step,time,dt,kinetic_energy,strain_energy,potential_energy,"
              "total_energy,momentum_x,momentum_y";
     if (dim == 3)

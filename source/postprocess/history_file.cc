@@ -45,6 +45,10 @@ namespace fmpm
     HistoryFile<dim>::start()
     {
       const Parameters &parameters = this->get_parameters();
+      if (parameters.axisymmetric)
+        history.preamble =
+          "Geometry = axisymmetric (x = r, y = z): mass, momentum, energies "
+          "and reactions per radian";
       history.open(parameters.output.directory + "/history.csv",
                    Utilities::MPI::this_mpi_process(
                      this->get_mpi_communicator()) == 0,

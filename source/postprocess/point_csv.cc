@@ -32,9 +32,12 @@ namespace fmpm
         has_energy ? particle_properties.offset("internal_energy") : 0;
       const unsigned int plastic_slot =
         has_plastic_strain ? particle_properties.offset("plastic_strain") : 0;
-      // Stored stress order xx, yy, zz, xy, xz, yz; 2D writes xx, yy, xy.
+      // Stored stress order xx, yy, zz, xy, xz, yz; 2D writes xx, yy, xy,
+      // axisymmetric also the hoop stress zz (column stress_hoop).
+      const bool axisymmetric = this->get_parameters().axisymmetric;
       const std::vector<unsigned int> stress_slots =
-        dim == 2 ? std::vector<unsigned int>{0, 1, 3} :
+        dim == 2 ? (axisymmetric ? std::vector<unsigned int>{0, 1, 3, 2} :
+                                   std::vector<unsigned int>{0, 1, 3}) :
                    std::vector<unsigned int>{0, 1, 2, 3, 4, 5};
       const unsigned int n_columns = 2 + 2 * dim + stress_slots.size() + 4;
 
@@ -85,8 +88,11 @@ namespace fmpm
       for (unsigned int d = 0; d < dim; ++d)
         out << ",v" << axes[d];
       for (const unsigned int c : stress_slots)
-        out << ",stress_" << axes[stress_component_i[c]]
-            << axes[stress_component_j[c]];
+        if (dim == 2 && c == 2)
+          out << ",stress_hoop";
+        else
+          out << ",stress_" << axes[stress_component_i[c]]
+              << axes[stress_component_j[c]];
       out << ",pressure,J,internal_energy,plastic_strain\n";
       out << std::setprecision(12);
       for (const auto &row : rows)

@@ -334,8 +334,12 @@ namespace fmpm
           << "particle update '" << parameters.method.particle_update
           << "', mass matrix '" << parameters.method.mass_matrix
           << "', strain update '" << parameters.method.strain_update << "'"
-          << std::endl
-          << "      output in " << parameters.output.directory << std::endl;
+          << std::endl;
+    if (parameters.axisymmetric)
+      pcout << "      axisymmetric (x = r, y = z): masses, forces and energies "
+               "per radian"
+            << std::endl;
+    pcout << "      output in " << parameters.output.directory << std::endl;
     pcout << "      each step:";
     for (unsigned int s = 0; s < step_stages.size(); ++s)
       pcout << (s == 0 ? " " : ", ") << step_stages[s].name;

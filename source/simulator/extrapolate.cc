@@ -160,7 +160,16 @@ namespace fmpm
 
     const bool with_gradients =
       with_forces || contact_geometry.needs_gradients();
-    if (!contact)
+    if (!contact && parameters.axisymmetric)
+      {
+        // With the hoop force (no contact: refused at set-up).
+        Transfer::ForceSink<dim, true> hoop_force(points, external_loads, f);
+        hoop_force.read_hoop_function(supports);
+        Transfer::IfActive<Transfer::ForceSink<dim, true>> forces(hoop_force,
+                                                                  with_forces);
+        for_each_point(with_gradients, mass_momentum, forces, full_mass);
+      }
+    else if (!contact)
       {
         Transfer::IfActive<Transfer::ForceSink<dim>> forces(force, with_forces);
         for_each_point(with_gradients, mass_momentum, forces, full_mass);

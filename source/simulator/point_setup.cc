@@ -497,7 +497,10 @@ namespace fmpm
 
     /** The record @p p of a new point of body @p b at @p x in @p cell, of
      * volume @p volume, at rest in its reference state. @p half_length < 0:
-     * the point's share of a regular subdivision of its cell. */
+     * the point's share of a regular subdivision of its cell. Axisymmetric:
+     * volume and mass per radian, V_p = ∫_Ωp r dA = A_p r_p (GIMP_Theory
+     * Eq. 5.4), for a GIMP box (@p gimp_box) cut at the axis the part at
+     * r >= 0, A_p ((r_p + l_r)² − max(r_p − l_r, 0)²) / (4 l_r). */
     template <int dim, typename CellIterator>
     void
     set_initial_record(std::vector<double>       &p,
@@ -506,13 +509,28 @@ namespace fmpm
                        const FunctionParser<dim> &initial_velocity,
                        const CellIterator        &cell,
                        const Point<dim>          &x,
-                       const double               volume,
-                       const double               half_length)
+                       const double               area,
+                       const double               half_length,
+                       const bool                 gimp_box)
     {
       using Index                        = PropertyIndex<dim>;
       const BodyParameters     &body     = parameters.bodies[b];
       const MaterialParameters &material = parameters.materials[body.material];
       std::fill(p.begin(), p.end(), 0.);
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          p[Index::initial_position + d] = x[d];
+          p[Index::initial_half_length + d] =
+            half_length < 0 ?
+              0.5 * cell->extent_in_direction(d) / body.points_per_cell :
+              half_length;
+        }
+      double volume = area;
+      if (parameters.axisymmetric)
+        {
+          const double r = x[0], l = p[Index::initial_half_length];
+          volume *= gimp_box && r < l ? (r + l) * (r + l) / (4 * l) : r;
+        }
       p[Index::mass]           = material.density * volume;
       p[Index::volume]         = volume;
       p[Index::initial_volume] = volume;
@@ -522,14 +540,6 @@ namespace fmpm
         p[Index::deformation_gradient + 4 * i] = 1.0;
       p[Index::material_id] = body.material;
       p[Index::body_id]     = b;
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          p[Index::initial_position + d] = x[d];
-          p[Index::initial_half_length + d] =
-            half_length < 0 ?
-              0.5 * cell->extent_in_direction(d) / body.points_per_cell :
-              half_length;
-        }
     }
   } // namespace
 
@@ -638,14 +648,23 @@ namespace fmpm
     CellRuns<dim>                   cell_runs;
     std::vector<unsigned long long> points_per_body(n_bodies, 0);
     std::vector<double>             p(particle_properties.n_properties());
+    const bool gimp_box = shape_function == ShapeFunction::Type::ugimp ||
+                          shape_function == ShapeFunction::Type::cpgimp;
     for_each_new_point([&](const auto        &cell,
                            const unsigned int b,
                            const Point<dim>  &x,
                            const Point<dim>  &reference,
                            const double       volume,
                            const double       half_length) {
-      set_initial_record(
-        p, parameters, b, *initial_velocity[b], cell, x, volume, half_length);
+      set_initial_record(p,
+                         parameters,
+                         b,
+                         *initial_velocity[b],
+                         cell,
+                         x,
+                         volume,
+                         half_length,
+                         gimp_box);
       points.add(0, x, reference, cell, p.data());
       if (cell_runs.empty() || cell_runs.back().first != cell)
         cell_runs.emplace_back(cell, 0);

@@ -5,6 +5,7 @@
 // grid velocity conditions, the plugins and the scene's checks (the material
 // points: point_setup.cc).
 
+#include <fmpm/axisymmetric_shape_function.h>
 #include <fmpm/bspline_ghosts.h>
 #include <fmpm/function_parser.h>
 #include <fmpm/geometry/body_shape.h>
@@ -413,6 +414,10 @@ namespace fmpm
   void
   Simulator<dim>::check_scene()
   {
+    // Axisymmetric: the mesh lies at r >= 0.
+    if constexpr (dim == 2)
+      if (parameters.axisymmetric)
+        ShapeFunction::Axisymmetric::check_mesh(triangulation, "Geometry");
     // Bodies must lie inside the mesh.
     const BoundingBox<dim> mesh_box =
       GridTools::compute_bounding_box(triangulation);

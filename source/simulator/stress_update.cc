@@ -77,15 +77,19 @@ namespace fmpm
 
       BatchSupports(const SupportCache<dim> &supports,
                     const GridTransfer<dim> &transfer,
-                    const unsigned int      *point_cell)
+                    const unsigned int      *point_cell,
+                    const Point<dim>        *points_position)
         : supports(supports)
         , transfer(transfer)
         , point_cell(point_cell)
+        , points_position(points_position)
         , support_of(supports, transfer, point_cell)
       {}
 
       /** L = ∇v = Σ_i v_i ⊗ G_pi (Eqs. 2.7, 2.18) of the group's points
-       * from the nodal velocities @p v, plane strain in 2D. */
+       * from the nodal velocities @p v, plane strain in 2D; with @p hoop
+       * (axisymmetric, stored supports) also L_33 = Σ_i v_r,i T_pi. */
+      template <bool hoop = false>
       void
       velocity_gradients(const MaterialGroup      &group,
                          const unsigned int        batch_begin,
@@ -109,16 +113,42 @@ namespace fmpm
                   v,
                   L,
                   q);
+                if constexpr (hoop)
+                  {
+                    // Classic: T = S/r_p (the bits the builder stores).
+                    const double inverse_r = 1 / points_position[k][0];
+                    std::array<double, n_nodes> T;
+                    for (unsigned int i = 0; i < n_nodes; ++i)
+                      T[i] = S[b][i] * inverse_r;
+                    Kinematics::hoop_rate(
+                      node[b],
+                      T.data(),
+                      0,
+                      std::integral_constant<unsigned int, n_nodes>(),
+                      v[0],
+                      L,
+                      q);
+                  }
               }
             else
               support_of.visit(k,
                                true,
-                               [&](const unsigned int *const node,
-                                   const double *,
+                               [&](const unsigned int *const   node,
+                                   const double *const         S,
                                    const Tensor<1, dim> *const G,
                                    const auto                  n_entries) {
                                  Kinematics::velocity_gradient<dim>(
                                    node, G, 0, n_entries, v, L, q);
+                                 if constexpr (hoop)
+                                   Kinematics::hoop_rate(node,
+                                                         supports.T.data() +
+                                                           (S -
+                                                            supports.S.data()),
+                                                         0,
+                                                         n_entries,
+                                                         v[0],
+                                                         L,
+                                                         q);
                                });
           }
       }
@@ -153,9 +183,11 @@ namespace fmpm
       }
 
     private:
-      const SupportCache<dim>            &supports;
-      const GridTransfer<dim>            &transfer;
-      const unsigned int *const           point_cell;
+      const SupportCache<dim>  &supports;
+      const GridTransfer<dim>  &transfer;
+      const unsigned int *const point_cell;
+      /** The points' positions (r_p of axisymmetric classic supports). */
+      const Point<dim> *const             points_position;
       const SupportReader<dim>            support_of;
       std::array<double, n_nodes>         S[stress_batch_size];
       std::array<Tensor<1, dim>, n_nodes> G[stress_batch_size];
@@ -218,7 +250,8 @@ namespace fmpm
                      const StressColumns<dim>       &columns,
                      const Kinematics::BatchEntries &dF,
                      Kinematics::BatchEntries       &F,
-                     double                         *J)
+                     double                         *J,
+                     const bool                      axisymmetric)
     {
       double *const *const F_n = columns.F;
       for (unsigned int q = 0; q < group.n; ++q)
@@ -241,6 +274,10 @@ namespace fmpm
                                   dF[3 * a + 1][q] * F_n[3 + b][k] +
                                   dF[3 * a + 2][q] * F_n[6 + b][k];
         }
+      // Axisymmetric: the hoop stretch F_33^{n+1} = ΔF_33 F_33^n.
+      if (dim == 2 && axisymmetric)
+        for (unsigned int q = 0; q < group.n; ++q)
+          F[8][q] = dF[8][q] * F_n[8][group.point[q]];
       for (unsigned int q = 0; q < group.n; ++q)
         if constexpr (dim == 2)
           // The same value without the plane-strain zeros' products.
@@ -261,6 +298,7 @@ namespace fmpm
     update_deformation_gradients(const MaterialGroup      &group,
                                  const StressColumns<dim> &columns,
                                  const MethodParameters   &method,
+                                 const bool                axisymmetric,
                                  const double              dt,
                                  Kinematics::BatchEntries &dF,
                                  Kinematics::BatchEntries &F_gathered,
@@ -282,22 +320,35 @@ namespace fmpm
                   F_gathered[c][q] = columns.F[c][group.point[q]];
                 F_old[c] = F_gathered[c];
               }
-          Kinematics::cayley_update<dim>(group.n,
-                                         dt,
-                                         inputs.velocity_gradient,
-                                         F_old,
-                                         inputs.deformation_gradient,
-                                         inputs.volume_ratio);
+          if (dim == 2 && axisymmetric)
+            Kinematics::axisymmetric_cayley_update(group.n,
+                                                   dt,
+                                                   inputs.velocity_gradient,
+                                                   F_old,
+                                                   inputs.deformation_gradient,
+                                                   inputs.volume_ratio);
+          else
+            Kinematics::cayley_update<dim>(group.n,
+                                           dt,
+                                           inputs.velocity_gradient,
+                                           F_old,
+                                           inputs.deformation_gradient,
+                                           inputs.volume_ratio);
         }
       else
         {
-          Kinematics::increments<dim>(
-            F_update, method, inputs.velocity_gradient, dt, group.n, dF);
+          if (dim == 2 && axisymmetric)
+            Kinematics::axisymmetric_increments(
+              F_update, method, inputs.velocity_gradient, dt, group.n, dF);
+          else
+            Kinematics::increments<dim>(
+              F_update, method, inputs.velocity_gradient, dt, group.n, dF);
           apply_increments<dim>(group,
                                 columns,
                                 dF,
                                 inputs.deformation_gradient,
-                                inputs.volume_ratio);
+                                inputs.volume_ratio,
+                                axisymmetric);
         }
     }
 
@@ -311,11 +362,16 @@ namespace fmpm
                 const StressColumns<dim>                     &columns,
                 const ConstitutiveModel::StressUpdateInputs  &inputs,
                 const ConstitutiveModel::StressUpdateOutputs &outputs,
-                double                                       *J_of_group)
+                double                                       *J_of_group,
+                const bool                                    axisymmetric)
     {
       constexpr unsigned int n_entries = StressColumns<dim>::n_stress_entries;
       const auto            &F         = inputs.deformation_gradient;
       const auto            &J         = inputs.volume_ratio;
+      // Axisymmetric: the hoop stretch F_33 too.
+      if (dim == 2 && axisymmetric)
+        for (unsigned int q = 0; q < group.n; ++q)
+          columns.F[8][group.point[q]] = F[8][q];
       if (group.contiguous)
         {
           const unsigned int k0 = group.k0;
@@ -473,7 +529,10 @@ namespace fmpm
         v_a[a] = v.block(a).begin();
     };
     view_velocities(centre_of_mass.fields[field]);
-    BatchSupports<dim> batch_supports(supports, transfer, points.cell.data());
+    BatchSupports<dim>       batch_supports(supports,
+                                      transfer,
+                                      points.cell.data(),
+                                      points.position.data());
     const StressColumns<dim> columns(points);
 
     // USF/USAVG: f (and with contact f^α0, Eq. 29) from the new stresses
@@ -486,6 +545,10 @@ namespace fmpm
     for (unsigned int d = 0; d < dim; ++d)
       f[d] = centre_of_mass.force.block(d).begin();
     const Transfer::ForceSink<dim> force(points, external_loads, f);
+    // Axisymmetric: with the hoop rate and force (no contact).
+    const bool                     axisymmetric = parameters.axisymmetric;
+    Transfer::ForceSink<dim, true> hoop_force(points, external_loads, f);
+    hoop_force.read_hoop_function(supports);
     const Transfer::PerMaterial<Transfer::ForceSink<dim>> material_force =
       with_forces && contact ?
         material_force_sinks(points,
@@ -535,14 +598,24 @@ namespace fmpm
             inputs.resize(group.n);
             inputs.reference_density = parameters.materials[m].density;
             // L, and what else the model reads.
-            batch_supports.velocity_gradients(group,
-                                              batch_begin,
-                                              v_a,
-                                              inputs.velocity_gradient);
+            if (axisymmetric)
+              batch_supports.template velocity_gradients<true>(
+                group, batch_begin, v_a, inputs.velocity_gradient);
+            else
+              batch_supports.velocity_gradients(group,
+                                                batch_begin,
+                                                v_a,
+                                                inputs.velocity_gradient);
             gather_model_inputs(
               model, group, columns, points, cell_size_by_index, inputs);
-            update_deformation_gradients(
-              group, columns, parameters.method, dt, dF, F_gathered, inputs);
+            update_deformation_gradients(group,
+                                         columns,
+                                         parameters.method,
+                                         axisymmetric,
+                                         dt,
+                                         dF,
+                                         F_gathered,
+                                         inputs);
             const double *const J = inputs.volume_ratio;
             for (unsigned int q = 0; q < group.n; ++q)
               if (!(J[q] > 0))
@@ -559,7 +632,8 @@ namespace fmpm
                                    FailedPoint::Cause::model_failure,
                                    outputs.failure);
 
-            store_group(group, columns, inputs, outputs, J_of_group);
+            store_group(
+              group, columns, inputs, outputs, J_of_group, axisymmetric);
             for (unsigned int q = 0; q < group.n; ++q)
               if (!std::isfinite(outputs.strain_energy_density[q]))
                 report_point_failure(group_points[q],
@@ -577,6 +651,8 @@ namespace fmpm
         // 29).
         if (with_forces && contact)
           batch_supports.add_points(batch_begin, batch_end, material_force);
+        else if (with_forces && axisymmetric)
+          batch_supports.add_points(batch_begin, batch_end, hoop_force);
         else if (with_forces)
           batch_supports.add_points(batch_begin, batch_end, force);
       }

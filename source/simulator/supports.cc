@@ -27,7 +27,8 @@ namespace fmpm
       const double                               cpdi_critical_radius,
       const unsigned int                         n_active_cells,
       const Patches                             &patches,
-      const ShapeFunction::BSplineSupports<dim> *bsplines)
+      const ShapeFunction::BSplineSupports<dim> *bsplines,
+      const bool                                 axisymmetric)
       : cache(cache)
       , points(points)
       , transfer(transfer)
@@ -41,12 +42,17 @@ namespace fmpm
       , gimp(shape_function == ShapeFunction::Type::ugimp ||
              shape_function == ShapeFunction::Type::cpgimp)
       , cpdi(shape_function == ShapeFunction::Type::cpdi)
+      , axisymmetric(axisymmetric)
     {
+      Assert(!axisymmetric || (dim == 2 && bsplines == nullptr),
+             ExcMessage("Axisymmetric supports: 2D, no B-splines."));
       using Index                 = PropertyIndex<dim>;
       const unsigned int n_points = points.n_points();
       // (GIMP on a uniform patch: at most 3^dim nodes per point.)
       cache.support_begin.resize(n_points + 1);
       cache.make_room((gimp ? Utilities::pow(3, dim) : n) * n_points);
+      if (axisymmetric)
+        cache.T.resize(cache.node.size());
       support_end = cache.support_begin.data() + 1;
       for (unsigned int a = 0; a < dim; ++a)
         {
@@ -71,6 +77,14 @@ namespace fmpm
     {
       c    = points.cell_index[cell_number];
       data = &transfer.cell_data(c);
+      if constexpr (dim == 2)
+        if (axisymmetric)
+          {
+            axisymmetric_gimp_patch_ready = gimp && data->uniform_patch;
+            if (axisymmetric_gimp_patch_ready)
+              axisymmetric_gimp_patch.reinit(transfer, c);
+            return;
+          }
       if (gimp && data->uniform_patch)
         {
           if (patches.gimp_of_cell[c] == numbers::invalid_unsigned_int)
@@ -102,7 +116,9 @@ namespace fmpm
     SupportBuilder<dim>::build(const unsigned int k)
     {
       const unsigned int first = cache.n_stored;
-      if (classic)
+      if (axisymmetric)
+        build_axisymmetric(first, k);
+      else if (classic)
         build_classic(first, k);
       else if (bsplines != nullptr)
         build_bspline(k);
@@ -318,6 +334,149 @@ namespace fmpm
                    node.G);
     }
 
+    template <int dim>
+    void
+    SupportBuilder<dim>::add_axisymmetric_node(
+      const unsigned int            first,
+      const unsigned int            local_index,
+      const types::global_dof_index dof,
+      const bool                    constrained,
+      const double                  S_ip,
+      const Tensor<1, dim>         &G_ip,
+      const double                  T_ip)
+    {
+      const auto add = [&](const unsigned int i, const double weight) {
+        for (std::size_t j = first; j < cache.n_stored; ++j)
+          if (cache.node[j] == i)
+            {
+              cache.S[j] += weight * S_ip;
+              cache.G[j] += weight * G_ip;
+              cache.T[j] += weight * T_ip;
+              return;
+            }
+        cache.make_room(1);
+        if (cache.T.size() < cache.node.size())
+          cache.T.resize(cache.node.size());
+        cache.T[cache.n_stored] = weight * T_ip;
+        cache.append(i, weight * S_ip, weight * G_ip);
+      };
+      if (!constrained)
+        add(local_index, 1.);
+      else
+        for (const auto &entry : *constraints.get_constraint_entries(dof))
+          add(partitioner.global_to_local(entry.first), entry.second);
+    }
+
+
+
+    template <int dim>
+    void
+    SupportBuilder<dim>::build_axisymmetric(const unsigned int first,
+                                            const unsigned int k)
+    {
+      if constexpr (dim == 2)
+        {
+          namespace Axisymmetric = ShapeFunction::Axisymmetric;
+          const Point<dim> &x    = points.position[k];
+          if (classic)
+            {
+              // S, G of build_classic() (from ξ), T = S/r_p.
+              if (!(x[0] > 0))
+                {
+                  if (failed_point == numbers::invalid_unsigned_int)
+                    {
+                      failed_point         = k;
+                      axisymmetric_failure = Axisymmetric::Status::on_axis;
+                    }
+                  return;
+                }
+              GridTransfer<dim>::values_and_gradients(
+                *data, points.reference_position[k], S, G);
+              const double inverse_r = 1 / x[0];
+              if (!data->has_constraints)
+                {
+                  // The cell's nodes, straight into the cache.
+                  cache.make_room(n);
+                  if (cache.T.size() < cache.node.size())
+                    cache.T.resize(cache.node.size());
+                  double *const T_out = cache.T.data() + first;
+                  for (unsigned int i = 0; i < n; ++i)
+                    {
+                      T_out[i] = S[i] * inverse_r;
+                      cache.append(data->local_index[i], S[i], G[i]);
+                    }
+                  return;
+                }
+              for (unsigned int i = 0; i < n; ++i)
+                add_axisymmetric_node(first,
+                                      data->local_index[i],
+                                      transfer.dof_index(*data, i),
+                                      data->constrained_nodes & (1u << i),
+                                      S[i],
+                                      G[i],
+                                      S[i] * inverse_r);
+              return;
+            }
+          Tensor<2, dim> F;
+          Tensor<1, dim> l0;
+          for (unsigned int a = 0; a < dim; ++a)
+            {
+              l0[a] = l0_column[a][k];
+              for (unsigned int b = 0; b < dim; ++b)
+                F[a][b] = F_column[a][b][k];
+            }
+          // GIMP on a uniform patch: the closed forms of the cell's patch
+          // (no hanging nodes), straight into the cache.
+          if (axisymmetric_gimp_patch_ready)
+            {
+              const Tensor<1, dim> l =
+                ShapeFunction::gimp_half_lengths(shape_function, F, l0);
+              if (axisymmetric_gimp_patch.applies(x, l))
+                {
+                  cache.make_room(16);
+                  if (cache.T.size() < cache.node.size())
+                    cache.T.resize(cache.node.size());
+                  axisymmetric_gimp_patch.for_each_node(
+                    x,
+                    l,
+                    [&](const unsigned int local_index,
+                        const types::global_dof_index,
+                        const double          S_ip,
+                        const Tensor<1, dim> &G_ip,
+                        const double          T_ip) {
+                      cache.T[cache.n_stored] = T_ip;
+                      cache.append(local_index, S_ip, G_ip);
+                    });
+                  return;
+                }
+            }
+          const Axisymmetric::Status status = Axisymmetric::compute_support(
+            shape_function, transfer, c, x, F, l0, axisymmetric_support);
+          if (status != Axisymmetric::Status::ok)
+            {
+              if (failed_point == numbers::invalid_unsigned_int)
+                {
+                  failed_point         = k;
+                  axisymmetric_failure = status;
+                }
+              return; // (the step fails)
+            }
+          for (const auto &node : axisymmetric_support)
+            add_axisymmetric_node(first,
+                                  node.local_index,
+                                  node.dof,
+                                  node.constrained,
+                                  node.S,
+                                  node.G,
+                                  node.T);
+        }
+      else
+        {
+          (void)first;
+          (void)k;
+        }
+    }
+
     template class SupportBuilder<2>;
     template class SupportBuilder<3>;
   } // namespace Transfer
@@ -343,7 +502,11 @@ namespace fmpm
 
     // Classic on affine cells without hanging nodes: the passes compute the
     // entries from the step's ξ (Transfer::ComputedSupports).
-    if (shape_function != ShapeFunction::Type::classic)
+    // (Axisymmetric: T = S/r_p from the computed S and the step's r_p,
+    // with USF only: after the particle update x_p has moved.)
+    if (shape_function != ShapeFunction::Type::classic ||
+        (parameters.axisymmetric &&
+         parameters.method.strain_update_scheme.update_last))
       return;
     bool affine_without_hanging_nodes = true;
     for (unsigned int c = 0; c < points.n_cells(); ++c)
@@ -381,7 +544,8 @@ namespace fmpm
       parameters.method.cpdi_critical_radius,
       triangulation.n_active_cells(),
       {gimp_patches, gimp_patch_of_cell, cpdi_patches, cpdi_patch_of_cell},
-      bspline_supports.active() ? &bspline_supports : nullptr);
+      bspline_supports.active() ? &bspline_supports : nullptr,
+      parameters.axisymmetric);
   }
 
 
@@ -394,7 +558,21 @@ namespace fmpm
     if (builder.failed_point == numbers::invalid_unsigned_int)
       return;
     std::ostringstream text;
-    if (bspline_supports.active())
+    using AxisymmetricStatus = ShapeFunction::Axisymmetric::Status;
+    if (builder.axisymmetric_failure != AxisymmetricStatus::ok)
+      text << (builder.axisymmetric_failure == AxisymmetricStatus::on_axis ?
+                 "lies on or across the axis r = 0 (Geometry = "
+                 "axisymmetric): no hoop term there" :
+               builder.axisymmetric_failure ==
+                   AxisymmetricStatus::needs_axis_aligned_cells ?
+                 "needs axis-aligned cells for axisymmetric GIMP" :
+               builder.axisymmetric_failure ==
+                   AxisymmetricStatus::outside_mesh ?
+                 "reaches outside the mesh by more than half a cell" :
+                 "reaches beyond the cells that share a vertex with its cell")
+           << " (Shape function/Type = " << parameters.method.shape_function
+           << ", Geometry = axisymmetric)";
+    else if (bspline_supports.active())
       text << ShapeFunction::BSplineSupports<dim>::explain(builder.failure)
            << " (Shape function/Type = " << parameters.method.shape_function
            << ")";

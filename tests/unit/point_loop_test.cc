@@ -47,7 +47,8 @@ namespace
   struct Scene
   {
     using Index = fmpm::PropertyIndex<dim>;
-    static constexpr double                                 h = 0.25;
+    static constexpr double                                 h           = 0.25;
+    static constexpr double                                 hoop_stress = -3.5;
     parallel::distributed::Triangulation<dim>               triangulation;
     FE_Q<dim>                                               fe;
     DoFHandler<dim>                                         dof_handler;
@@ -63,7 +64,10 @@ namespace
     std::vector<fmpm::ShapeFunction::UniformCpdiPatch<dim>> cpdi;
     std::vector<unsigned int> gimp_of_cell, cpdi_of_cell;
 
-    Scene()
+    /** @p hoop_scene (2D): one point per cell at its centre filling it
+     * (half-length h/2), volume per radian h² r_p, no mass, the uniform
+     * stress σ_rr = σ_θθ = hoop_stress, σ_zz = σ_rz = 0. */
+    explicit Scene(const bool hoop_scene = false)
       : triangulation(MPI_COMM_WORLD)
       , fe(1)
       , dof_handler(triangulation)
@@ -99,32 +103,54 @@ namespace
       });
       points.set_cell_order(cells, triangulation.n_active_cells());
       unsigned int id = 0;
-      for (const auto &cell : cells)
-        for (const double shift : {-0.35, 0.3})
+      if (hoop_scene)
+        for (const auto &cell : cells)
           {
-            // (uGIMP: the point's domain, ±h/4, reaches the neighbours.)
-            Point<dim> x = cell->center();
-            for (unsigned int d = 0; d < dim; ++d)
-              x[d] += shift * h * (1. - 0.2 * d);
+            const Point<dim>    x = cell->center();
             std::vector<double> record(properties.n_properties(), 0.);
-            record[Index::mass]   = 1. + 0.1 * id;
-            record[Index::volume] = 0.5 + 0.01 * id;
+            record[Index::volume] = h * h * x[0];
             for (unsigned int d = 0; d < dim; ++d)
               {
-                record[Index::velocity + d]         = std::sin(3. * x[d] + id);
-                record[Index::initial_position + d] = x[d];
-                record[Index::initial_half_length + d]      = h / 4;
+                record[Index::initial_position + d]         = x[d];
+                record[Index::initial_half_length + d]      = h / 2;
                 record[Index::deformation_gradient + 4 * d] = 1.;
               }
-            for (unsigned int c = 0; c < 6; ++c)
-              record[Index::stress + c] = std::cos(1. + c + 0.3 * id);
+            record[Index::deformation_gradient + 8] = 1.;
+            record[Index::stress + 0]               = hoop_stress;
+            record[Index::stress + 2]               = hoop_stress;
             const Point<dim> xi = fmpm::GridTransfer<dim>::reference_point(
               transfer.cell_data(cell->active_cell_index()),
               x,
               Point<dim>() + 0.5 * unit());
-            points.add(id, x, xi, cell, record.data());
-            ++id;
+            points.add(id++, x, xi, cell, record.data());
           }
+      else
+        for (const auto &cell : cells)
+          for (const double shift : {-0.35, 0.3})
+            {
+              // (uGIMP: the point's domain, ±h/4, reaches the neighbours.)
+              Point<dim> x = cell->center();
+              for (unsigned int d = 0; d < dim; ++d)
+                x[d] += shift * h * (1. - 0.2 * d);
+              std::vector<double> record(properties.n_properties(), 0.);
+              record[Index::mass]   = 1. + 0.1 * id;
+              record[Index::volume] = 0.5 + 0.01 * id;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  record[Index::velocity + d] = std::sin(3. * x[d] + id);
+                  record[Index::initial_position + d]         = x[d];
+                  record[Index::initial_half_length + d]      = h / 4;
+                  record[Index::deformation_gradient + 4 * d] = 1.;
+                }
+              for (unsigned int c = 0; c < 6; ++c)
+                record[Index::stress + c] = std::cos(1. + c + 0.3 * id);
+              const Point<dim> xi = fmpm::GridTransfer<dim>::reference_point(
+                transfer.cell_data(cell->active_cell_index()),
+                x,
+                Point<dim>() + 0.5 * unit());
+              points.add(id, x, xi, cell, record.data());
+              ++id;
+            }
       points.rebin();
     }
 
@@ -138,7 +164,8 @@ namespace
     }
 
     fmpm::Transfer::SupportBuilder<dim>
-    builder(const fmpm::ShapeFunction::Type type)
+    builder(const fmpm::ShapeFunction::Type type,
+            const bool                      axisymmetric = false)
     {
       cache.clear();
       return fmpm::Transfer::SupportBuilder<dim>(
@@ -151,7 +178,8 @@ namespace
         0.,
         triangulation.n_active_cells(),
         {gimp, gimp_of_cell, cpdi, cpdi_of_cell},
-        nullptr);
+        nullptr,
+        axisymmetric);
     }
   };
 
@@ -163,8 +191,9 @@ namespace
     std::array<std::vector<double>, dim> p, f;
   };
 
-  /** One loop of the m, p and f sinks over @p supports. */
-  template <int dim, typename Supports>
+  /** One loop of the m, p and f sinks over @p supports (@p hoop: f with
+   * the hoop force, axisymmetric). */
+  template <int dim, typename Supports, bool hoop = false>
   GridSums<dim>
   extrapolate(Scene<dim> &scene, Supports &supports)
   {
@@ -183,7 +212,8 @@ namespace
     const fmpm::Transfer::MassMomentumSink<dim> mass_momentum(scene.points,
                                                               sums.m.data(),
                                                               p);
-    const fmpm::Transfer::ForceSink<dim> force(scene.points, scene.loads, f);
+    fmpm::Transfer::ForceSink<dim, hoop> force(scene.points, scene.loads, f);
+    force.read_hoop_function(scene.cache);
     fmpm::Transfer::for_each_point(scene.points,
                                    supports,
                                    mass_momentum,
@@ -293,4 +323,84 @@ TEST(PointLoop, UgimpSupportsBuiltAndStoredGiveTheSameBits2D)
 TEST(PointLoop, UgimpSupportsBuiltAndStoredGiveTheSameBits3D)
 {
   check<3>(fmpm::ShapeFunction::Type::ugimp);
+}
+
+namespace
+{
+  /**
+   * Axisymmetric wiring: the builder stores T with S and G, the hoop force
+   * sink reads it. A uniform stress σ_rr = σ_θθ = s (σ_zz = σ_rz = 0) on
+   * points that tile [0, 1]² (V = ∫ r dA per radian) is in discrete
+   * equilibrium: Σ_p V_p (G_ip,r + T_ip) s = s ∫ ∂(r N_i)/∂r dA (exact for
+   * these supports), so f_r = −s ∫ N_i(1, z) dz at r = 1 (−s h, −s h/2 at
+   * the corners) and f = 0 at every other node, the axis included; without
+   * the hoop term the interior nodes are not in equilibrium.
+   */
+  void
+  check_hoop_equilibrium(const fmpm::ShapeFunction::Type type)
+  {
+    if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+      GTEST_SKIP() << "one rank: the sums need no ghost exchange";
+    constexpr double h = Scene<2>::h, s = Scene<2>::hoop_stress;
+    Scene<2>         scene(true);
+    ASSERT_EQ(scene.points.n_points(), 16u);
+    auto              built = scene.builder(type, true);
+    const GridSums<2> sums =
+      extrapolate<2, decltype(built), true>(scene, built);
+    EXPECT_EQ(built.failed_point, numbers::invalid_unsigned_int);
+    ASSERT_EQ(scene.cache.T.size() >= scene.cache.n_stored, true);
+    // Without the hoop force (the same stored supports).
+    fmpm::Transfer::StoredSupports<2> stored(scene.cache);
+    const GridSums<2>                 plane =
+      extrapolate<2, decltype(stored), false>(scene, stored);
+    double largest_plane_interior = 0;
+    for (const auto &cell : scene.dof_handler.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        {
+          const Point<2>     x = cell->vertex(v);
+          const unsigned int i =
+            scene.partitioner->global_to_local(cell->vertex_dof_index(v, 0));
+          const bool   outer      = std::abs(x[0] - 1) < 1e-12;
+          const bool   corner     = outer && (x[1] < 1e-12 || x[1] > 1 - 1e-12);
+          const double expected_r = outer ? -s * (corner ? h / 2 : h) : 0.;
+          EXPECT_NEAR(sums.f[0][i], expected_r, 1e-13)
+            << "node at " << x << ", "
+            << fmpm::ShapeFunction::parameter_name(type);
+          EXPECT_NEAR(sums.f[1][i], 0., 1e-13) << "node at " << x;
+          if (!outer)
+            largest_plane_interior =
+              std::max(largest_plane_interior, std::abs(plane.f[0][i]));
+        }
+    EXPECT_GT(largest_plane_interior, 0.1 * std::abs(s) * h);
+    // Classic on affine cells: the computed supports (T = S/r_p in the
+    // sink) give the bits of the stored ones.
+    if (type == fmpm::ShapeFunction::Type::classic)
+      {
+        scene.cache.implicit_classic   = true;
+        scene.cache.n_implicit_points  = scene.points.n_points();
+        scene.cache.reference_position = scene.points.reference_position.data();
+        fmpm::Transfer::ComputedSupports<2> computed(scene.cache,
+                                                     scene.transfer,
+                                                     scene.points,
+                                                     true);
+        expect_same_bits(extrapolate<2, decltype(computed), true>(scene,
+                                                                  computed),
+                         sums);
+      }
+  }
+} // namespace
+
+TEST(PointLoop, AxisymmetricClassicHoopForceBalancesUniformStress)
+{
+  check_hoop_equilibrium(fmpm::ShapeFunction::Type::classic);
+}
+
+TEST(PointLoop, AxisymmetricUgimpHoopForceBalancesUniformStress)
+{
+  check_hoop_equilibrium(fmpm::ShapeFunction::Type::ugimp);
+}
+
+TEST(PointLoop, AxisymmetricCpdiHoopForceBalancesUniformStress)
+{
+  check_hoop_equilibrium(fmpm::ShapeFunction::Type::cpdi);
 }

@@ -94,6 +94,10 @@ namespace fmpm
      * its threshold. */
     bool checkerboard_warned = false;
 
+    /** A comment line written above the header (without '# '), empty for
+     * none: axisymmetric runs say that their sums are per radian. */
+    std::string preamble;
+
     /** What a checkpoint keeps: the rows so far. */
     template <class Archive>
     void

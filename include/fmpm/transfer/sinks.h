@@ -93,8 +93,14 @@ namespace fmpm
      * with the point's body acceleration b (tractions included; g unless
      * the loads depend on the point). Without b the body term is left out
      * (the same bits, M S ≥ 0).
+     *
+     * @tparam hoop axisymmetric (2D, per radian): also the hoop force
+     * f_r −= V σ_θθ T on the radial component (Nairn and Guilkey 2015,
+     * GIMP_Theory Eq. 5.13), T the support's hoop function in the
+     * SupportCache (read_hoop_function()) for stored supports, S/r_p for
+     * computed classic ones.
      */
-    template <int dim>
+    template <int dim, bool hoop = false>
     struct ForceSink
     {
       /** Targets @p f[d]; M, V and σ from @p points; b from @p loads. */
@@ -151,8 +157,37 @@ namespace fmpm
                   f_a -= V * sigma[a][c] * G[j][c];
                 f[a][node[j]] += f_a;
               }
+        if constexpr (hoop)
+          {
+            const double V_sigma_hoop = V * stress[2][k];
+            if constexpr (std::is_same_v<Count, unsigned int>)
+              {
+                // Stored: T_j at the index of S_j in the cache (read here:
+                // the builder may grow the cache during the loop).
+                const double *const T =
+                  hoop_cache->T.data() + (S - hoop_cache->S.data());
+                for (unsigned int j = 0; j < n; ++j)
+                  f[0][node[j]] -= V_sigma_hoop * T[j];
+              }
+            else
+              {
+                // Computed classic supports: T_j = S_j / r_p (the bits
+                // the builder stores).
+                const double inverse_r = 1 / points->position[k][0];
+                for (unsigned int j = 0; j < n; ++j)
+                  f[0][node[j]] -= V_sigma_hoop * (S[j] * inverse_r);
+              }
+          }
       }
 
+      /** The entries' hoop function T (hoop only). */
+      void
+      read_hoop_function(const SupportCache<dim> &cache)
+      {
+        hoop_cache = &cache;
+      }
+
+      const SupportCache<dim>   *hoop_cache = nullptr;
       const MaterialPoints<dim> *points;
       ExternalLoads<dim>        *loads;
       const double              *mass, *volume, *stress[6];

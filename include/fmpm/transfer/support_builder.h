@@ -4,6 +4,7 @@
 #ifndef fmpm_transfer_support_builder_h
 #define fmpm_transfer_support_builder_h
 
+#include <fmpm/axisymmetric_shape_function.h>
 #include <fmpm/grid_transfer.h>
 #include <fmpm/material_points.h>
 #include <fmpm/shape_function.h>
@@ -58,7 +59,8 @@ namespace fmpm
                      const double                       cpdi_critical_radius,
                      const unsigned int                 n_active_cells,
                      const Patches                     &patches,
-                     const ShapeFunction::BSplineSupports<dim> *bsplines);
+                     const ShapeFunction::BSplineSupports<dim> *bsplines,
+                     const bool axisymmetric = false);
 
       /** The cell's data and patches (cell @p cell_number of the store). */
       void
@@ -83,9 +85,12 @@ namespace fmpm
              static_cast<unsigned int>(cache.n_stored - first));
       }
 
-      /** The first point whose support failed (invalid: none), and how. */
+      /** The first point whose support failed (invalid: none), and how
+       * (axisymmetric runs: axisymmetric_failure). */
       unsigned int          failed_point = numbers::invalid_unsigned_int;
       ShapeFunction::Status failure      = ShapeFunction::Status::ok;
+      ShapeFunction::Axisymmetric::Status axisymmetric_failure =
+        ShapeFunction::Axisymmetric::Status::ok;
 
     private:
       static constexpr unsigned int n = GridTransfer<dim>::n_nodes;
@@ -97,6 +102,21 @@ namespace fmpm
        * the general support). */
       void
       build_general(const unsigned int first, const unsigned int k);
+      /** Point @p k, axisymmetric (2D): S, G and the hoop function T
+       * (ShapeFunction::Axisymmetric; classic from ξ as build_classic()
+       * with T = S/r_p). */
+      void
+      build_axisymmetric(const unsigned int first, const unsigned int k);
+      /** Append an axisymmetric entry (T into cache.T), a hanging node's
+       * weights to its masters. */
+      void
+      add_axisymmetric_node(const unsigned int            first,
+                            const unsigned int            local_index,
+                            const types::global_dof_index dof,
+                            const bool                    constrained,
+                            const double                  S,
+                            const Tensor<1, dim>         &G,
+                            const double                  T);
       /** Point @p k: B-splines on the mesh's lattice (no hanging nodes). */
       void
       build_bspline(const unsigned int k);
@@ -121,19 +141,25 @@ namespace fmpm
       /** The B-spline supports (null for the other shape functions). */
       const ShapeFunction::BSplineSupports<dim> *const bsplines;
       const bool                                       classic, gimp, cpdi;
+      const bool                                       axisymmetric;
 
       const double *F_column[dim][dim];
       const double *l0_column[dim];
       /** support_begin[k + 1]. */
       unsigned int *support_end;
 
-      unsigned int                                c          = 0;
-      const typename GridTransfer<dim>::CellData *data       = nullptr;
-      const ShapeFunction::UniformGimpPatch<dim> *gimp_patch = nullptr;
-      const ShapeFunction::UniformCpdiPatch<dim> *cpdi_patch = nullptr;
-      std::array<double, n>                       S;
-      std::array<Tensor<1, dim>, n>               G;
-      std::vector<ShapeFunction::Node<dim>>       support;
+      unsigned int                                   c          = 0;
+      const typename GridTransfer<dim>::CellData    *data       = nullptr;
+      const ShapeFunction::UniformGimpPatch<dim>    *gimp_patch = nullptr;
+      const ShapeFunction::UniformCpdiPatch<dim>    *cpdi_patch = nullptr;
+      std::array<double, n>                          S;
+      std::array<Tensor<1, dim>, n>                  G;
+      std::vector<ShapeFunction::Node<dim>>          support;
+      std::vector<ShapeFunction::Axisymmetric::Node> axisymmetric_support;
+      /** Axisymmetric GIMP: the closed forms around the current cell (2D,
+       * uniform patches; rebuilt per cell of each pass). */
+      ShapeFunction::Axisymmetric::UniformGimpPatch axisymmetric_gimp_patch;
+      bool axisymmetric_gimp_patch_ready = false;
     };
   } // namespace Transfer
 } // namespace fmpm
