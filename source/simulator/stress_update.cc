@@ -153,6 +153,26 @@ namespace fmpm
           }
       }
 
+      /** velocity_gradients() with L_33 (axisymmetric), out of line. */
+      [[gnu::noinline]] void
+      hoop_velocity_gradients(const MaterialGroup      &group,
+                              const unsigned int        batch_begin,
+                              const double *const       v[dim],
+                              Kinematics::BatchEntries &L)
+      {
+        velocity_gradients<true>(group, batch_begin, v, L);
+      }
+
+      /** add_points() of the hoop force sink, out of line. */
+      template <typename Sink>
+      [[gnu::noinline]] void
+      add_points_out_of_line(const unsigned int batch_begin,
+                             const unsigned int batch_end,
+                             const Sink        &sink) const
+      {
+        add_points(batch_begin, batch_end, sink);
+      }
+
       /** The points [batch_begin, batch_end) into @p sink in the store's
        * order, with the entries velocity_gradients() read. */
       template <typename Sink>
@@ -298,7 +318,6 @@ namespace fmpm
     update_deformation_gradients(const MaterialGroup      &group,
                                  const StressColumns<dim> &columns,
                                  const MethodParameters   &method,
-                                 const bool                axisymmetric,
                                  const double              dt,
                                  Kinematics::BatchEntries &dF,
                                  Kinematics::BatchEntries &F_gathered,
@@ -320,35 +339,71 @@ namespace fmpm
                   F_gathered[c][q] = columns.F[c][group.point[q]];
                 F_old[c] = F_gathered[c];
               }
-          if (dim == 2 && axisymmetric)
-            Kinematics::axisymmetric_cayley_update(group.n,
-                                                   dt,
-                                                   inputs.velocity_gradient,
-                                                   F_old,
-                                                   inputs.deformation_gradient,
-                                                   inputs.volume_ratio);
-          else
-            Kinematics::cayley_update<dim>(group.n,
-                                           dt,
-                                           inputs.velocity_gradient,
-                                           F_old,
-                                           inputs.deformation_gradient,
-                                           inputs.volume_ratio);
+          Kinematics::cayley_update<dim>(group.n,
+                                         dt,
+                                         inputs.velocity_gradient,
+                                         F_old,
+                                         inputs.deformation_gradient,
+                                         inputs.volume_ratio);
         }
       else
         {
-          if (dim == 2 && axisymmetric)
-            Kinematics::axisymmetric_increments(
-              F_update, method, inputs.velocity_gradient, dt, group.n, dF);
-          else
-            Kinematics::increments<dim>(
-              F_update, method, inputs.velocity_gradient, dt, group.n, dF);
+          Kinematics::increments<dim>(
+            F_update, method, inputs.velocity_gradient, dt, group.n, dF);
           apply_increments<dim>(group,
                                 columns,
                                 dF,
                                 inputs.deformation_gradient,
                                 inputs.volume_ratio,
-                                axisymmetric);
+                                false);
+        }
+    }
+
+    /** update_deformation_gradients() of an axisymmetric group (2D): the
+     * hoop stretch F_33 with L_33 (kept out of line, so that the plane
+     * strain path stays as it was). */
+    template <int dim>
+    [[gnu::noinline]] void
+    axisymmetric_deformation_gradients(
+      const MaterialGroup                   &group,
+      const StressColumns<dim>              &columns,
+      const MethodParameters                &method,
+      const double                           dt,
+      Kinematics::BatchEntries              &dF,
+      Kinematics::BatchEntries              &F_gathered,
+      ConstitutiveModel::StressUpdateInputs &inputs)
+    {
+      const DeformationGradientUpdate F_update =
+        method.deformation_gradient_update;
+      if (F_update == DeformationGradientUpdate::cayley)
+        {
+          std::array<const double *, 9> F_old;
+          for (unsigned int c = 0; c < 9; ++c)
+            if (group.contiguous)
+              F_old[c] = columns.F[c] + group.k0;
+            else
+              {
+                for (unsigned int q = 0; q < group.n; ++q)
+                  F_gathered[c][q] = columns.F[c][group.point[q]];
+                F_old[c] = F_gathered[c];
+              }
+          Kinematics::axisymmetric_cayley_update(group.n,
+                                                 dt,
+                                                 inputs.velocity_gradient,
+                                                 F_old,
+                                                 inputs.deformation_gradient,
+                                                 inputs.volume_ratio);
+        }
+      else
+        {
+          Kinematics::axisymmetric_increments(
+            F_update, method, inputs.velocity_gradient, dt, group.n, dF);
+          apply_increments<dim>(group,
+                                columns,
+                                dF,
+                                inputs.deformation_gradient,
+                                inputs.volume_ratio,
+                                true);
         }
     }
 
@@ -599,8 +654,10 @@ namespace fmpm
             inputs.reference_density = parameters.materials[m].density;
             // L, and what else the model reads.
             if (axisymmetric)
-              batch_supports.template velocity_gradients<true>(
-                group, batch_begin, v_a, inputs.velocity_gradient);
+              batch_supports.hoop_velocity_gradients(group,
+                                                     batch_begin,
+                                                     v_a,
+                                                     inputs.velocity_gradient);
             else
               batch_supports.velocity_gradients(group,
                                                 batch_begin,
@@ -608,14 +665,12 @@ namespace fmpm
                                                 inputs.velocity_gradient);
             gather_model_inputs(
               model, group, columns, points, cell_size_by_index, inputs);
-            update_deformation_gradients(group,
-                                         columns,
-                                         parameters.method,
-                                         axisymmetric,
-                                         dt,
-                                         dF,
-                                         F_gathered,
-                                         inputs);
+            if (axisymmetric)
+              axisymmetric_deformation_gradients(
+                group, columns, parameters.method, dt, dF, F_gathered, inputs);
+            else
+              update_deformation_gradients(
+                group, columns, parameters.method, dt, dF, F_gathered, inputs);
             const double *const J = inputs.volume_ratio;
             for (unsigned int q = 0; q < group.n; ++q)
               if (!(J[q] > 0))
@@ -652,7 +707,9 @@ namespace fmpm
         if (with_forces && contact)
           batch_supports.add_points(batch_begin, batch_end, material_force);
         else if (with_forces && axisymmetric)
-          batch_supports.add_points(batch_begin, batch_end, hoop_force);
+          batch_supports.add_points_out_of_line(batch_begin,
+                                                batch_end,
+                                                hoop_force);
         else if (with_forces)
           batch_supports.add_points(batch_begin, batch_end, force);
       }
