@@ -120,11 +120,15 @@ def method_settings(method):
     if method == "FLIP":
         return [("Particle update", "Model name", "flip"),
                 ("Mass matrix", "Model name", "lumped")]
-    if method == "exact":
+    if method.startswith("exact"):
+        # 'exact': the default weak-node remedy (nodes with m~_ii < 0.1 m_i
+        # take the lumped velocity: the free end's outer vertices);
+        # 'exact, all nodes': none.
+        threshold = "0" if method == "exact, all nodes" else "0.1"
         return [("Particle update", "Model name", "fmpm"),
                 ("Mass matrix", "Model name", "full"),
                 ("Mass matrix/Full", "Tolerance", "1e-13"),
-                ("Mass matrix/Full", "Weak node threshold", "0.1"),
+                ("Mass matrix/Full", "Weak node threshold", threshold),
                 ("Mass matrix/Full", "Maximum iterations", "10000")]
     update = "xpic" if method.startswith("XPIC") else "fmpm"
     order = method[method.index("(") + 1:-1]
@@ -203,7 +207,8 @@ def planned_runs(tiers):
     order."""
     plan = []
 
-    def add(tier, scenes, shapes, placements, steps, cells_list):
+    def add(tier, scenes, shapes, placements, steps, cells_list,
+            methods=METHODS):
         if tier not in tiers:
             return
         for scene in scenes:
@@ -213,7 +218,7 @@ def planned_runs(tiers):
                         if shape == "ugimp" and placement == "gauss":
                             continue
                         for cells in cells_list:
-                            for method in METHODS:
+                            for method in methods:
                                 plan.append((tier, scene, shape, placement,
                                              step, method, cells))
 
@@ -224,10 +229,14 @@ def planned_runs(tiers):
     add(2, both, ["b2spline", "classic", "b3spline"], ["gauss"], ["0.2"],
         RESOLUTIONS)
     add(2, both, ["ugimp"], ["uniform"], ["0.2"], RESOLUTIONS)
-    add(3, both, ["b2spline", "classic", "b3spline"], ["uniform"],
-        ["tiny", "0.2"], RESOLUTIONS[:4])
-    add(4, both, ["b2spline", "classic", "b3spline", "ugimp"],
-        ["gauss", "uniform"], ["0.5"], RESOLUTIONS[:4])
+    add(6, ["vbar"], ["b2spline", "b3spline"], ["gauss"], ["tiny", "0.2"],
+        RESOLUTIONS[:4], ["exact, all nodes"])
+    add(3, both, ["b2spline", "classic"], ["uniform"], ["tiny", "0.2"],
+        RESOLUTIONS[:4])
+    add(4, both, ["b2spline", "classic"], ["gauss"], ["0.5"],
+        RESOLUTIONS[:4])
+    add(7, both, ["b3spline"], ["uniform"], ["tiny", "0.2"],
+        RESOLUTIONS[:4])
     add(5, both, ["b2spline", "classic", "b3spline"], ["gauss"], ["tiny"],
         RESOLUTIONS[4:])
     return plan
@@ -368,6 +377,7 @@ def command_plot(args):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     output = Path(args.output)
     rows = [r for r in read_rows(output / "results.csv")
@@ -390,7 +400,7 @@ def command_plot(args):
                              for n in RESOLUTIONS])
     styles = {"FLIP": "o-", "FMPM(2)": "v--", "FMPM(4)": "^--",
               "FMPM(8)": "<--", "FMPM(16)": ">--", "XPIC(5)": "x:",
-              "exact": "s-"}
+              "exact": "s-", "exact, all nodes": "D-"}
     titles = {"vbar": "vibrating bar (held-free)",
               "tielen": "Tielen's bar (fixed-fixed)"}
     for step in ["tiny", "0.2", "0.5"]:
@@ -403,14 +413,23 @@ def command_plot(args):
             for i, scene in enumerate(["vbar", "tielen"]):
                 for j, shape in enumerate(SHAPES):
                     ax = axes[i][j]
-                    for method in METHODS:
+                    # uGIMP: uniform points only (its domains tile the
+                    # body only with uniform points).
+                    points = "uniform" if shape == "ugimp" else placement
+                    for method in METHODS + ["exact, all nodes"]:
                         pts = sorted(curves.get(
-                            (scene, step, placement, shape, method), []))
+                            (scene, step, points, shape, method), []))
                         if pts:
                             ax.loglog([p[0] for p in pts],
                                       [p[1] for p in pts], styles[method],
                                       label=method, ms=4)
-                    ax.set_title(f"{titles[scene]}: {shape}", fontsize=9)
+                    ax.set_title(f"{titles[scene]}: {shape}"
+                                 + (" (uniform points)"
+                                    if points != placement else ""),
+                                 fontsize=9)
+                    ax.set_xticks(RESOLUTIONS, [str(n) for n in RESOLUTIONS])
+                    ax.xaxis.set_minor_formatter(
+                        matplotlib.ticker.NullFormatter())
                     ax.grid(True, which="both", alpha=0.3)
                     if i == 1:
                         ax.set_xlabel("cells in the bar")
@@ -426,12 +445,37 @@ def command_plot(args):
             fig.savefig(output / f"{name}_{placement}.png", dpi=90)
             plt.close(fig)
             print(f"wrote {name}_{placement}.png")
+    critical = read_rows(output / "critical_courant.csv")
+    if critical:
+        fig, ax = plt.subplots(figsize=(8, 4.5))
+        shapes = ["classic", "b2spline", "b3spline"]
+        for i, shape in enumerate(shapes):
+            rows = {r["method"]: r for r in critical if r["shape"] == shape}
+            xs = [j + (i - 1) * 0.25 for j in range(len(METHODS))]
+            low = [float(rows[m]["largest_stable"]) if m in rows else
+                   float("nan") for m in METHODS]
+            high = [float(rows[m]["smallest_unstable"]) if m in rows else
+                    float("nan") for m in METHODS]
+            ax.bar(xs, high, width=0.25, label=shape, alpha=0.8)
+            ax.plot(xs, low, "k_", ms=8)
+        ax.set_xticks(range(len(METHODS)),
+                      [m.replace("exact", "full (exact)") for m in METHODS])
+        ax.set_ylabel("critical Courant number")
+        ax.set_title("Vibrating bar, 32 cells, 20 periods: bars end at the "
+                     "smallest unstable C\n(FLIP with B-splines: stable up "
+                     "to 2, the largest tried)", fontsize=9)
+        ax.legend()
+        ax.grid(True, axis="y", alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(output / "critical_courant.png", dpi=90)
+        plt.close(fig)
+        print("wrote critical_courant.png")
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("command", choices=["run", "critical", "plot"])
-    parser.add_argument("--tiers", default="1,2,3,4,5")
+    parser.add_argument("--tiers", default="1,2,6,3,4,7,5")
     parser.add_argument("--fmpm", default=str(REPO / "build" / "applications"
                                               / "fmpm" / "fmpm"))
     parser.add_argument("--output", default=str(DEFAULT_OUTPUT))
