@@ -435,7 +435,7 @@ def command_plot(args):
                         ax.set_xlabel("cells in the bar")
                     if j == 0:
                         ax.set_ylabel("velocity error (L2, time average)")
-            axes[0][0].legend(fontsize=7)
+            axes[0][2].legend(fontsize=7)
             label = ("tiny time step (Courant 0.02 at 64 cells)"
                      if step == "tiny" else f"Courant {step}")
             fig.suptitle(f"B-splines and the mass matrix: {label}, "
