@@ -171,8 +171,7 @@ namespace fmpm
           count(1);
           return;
         }
-      const CellwiseMatrix *cellwise =
-        this->get_simulator().get_cellwise_full_mass_matrix();
+      const CellwiseMatrix *cellwise = this->get_cellwise_full_mass_matrix();
       GridVectorField       m_tilde_v(v);
       count(fmpm_series(
         [&](const std::vector<GridVectorField *> &in,
@@ -203,7 +202,7 @@ namespace fmpm
           return;
         }
       if (const CellwiseMatrix *cellwise =
-            this->get_simulator().get_cellwise_full_mass_matrix())
+            this->get_cellwise_full_mass_matrix())
         apply_full_mass(*cellwise, p, v);
       else
         apply_full_mass(this->get_full_mass_matrix(), p, v);

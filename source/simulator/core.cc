@@ -609,7 +609,7 @@ namespace fmpm
     };
     operators.full_mass = [this](const GridVectorField &v, GridVectorField &p) {
       for (unsigned int d = 0; d < dim; ++d)
-        full_mass_matrix.vmult(p.block(d), v.block(d));
+        centre_of_mass.full_mass_matrix.vmult(p.block(d), v.block(d));
     };
     return operators;
   }

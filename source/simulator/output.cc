@@ -322,7 +322,9 @@ namespace fmpm
     {
       // The largest checkerboard indicator of the outputs, and its time.
       double max_checkerboard = 0, max_checkerboard_time = 0;
-      for (const auto &row : get_history())
+      for (const auto &row :
+           postprocessors.template find<Postprocess::HistoryFile<dim>>()
+             ->rows())
         if (row.checkerboard_j > max_checkerboard)
           {
             max_checkerboard      = row.checkerboard_j;
