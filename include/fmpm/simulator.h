@@ -302,8 +302,8 @@ namespace fmpm
      * step_stages, finish_step() and check_step_failures(). */
     void
     do_time_step();
-    /** A stage of the time step: a name for the run's header and the
-     * member function that runs it. */
+    /** A stage of the time step: a name for the run's header and its timer
+     * section, and the member function that runs it. */
     struct StepStage
     {
       const char *name;
@@ -415,12 +415,10 @@ namespace fmpm
     /** Set the initial stress of bodies that ask for it (gravity). */
     void
     initialize_stress_from_gravity();
-    /** Compute a nodal field (once per step) with BCs, ghosts, constraints;
-     * in a 'grid solve' section of its own unless the caller's covers it
-     * (@p timed false). */
+    /** Compute a nodal field (once per step) with BCs, ghosts, constraints
+     * (timed in the section of the stage that asks for it). */
     void
-    compute_field(const ParticleUpdate::GridField field,
-                  const bool                      timed = true);
+    compute_field(const ParticleUpdate::GridField field);
     /** The solver of the nodal fields at the current step's times. */
     FieldSolver<dim>
     field_solver() const;

@@ -198,6 +198,17 @@ namespace fmpm
       timer.leave(section);
     running = false;
   }
+
+  /**
+   * @brief Whether the section @p name is a sub-section, "<part>: <detail>"
+   * (point store, contact, output): it runs within another section (a stage
+   * of the step, set-up, output), and sums of the sections leave it out.
+   */
+  inline bool
+  is_timer_subsection(const std::string &name)
+  {
+    return name.find(": ") != std::string::npos;
+  }
 } // namespace fmpm
 
 #endif

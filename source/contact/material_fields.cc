@@ -32,7 +32,8 @@ namespace fmpm
       const double                      time_step   = this->get_timestep();
       const bool has_hanging_nodes                  = this->has_hanging_nodes();
       using namespace ParticleUpdate;
-      TimerOutput::Scope     timer(this->get_computing_timer(), "grid solve");
+      TimerOutput::Scope     timer(this->get_computing_timer(),
+                               "contact: grid fields");
       const FieldSolver<dim> solver = this->get_field_solver();
       // Lumped fields without hanging nodes or a series after them: solved
       // on the material's nodes only, zero elsewhere (they were zeroed where

@@ -17,7 +17,6 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
-#include <optional>
 #include <set>
 #include <sstream>
 
@@ -576,14 +575,10 @@ namespace fmpm
 
   template <int dim>
   void
-  Simulator<dim>::compute_field(const ParticleUpdate::GridField field,
-                                const bool                      timed)
+  Simulator<dim>::compute_field(const ParticleUpdate::GridField field)
   {
     if (centre_of_mass.computed[field])
       return;
-    std::optional<TimerOutput::Scope> timer;
-    if (timed)
-      timer.emplace(computing_timer, "grid solve");
     centre_of_mass.compute(field,
                            field_solver(),
                            *mass_matrix,

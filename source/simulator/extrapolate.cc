@@ -66,7 +66,6 @@ namespace fmpm
   void
   Simulator<dim>::particles_to_grid(const bool with_forces)
   {
-    TimerOutput::Scope timer(computing_timer, "particles to grid");
     prepare_supports();
 
     // m̃ as cell-wise matrices where the mass matrix accepts them, else the
@@ -207,7 +206,6 @@ namespace fmpm
     // The tail of the re-extrapolation the particle update made: with
     // contact p = Σ_α p^α (Eq. 6); the ghosts added (with contact also of
     // g^α, Σ S M X, u^α, V^α where read).
-    TimerOutput::Scope timer(computing_timer, "particles to grid");
     if (contact_active())
       {
         this->contact->invalidate_geometry(false);
