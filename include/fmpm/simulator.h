@@ -532,8 +532,6 @@ namespace fmpm
       const std::map<std::string, double> &mass_matrix_statistics) const;
     void
     print_progress(const GlobalStatistics<dim> &statistics, const bool force);
-    void
-    print_test_particles() const;
 
     MPI_Comm            mpi_communicator;
     const Parameters    parameters;
@@ -629,10 +627,8 @@ namespace fmpm
      * point it is about (report_point_failure()). */
     std::string local_failure;
     FailedPoint local_failed_point;
-    /** Output stream for test mode (rank 0, only in test mode). */
-    ConditionalOStream tout;
-    double             local_max_wave_speed  = 0;
-    double             local_max_point_speed = 0;
+    double      local_max_wave_speed  = 0;
+    double      local_max_point_speed = 0;
     /** Energy dissipated by the particle updates on this rank in the
      * current step (seed 003 Eq. 1.46). */
     double local_dissipation = 0;

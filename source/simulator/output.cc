@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
-// What a run leaves behind: VTU/PVTU/PVD files for ParaView, history.csv,
-// summary.json, progress lines and the test-mode printout.
+// What a run reports besides its postprocessors (history.csv, VTU, point
+// csv, test output): summary.json and the progress lines.
 
 #include <fmpm/simulator.h>
 
@@ -66,15 +66,6 @@ namespace fmpm
     // Accumulate the time-averaged reference errors over outputs.
     energy_balance.record_output(statistics);
 
-    if (parameters.test_mode)
-      {
-        tout << std::scientific << std::setprecision(8) << "step "
-             << control.step_number() << " t " << control.time() << " mass "
-             << statistics.mass << " momentum " << statistics.momentum
-             << " kinetic " << statistics.kinetic_energy << " strain "
-             << statistics.strain_energy << std::endl;
-      }
-
     control.output_written();
     // The postprocessors time themselves (no section inside another).
     timer.stop();
@@ -102,43 +93,6 @@ namespace fmpm
           << statistics.strain_energy << ")  " << std::setprecision(3)
           << 100 * fraction << "%  wall " << wall << " s, about " << eta
           << " s left" << std::endl;
-  }
-
-
-
-  template <int dim>
-  void
-  Simulator<dim>::print_test_particles() const
-  {
-    if (!parameters.test_mode)
-      return;
-    using Index = PropertyIndex<dim>;
-    // Gather (id, x, V) to rank 0 and print sorted by id.
-    std::vector<std::pair<types::particle_index, std::vector<double>>> local;
-    for (unsigned int k = 0; k < points.n_points(); ++k)
-      {
-        std::vector<double> values;
-        for (unsigned int d = 0; d < dim; ++d)
-          values.push_back(points.position[k][d]);
-        for (unsigned int d = 0; d < dim; ++d)
-          values.push_back(points.column(Index::velocity + d)[k]);
-        local.emplace_back(points.id[k], values);
-      }
-    const auto all = Utilities::MPI::gather(mpi_communicator, local, 0);
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
-      return;
-    std::map<types::particle_index, std::vector<double>> sorted;
-    for (const auto &rank : all)
-      for (const auto &entry : rank)
-        sorted[entry.first] = entry.second;
-    tout << "points (id, position, velocity):" << std::endl;
-    for (const auto &entry : sorted)
-      {
-        tout << entry.first;
-        for (const double value : entry.second)
-          tout << ' ' << std::scientific << std::setprecision(8) << value;
-        tout << std::endl;
-      }
   }
 
 
