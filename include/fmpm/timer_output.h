@@ -201,8 +201,9 @@ namespace fmpm
 
   /**
    * @brief Whether the section @p name is a sub-section, "<part>: <detail>"
-   * (point store, contact, output): it runs within another section (a stage
-   * of the step, set-up, output), and sums of the sections leave it out.
+   * (point store, contact): it runs within another section (a stage
+   * of the step, set-up, mesh adaptation, a checkpoint), and sums of the
+   * sections leave it out.
    */
   inline bool
   is_timer_subsection(const std::string &name)
