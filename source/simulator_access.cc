@@ -183,6 +183,52 @@ namespace fmpm
     return get_simulator().computing_timer;
   }
 
+  template <int dim>
+  const CellwiseMatrix *
+  SimulatorAccess<dim>::get_cellwise_full_mass_matrix() const
+  {
+    const GridState<dim> &state = get_simulator().centre_of_mass;
+    return state.use_cellwise_full_mass ? &state.cellwise_full_mass : nullptr;
+  }
+
+  template <int dim>
+  const GridVectorField &
+  SimulatorAccess<dim>::get_grid_field(
+    const ParticleUpdate::GridField field) const
+  {
+    return get_simulator().centre_of_mass.fields[field];
+  }
+
+  template <int dim>
+  const std::vector<HistoryRow<dim>> &
+  SimulatorAccess<dim>::get_history() const
+  {
+    return get_simulator()
+      .postprocessors.template find<Postprocess::HistoryFile<dim>>()
+      ->rows();
+  }
+
+  template <int dim>
+  const std::vector<Tensor<1, dim>> &
+  SimulatorAccess<dim>::get_reaction_forces() const
+  {
+    return get_simulator().reactions.forces;
+  }
+
+  template <int dim>
+  unsigned int
+  SimulatorAccess<dim>::n_mesh_adaptations() const
+  {
+    return get_simulator().counters.mesh_adaptations;
+  }
+
+  template <int dim>
+  GlobalStatistics<dim>
+  SimulatorAccess<dim>::compute_statistics() const
+  {
+    return get_simulator().compute_statistics();
+  }
+
   template class SimulatorAccess<2>;
   template class SimulatorAccess<3>;
 } // namespace fmpm

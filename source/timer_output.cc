@@ -5,6 +5,7 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <algorithm>
 #include <iomanip>
 #include <sstream>
 
@@ -105,19 +106,25 @@ namespace fmpm
   TimerOutput::print_summary() const
   {
     // deal.II's table (TimerOutput::print_summary, wall times), sections by
-    // name.
+    // name; the name column as wide as the longest name (at least 32).
+    std::size_t name_width = 32;
+    for (const Section &section : sections)
+      name_width = std::max(name_width, section.name.size() + 1);
+    const std::string  name_rule(name_width + 1, '-');
+    const std::string  wide_blank(name_width - 32, ' ');
     const double       total = wall_time();
     std::ostringstream out;
     out << "\n\n"
-        << "+---------------------------------------------"
+        << "+" << name_rule << "------------"
         << "+------------+------------+\n"
-        << "| Total wallclock time elapsed since start    |" << std::setw(10)
-        << std::setprecision(3) << std::right << total << "s |            |\n"
-        << "|                                             "
+        << "| Total wallclock time elapsed since start    " << wide_blank << "|"
+        << std::setw(10) << std::setprecision(3) << std::right << total
+        << "s |            |\n"
+        << "|                                             " << wide_blank
         << "|            |            |\n"
-        << "| Section                         | no. calls |"
+        << "| Section" << std::string(name_width - 7, ' ') << "| no. calls |"
         << "  wall time | % of total |\n"
-        << "+---------------------------------+-----------+"
+        << "+" << name_rule << "+-----------+"
         << "------------+------------+";
     for (const auto &entry : index_of)
       {
@@ -125,7 +132,7 @@ namespace fmpm
         const double   seconds =
           std::chrono::duration<double>(section.total).count();
         std::string name = section.name;
-        name.resize(32, ' ');
+        name.resize(name_width, ' ');
         out << '\n'
             << "| " << name << "| " << std::setw(9) << section.n_calls << " |"
             << std::setw(10) << std::setprecision(3) << seconds << "s |"
@@ -139,7 +146,7 @@ namespace fmpm
         out << "% |";
       }
     out << '\n'
-        << "+---------------------------------+-----------+"
+        << "+" << name_rule << "+-----------+"
         << "------------+------------+\n"
         << '\n';
     stream << out.str() << std::flush;

@@ -87,15 +87,16 @@ namespace
 
 namespace
 {
-  /** Wall seconds per step (phases but set-up, output and those once per
-   * run) of a summary. */
+  /** Wall seconds per step (phases but set-up, output, those once per run
+   * and the sub-sections, which run within another phase) of a summary. */
   double
   seconds_per_step(const boost::property_tree::ptree &summary)
   {
     double seconds = 0;
     for (const auto &phase : summary.get_child("phase_wall_seconds"))
       if (phase.first != "setup" && phase.first != "output" &&
-          phase.first != "run start" && phase.first != "summary")
+          phase.first != "run start" && phase.first != "summary" &&
+          !fmpm::is_timer_subsection(phase.first))
         seconds += phase.second.get_value<double>();
     return seconds / summary.get<double>("n_steps");
   }

@@ -196,82 +196,6 @@ namespace fmpm
       computing_timer.disable_output();
     }
 
-    /** @brief Rows of history.csv written so far (for tests). */
-    const std::vector<HistoryRow<dim>> &
-    get_history() const
-    {
-      return postprocessors.template find<Postprocess::HistoryFile<dim>>()
-        ->rows();
-    }
-
-    /** @brief Nodes with mass below this are treated as empty. */
-    double
-    mass_floor() const
-    {
-      return centre_of_mass.mass_floor;
-    }
-
-    /** @brief A grid field of the last step (for tests). */
-    const GridVectorField &
-    get_grid_field(const ParticleUpdate::GridField field) const
-    {
-      return centre_of_mass.fields[field];
-    }
-
-    /** @brief The DoF handler of the grid fields. */
-    const DoFHandler<dim> &
-    get_dof_handler() const
-    {
-      return dof_handler;
-    }
-
-    /** @brief m̃ as cell-wise matrices this step, or nullptr when m̃ is the
-     * assembled sparse matrix (or not needed). */
-    const CellwiseMatrix *
-    get_cellwise_full_mass_matrix() const
-    {
-      return use_cellwise_full_mass ? &cellwise_full_mass : nullptr;
-    }
-
-    /** @brief The velocity conditions (for tests). */
-    const VelocityConditions<dim> &
-    get_velocity_conditions() const
-    {
-      return velocity_conditions;
-    }
-
-    /** @brief The material points (for tests). */
-    const MaterialPoints<dim> &
-    get_material_points() const
-    {
-      return points;
-    }
-
-    /** @brief Reaction forces of the last step per label. */
-    const std::vector<Tensor<1, dim>> &
-    get_reaction_forces() const
-    {
-      return reactions.forces;
-    }
-
-    /** @brief Statistics of the material points now (collective). */
-    GlobalStatistics<dim>
-    compute_statistics() const;
-
-    /** @brief The background mesh (for tests and plugins). */
-    const parallel::distributed::Triangulation<dim> &
-    get_triangulation() const
-    {
-      return triangulation;
-    }
-
-    /** @brief How often the mesh was adapted (after the initial one). */
-    unsigned int
-    n_mesh_adaptations() const
-    {
-      return counters.mesh_adaptations;
-    }
-
     /**
      * @brief Adapt the mesh now with the scene's Mesh refinement strategy
      * (collective; also used by tests). Returns whether the mesh changed.
@@ -280,6 +204,10 @@ namespace fmpm
     adapt_mesh();
 
   private:
+    /** Statistics of the material points now (collective). */
+    GlobalStatistics<dim>
+    compute_statistics() const;
+
     // --- set-up (simulator/setup.cc) ---
     /** Everything the constructor does (core.cc). */
     void
@@ -374,8 +302,8 @@ namespace fmpm
      * step_stages, finish_step() and check_step_failures(). */
     void
     do_time_step();
-    /** A stage of the time step: a name for the run's header and the
-     * member function that runs it. */
+    /** A stage of the time step: a name for the run's header and its timer
+     * section, and the member function that runs it. */
     struct StepStage
     {
       const char *name;
@@ -487,12 +415,10 @@ namespace fmpm
     /** Set the initial stress of bodies that ask for it (gravity). */
     void
     initialize_stress_from_gravity();
-    /** Compute a nodal field (once per step) with BCs, ghosts, constraints;
-     * in a 'grid solve' section of its own unless the caller's covers it
-     * (@p timed false). */
+    /** Compute a nodal field (once per step) with BCs, ghosts, constraints
+     * (timed in the section of the stage that asks for it). */
     void
-    compute_field(const ParticleUpdate::GridField field,
-                  const bool                      timed = true);
+    compute_field(const ParticleUpdate::GridField field);
     /** The solver of the nodal fields at the current step's times. */
     FieldSolver<dim>
     field_solver() const;
@@ -606,8 +532,6 @@ namespace fmpm
       const std::map<std::string, double> &mass_matrix_statistics) const;
     void
     print_progress(const GlobalStatistics<dim> &statistics, const bool force);
-    void
-    print_test_particles() const;
 
     MPI_Comm            mpi_communicator;
     const Parameters    parameters;
@@ -659,11 +583,6 @@ namespace fmpm
      * a step may read them (field_needed, lumped_step_fields, contact), the
      * others when first computed. */
     GridState<dim> centre_of_mass;
-    /** Names of centre_of_mass's m̃ for the point loops. */
-    TrilinosWrappers::SparseMatrix &full_mass_matrix =
-      centre_of_mass.full_mass_matrix;
-    CellwiseMatrix &cellwise_full_mass = centre_of_mass.cellwise_full_mass;
-    bool &use_cellwise_full_mass       = centre_of_mass.use_cellwise_full_mass;
 
     /** Grid velocity conditions and the method imposing them. */
     VelocityConditions<dim> velocity_conditions;
@@ -708,10 +627,8 @@ namespace fmpm
      * point it is about (report_point_failure()). */
     std::string local_failure;
     FailedPoint local_failed_point;
-    /** Output stream for test mode (rank 0, only in test mode). */
-    ConditionalOStream tout;
-    double             local_max_wave_speed  = 0;
-    double             local_max_point_speed = 0;
+    double      local_max_wave_speed  = 0;
+    double      local_max_point_speed = 0;
     /** Energy dissipated by the particle updates on this rank in the
      * current step (seed 003 Eq. 1.46). */
     double local_dissipation = 0;

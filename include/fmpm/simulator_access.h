@@ -32,6 +32,10 @@ namespace fmpm
     template <int dim>
     class Interface;
   }
+  template <int dim>
+  struct HistoryRow;
+  template <int dim>
+  struct GlobalStatistics;
 
   /**
    * @brief Read-only view of the Simulator's state for plugins.
@@ -131,6 +135,25 @@ namespace fmpm
     /** The run's timer (sections of a subsystem). */
     TimerOutput &
     get_computing_timer() const;
+    /** m̃ as cell-wise matrices this step, or nullptr when m̃ is the
+     * assembled sparse matrix (or not needed). */
+    const CellwiseMatrix *
+    get_cellwise_full_mass_matrix() const;
+    /** A grid field of the centre of mass, as the last step left it. */
+    const GridVectorField &
+    get_grid_field(const ParticleUpdate::GridField field) const;
+    /** The rows of history.csv written so far. */
+    const std::vector<HistoryRow<dim>> &
+    get_history() const;
+    /** The reaction forces of the last step, per label. */
+    const std::vector<Tensor<1, dim>> &
+    get_reaction_forces() const;
+    /** How often the mesh was adapted (after the initial one). */
+    unsigned int
+    n_mesh_adaptations() const;
+    /** Statistics of the material points now (collective). */
+    GlobalStatistics<dim>
+    compute_statistics() const;
 
   private:
     const Simulator<dim> *simulator = nullptr;

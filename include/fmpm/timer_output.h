@@ -198,6 +198,18 @@ namespace fmpm
       timer.leave(section);
     running = false;
   }
+
+  /**
+   * @brief Whether the section @p name is a sub-section, "<part>: <detail>"
+   * (point store, contact): it runs within another section (a stage
+   * of the step, set-up, mesh adaptation, a checkpoint), and sums of the
+   * sections leave it out.
+   */
+  inline bool
+  is_timer_subsection(const std::string &name)
+  {
+    return name.find(": ") != std::string::npos;
+  }
 } // namespace fmpm
 
 #endif

@@ -656,7 +656,8 @@ namespace fmpm
         compute_geometry();
       if (!multimaterial_nodes_valid)
         find_multimaterial_nodes();
-      TimerOutput::Scope timer(this->get_computing_timer(), "contact");
+      TimerOutput::Scope timer(this->get_computing_timer(),
+                               "contact: corrections");
       CorrectionSweep    sweep(*this, stage);
       for_each_pair([&](const Slot &s) { sweep.visit(s); },
                     [&](const unsigned int               i,

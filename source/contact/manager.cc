@@ -49,13 +49,9 @@ namespace fmpm
       needs = normal_method->needs();
 
       // The exact solve: CG settings of the single-material one.
-      const auto exact_solve = mass_matrix.exact_solve();
-      material_exact_solve   = exact_solve.has_value();
+      material_exact_solve = mass_matrix.exact_solve();
       if (material_exact_solve)
         {
-          material_solve_tolerance      = exact_solve->tolerance;
-          material_solve_max_iterations = exact_solve->max_iterations;
-          material_weak_threshold       = exact_solve->weak_node_threshold;
           AssertThrow(n_materials <= 32,
                       ExcMessage(
                         "'Mass matrix/Model name = full' with contact "
@@ -64,7 +60,7 @@ namespace fmpm
         }
 
       material_full_mass_needed =
-        mass_matrix.order() > 1 || material_exact_solve;
+        mass_matrix.order() > 1 || material_exact_solve.has_value();
       full_mass.resize(material_full_mass_needed ? n_materials : 0);
 
       increment_law = create_law<dim>(Law{"perfect", {}});

@@ -32,7 +32,8 @@ namespace fmpm
       const double                      time_step   = this->get_timestep();
       const bool has_hanging_nodes                  = this->has_hanging_nodes();
       using namespace ParticleUpdate;
-      TimerOutput::Scope     timer(this->get_computing_timer(), "grid solve");
+      TimerOutput::Scope     timer(this->get_computing_timer(),
+                               "contact: grid fields");
       const FieldSolver<dim> solver = this->get_field_solver();
       // Lumped fields without hanging nodes or a series after them: solved
       // on the material's nodes only, zero elsewhere (they were zeroed where
@@ -239,8 +240,8 @@ namespace fmpm
       const unsigned int n_materials = fields.size();
       const unsigned int n_owned     = lumped_mass.locally_owned_size();
       const double       floor       = this->get_mass_floor();
-      const double       tau         = material_weak_threshold;
-      const bool         has_known   = velocity_conditions.uses_known_values();
+      const double       tau       = material_exact_solve->weak_node_threshold;
+      const bool         has_known = velocity_conditions.uses_known_values();
       if (has_known)
         velocity_conditions.known_values(t_field,
                                          known_velocity_mask,
@@ -308,8 +309,8 @@ namespace fmpm
                            &fields[a].fields[field],
                            &fields[a].solve_workspace});
       MassMatrix::FullMassSolveSettings settings;
-      settings.tolerance      = material_solve_tolerance;
-      settings.max_iterations = material_solve_max_iterations;
+      settings.tolerance      = material_exact_solve->tolerance;
+      settings.max_iterations = material_exact_solve->max_iterations;
       settings.mass_floor     = floor;
       const MassMatrix::FullMassSolve result =
         MassMatrix::solve_full_mass_systems(systems,

@@ -154,23 +154,38 @@ namespace fmpm
     void
     Fmpm<dim>::solve(const GridVectorField &p, GridVectorField &v) const
     {
-      const unsigned int order = series_this_step ? k : 1;
-      const auto         apply = [&](const auto &m_tilde) {
-        count(apply_fmpm_inverse(m_tilde,
-                                 this->get_lumped_mass(),
-                                 p,
-                                 v,
-                                 order,
-                                 this->get_simulator().mass_floor(),
-                                 &this->get_known_velocity_mask(),
-                                 &this->get_known_velocity_values(),
-                                 tolerance));
-      };
-      if (const CellwiseMatrix *cellwise =
-            this->get_simulator().get_cellwise_full_mass_matrix())
-        apply(*cellwise);
-      else
-        apply(this->get_full_mass_matrix());
+      const unsigned int             order = series_this_step ? k : 1;
+      const GridScalar              &m     = this->get_lumped_mass();
+      const double                   floor = this->get_mass_floor();
+      const std::vector<GridScalar> &known = this->get_known_velocity_mask();
+      const std::vector<GridScalar> &known_values =
+        this->get_known_velocity_values();
+      // v₁ = m⁻¹p; known components hold their values in every sweep.
+      apply_lumped_inverse(m, p, v, floor);
+      for (unsigned int b = 0; b < p.n_blocks(); ++b)
+        for (unsigned int i = 0; i < m.locally_owned_size(); ++i)
+          if (known[b].local_element(i) != 0)
+            v.block(b).local_element(i) = known_values[b].local_element(i);
+      if (order == 1)
+        {
+          count(1);
+          return;
+        }
+      const CellwiseMatrix *cellwise = this->get_cellwise_full_mass_matrix();
+      GridVectorField       m_tilde_v(v);
+      count(fmpm_series(
+        [&](const std::vector<GridVectorField *> &in,
+            const std::vector<GridVectorField *> &out) {
+          if (cellwise)
+            apply_full_mass(*cellwise, *out[0], *in[0]);
+          else
+            apply_full_mass(this->get_full_mass_matrix(), *out[0], *in[0]);
+        },
+        {SeriesField{&m, &p, &v, &known}},
+        {&m_tilde_v},
+        order,
+        floor,
+        tolerance));
     }
 
 
@@ -187,7 +202,7 @@ namespace fmpm
           return;
         }
       if (const CellwiseMatrix *cellwise =
-            this->get_simulator().get_cellwise_full_mass_matrix())
+            this->get_cellwise_full_mass_matrix())
         apply_full_mass(*cellwise, p, v);
       else
         apply_full_mass(this->get_full_mass_matrix(), p, v);

@@ -71,7 +71,7 @@ namespace fmpm
     const CellwiseMatrix *
     Full<dim>::cellwise_matrix() const
     {
-      return this->get_simulator().get_cellwise_full_mass_matrix();
+      return this->get_cellwise_full_mass_matrix();
     }
 
 
@@ -116,7 +116,7 @@ namespace fmpm
       settings.residual_scale    = residual_scale;
       settings.max_iterations    = max_iterations;
       settings.lumped_fraction   = lumped_fraction;
-      settings.mass_floor        = this->get_simulator().mass_floor();
+      settings.mass_floor        = this->get_mass_floor();
       settings.conserve_momentum = columns_sum_to_lumped_mass();
       const GridScalar   &m      = this->get_lumped_mass();
       const FullMassSolve result = cellwise_matrix() ?
@@ -169,7 +169,7 @@ namespace fmpm
       weak = 0;
       if (weak_node_threshold <= 0)
         return;
-      const double       floor  = this->get_simulator().mass_floor();
+      const double       floor  = this->get_mass_floor();
       unsigned long long n_weak = 0;
       for (unsigned int i = 0; i < m.locally_owned_size(); ++i)
         {

@@ -95,7 +95,7 @@ namespace fmpm
       apply_lumped_inverse(this->get_lumped_mass(),
                            p,
                            v,
-                           this->get_simulator().mass_floor());
+                           this->get_mass_floor());
     }
 
     template <int dim>

@@ -40,6 +40,15 @@ namespace fmpm
 
 
     template <int dim>
+    const std::string &
+    Interface<dim>::checkpoint_resumed_from() const
+    {
+      return this->get_simulator().checkpoint_state.resumed_from;
+    }
+
+
+
+    template <int dim>
     const ConditionReactions<dim> &
     Interface<dim>::get_reactions() const
     {

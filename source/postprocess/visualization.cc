@@ -312,8 +312,7 @@ namespace fmpm
     {
       if (!writer.valid())
         return;
-      TimerOutput::Scope timer(this->get_computing_timer(),
-                               "output: wait for the writer");
+      TimerOutput::Scope timer(this->get_computing_timer(), "vtu writer");
       writer.get();
     }
 
@@ -348,7 +347,7 @@ namespace fmpm
 
       auto points = std::make_shared<PointOutput<dim>>();
       {
-        TimerOutput::Scope points_timer(timer, "output: vtu points");
+        TimerOutput::Scope             points_timer(timer, "vtu points");
         const ParticleProperties<dim> &properties =
           this->get_particle_properties();
         points->set_flags(vtk_flags(output.compression));
@@ -358,7 +357,7 @@ namespace fmpm
       }
       auto grid = std::make_shared<GridPatches<dim>>();
       {
-        TimerOutput::Scope grid_timer(timer, "output: vtu grid");
+        TimerOutput::Scope grid_timer(timer, "vtu grid");
         grid->set_flags(vtk_flags(output.compression));
         grid->add_scalar(this->get_lumped_mass(), "nodal_mass");
         grid->add_vector(this->get_grid_field(ParticleUpdate::updated_velocity),
@@ -376,7 +375,7 @@ namespace fmpm
           this->get_dof_handler(),
           this->get_triangulation().locally_owned_subdomain());
       }
-      TimerOutput::Scope records_timer(timer, "output: vtu records");
+      TimerOutput::Scope records_timer(timer, "vtu records");
       particle_pvd_records.emplace_back(control.time(), record("particles"));
       grid_pvd_records.emplace_back(control.time(), record("grid"));
       if (rank == 0)

@@ -4,6 +4,7 @@
 // The run loop and the MPM time step of seed 000 §2.2.
 
 #include <fmpm/postprocess/point_csv.h>
+#include <fmpm/postprocess/test_output.h>
 #include <fmpm/postprocess/visualization.h>
 #include <fmpm/simulator.h>
 
@@ -17,7 +18,6 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
-#include <optional>
 #include <set>
 #include <sstream>
 
@@ -46,9 +46,6 @@ namespace fmpm
     , fe(1)
     , dof_handler(triangulation)
     , control(parameters.time, parameters.output, parameters.checkpoint)
-    , tout(std::cout,
-           Utilities::MPI::this_mpi_process(mpi_communicator) == 0 &&
-             parameters.test_mode)
     , checkpoint_state(resume)
   {
     // An error found during set-up (bad input the parameter checks cannot
@@ -88,6 +85,9 @@ namespace fmpm
         contact->initialize_simulator(*this);
         contact->initialize();
       }
+    if (parameters.test_mode)
+      postprocessors.add(std::make_unique<Postprocess::TestOutput<dim>>(),
+                         *this);
     postprocessors.add(std::make_unique<Postprocess::HistoryFile<dim>>(),
                        *this);
     if (parameters.output.write_particle_csv)
@@ -375,8 +375,6 @@ namespace fmpm
         pcout << "      resumed from " << checkpoint_state.resumed_from
               << " at step " << control.step_number()
               << ", t = " << control.time() << std::endl;
-        tout << "resumed from " << checkpoint_state.resumed_from << " at step "
-             << control.step_number() << std::endl;
       }
   }
 
@@ -499,13 +497,13 @@ namespace fmpm
       pcout << "*** Stopped by a signal at step " << control.step_number()
             << " after writing a checkpoint; continue with fmpm --resume"
             << std::endl;
-    print_test_particles();
+    const std::string status = checkpoint_state.stopped_on_signal ?
+                                 "stopped: signal" :
+                               reached_end ? "completed" :
+                                             "stopped: step limit";
+    postprocessors.end_of_run(status, nullptr);
     postprocessors.finish();
-    write_summary(checkpoint_state.stopped_on_signal ? "stopped: signal" :
-                  reached_end                        ? "completed" :
-                                                       "stopped: step limit",
-                  nullptr,
-                  statistics);
+    write_summary(status, nullptr, statistics);
     pcout << "      timer sections cover " << std::fixed << std::setprecision(1)
           << 100 * counters.timer_coverage << " % of the wall time"
           << std::defaultfloat << std::endl;
@@ -539,12 +537,10 @@ namespace fmpm
             << "lumped." << std::endl;
     if (!control.time_step_rule().note().empty())
       pcout << "    Note: " << control.time_step_rule().note() << std::endl;
-    tout << "FAILED at step " << failure.step << ": " << failure.what()
-         << std::endl;
+    const std::string status = std::string("failed: ") + failure.what();
+    postprocessors.end_of_run(status, &failure);
     const GlobalStatistics<dim> statistics = compute_statistics();
-    write_summary(std::string("failed: ") + failure.what(),
-                  &failure,
-                  statistics);
+    write_summary(status, &failure, statistics);
   }
 
 
@@ -580,14 +576,10 @@ namespace fmpm
 
   template <int dim>
   void
-  Simulator<dim>::compute_field(const ParticleUpdate::GridField field,
-                                const bool                      timed)
+  Simulator<dim>::compute_field(const ParticleUpdate::GridField field)
   {
     if (centre_of_mass.computed[field])
       return;
-    std::optional<TimerOutput::Scope> timer;
-    if (timed)
-      timer.emplace(computing_timer, "grid solve");
     centre_of_mass.compute(field,
                            field_solver(),
                            *mass_matrix,
@@ -613,7 +605,7 @@ namespace fmpm
     };
     operators.full_mass = [this](const GridVectorField &v, GridVectorField &p) {
       for (unsigned int d = 0; d < dim; ++d)
-        full_mass_matrix.vmult(p.block(d), v.block(d));
+        centre_of_mass.full_mass_matrix.vmult(p.block(d), v.block(d));
     };
     return operators;
   }

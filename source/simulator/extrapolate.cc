@@ -66,17 +66,17 @@ namespace fmpm
   void
   Simulator<dim>::particles_to_grid(const bool with_forces)
   {
-    TimerOutput::Scope timer(computing_timer, "particles to grid");
     prepare_supports();
 
     // m̃ as cell-wise matrices where the mass matrix accepts them, else the
     // assembled sparse matrix (the collection BC methods need its entries).
-    use_cellwise_full_mass = mass_matrix->needs_full_mass_matrix() &&
-                             mass_matrix->accepts_cellwise_full_mass_matrix() &&
-                             !velocity_conditions.needs_full_mass_matrix();
-    const bool assemble_full =
-      !use_cellwise_full_mass && (mass_matrix->needs_full_mass_matrix() ||
-                                  velocity_conditions.needs_full_mass_matrix());
+    centre_of_mass.use_cellwise_full_mass =
+      mass_matrix->needs_full_mass_matrix() &&
+      mass_matrix->accepts_cellwise_full_mass_matrix() &&
+      !velocity_conditions.needs_full_mass_matrix();
+    const bool assemble_full = !centre_of_mass.use_cellwise_full_mass &&
+                               (mass_matrix->needs_full_mass_matrix() ||
+                                velocity_conditions.needs_full_mass_matrix());
     // (With contact m, p and f are set from the material fields after the
     // sweep.)
     const bool contact = contact_active();
@@ -90,15 +90,15 @@ namespace fmpm
     typename Transfer::FullMassCellSink<dim>::Targets full_mass_targets;
     if (assemble_full)
       {
-        full_mass_matrix            = 0;
-        full_mass_targets.assembled = &full_mass_matrix;
+        centre_of_mass.full_mass_matrix = 0;
+        full_mass_targets.assembled     = &centre_of_mass.full_mass_matrix;
         full_mass_targets.partitioner =
           centre_of_mass.mass.get_partitioner().get();
       }
-    if (use_cellwise_full_mass)
+    if (centre_of_mass.use_cellwise_full_mass)
       {
-        cellwise_full_mass.clear();
-        full_mass_targets.cellwise = &cellwise_full_mass;
+        centre_of_mass.cellwise_full_mass.clear();
+        full_mass_targets.cellwise = &centre_of_mass.cellwise_full_mass;
       }
 
     // Per-material fields (contact): m^α, p^α0, f^α0, g^α, Σ S M X, and
@@ -191,7 +191,7 @@ namespace fmpm
     if (with_forces)
       centre_of_mass.force.compress(VectorOperation::add);
     if (assemble_full)
-      full_mass_matrix.compress(VectorOperation::add);
+      centre_of_mass.full_mass_matrix.compress(VectorOperation::add);
     centre_of_mass.mass.update_ghost_values();
     for (auto &field : material_fields)
       {
@@ -215,7 +215,6 @@ namespace fmpm
     // The tail of the re-extrapolation the particle update made: with
     // contact p = Σ_α p^α (Eq. 6); the ghosts added (with contact also of
     // g^α, Σ S M X, u^α, V^α where read).
-    TimerOutput::Scope timer(computing_timer, "particles to grid");
     if (contact_active())
       {
         this->contact->invalidate_geometry(false);

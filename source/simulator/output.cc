@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // Copyright (C) 2026 by the fmpm authors
 
-// What a run leaves behind: VTU/PVTU/PVD files for ParaView, history.csv,
-// summary.json, progress lines and the test-mode printout.
+// What a run reports besides its postprocessors (history.csv, VTU, point
+// csv, test output): summary.json and the progress lines.
 
 #include <fmpm/simulator.h>
 
@@ -66,15 +66,6 @@ namespace fmpm
     // Accumulate the time-averaged reference errors over outputs.
     energy_balance.record_output(statistics);
 
-    if (parameters.test_mode)
-      {
-        tout << std::scientific << std::setprecision(8) << "step "
-             << control.step_number() << " t " << control.time() << " mass "
-             << statistics.mass << " momentum " << statistics.momentum
-             << " kinetic " << statistics.kinetic_energy << " strain "
-             << statistics.strain_energy << std::endl;
-      }
-
     control.output_written();
     // The postprocessors time themselves (no section inside another).
     timer.stop();
@@ -108,43 +99,6 @@ namespace fmpm
 
   template <int dim>
   void
-  Simulator<dim>::print_test_particles() const
-  {
-    if (!parameters.test_mode)
-      return;
-    using Index = PropertyIndex<dim>;
-    // Gather (id, x, V) to rank 0 and print sorted by id.
-    std::vector<std::pair<types::particle_index, std::vector<double>>> local;
-    for (unsigned int k = 0; k < points.n_points(); ++k)
-      {
-        std::vector<double> values;
-        for (unsigned int d = 0; d < dim; ++d)
-          values.push_back(points.position[k][d]);
-        for (unsigned int d = 0; d < dim; ++d)
-          values.push_back(points.column(Index::velocity + d)[k]);
-        local.emplace_back(points.id[k], values);
-      }
-    const auto all = Utilities::MPI::gather(mpi_communicator, local, 0);
-    if (Utilities::MPI::this_mpi_process(mpi_communicator) != 0)
-      return;
-    std::map<types::particle_index, std::vector<double>> sorted;
-    for (const auto &rank : all)
-      for (const auto &entry : rank)
-        sorted[entry.first] = entry.second;
-    tout << "points (id, position, velocity):" << std::endl;
-    for (const auto &entry : sorted)
-      {
-        tout << entry.first;
-        for (const double value : entry.second)
-          tout << ' ' << std::scientific << std::setprecision(8) << value;
-        tout << std::endl;
-      }
-  }
-
-
-
-  template <int dim>
-  void
   Simulator<dim>::write_summary(const std::string           &status,
                                 const SimulationFailure     *failure,
                                 const GlobalStatistics<dim> &statistics)
@@ -155,12 +109,13 @@ namespace fmpm
     std::map<std::string, double> phases =
       computing_timer.get_summary_data(TimerOutput::total_wall_time);
     const double wall = MPI_Wtime() - counters.wall_start;
-    // The share of the wall time inside the timer sections (they do not
-    // nest, but for the point store's, which run within set-up, mesh
-    // adaptation, checkpoints and the sort), on the slowest-covered rank.
+    // The share of the wall time inside the timer sections, on the
+    // slowest-covered rank. Sections do not nest, but for the sub-sections
+    // "<part>: <detail>" (point store, contact), which run within
+    // another section and are not counted twice.
     double covered = 0;
     for (const auto &phase : phases)
-      if (phase.first.rfind("point store", 0) != 0)
+      if (!is_timer_subsection(phase.first))
         covered += phase.second;
     counters.timer_coverage =
       Utilities::MPI::min(wall > 0 ? covered / wall : 1., mpi_communicator);
@@ -322,7 +277,9 @@ namespace fmpm
     {
       // The largest checkerboard indicator of the outputs, and its time.
       double max_checkerboard = 0, max_checkerboard_time = 0;
-      for (const auto &row : get_history())
+      for (const auto &row :
+           postprocessors.template find<Postprocess::HistoryFile<dim>>()
+             ->rows())
         if (row.checkerboard_j > max_checkerboard)
           {
             max_checkerboard      = row.checkerboard_j;

@@ -241,7 +241,6 @@ namespace fmpm
   void
   Simulator<dim>::update_particles()
   {
-    TimerOutput::Scope timer(computing_timer, "particle update");
     using Index = PropertyIndex<dim>;
 
     // The fields of the centre of mass, or with contact of each material
@@ -394,7 +393,6 @@ namespace fmpm
   void
   Simulator<dim>::sort_particles_into_cells()
   {
-    TimerOutput::Scope timer(computing_timer, "sort points into cells");
     // The points that left their cells, to their new cells nearby (on this
     // rank or their new owner's); else deal.II's sort of every point (a
     // point not found nearby or outside the mesh: it reports lost points).

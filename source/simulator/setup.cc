@@ -282,7 +282,7 @@ namespace fmpm
                 }
           }
         sparsity.compress();
-        full_mass_matrix.reinit(sparsity);
+        centre_of_mass.full_mass_matrix.reinit(sparsity);
       }
 
     // The smallest edge length h_min for the Courant condition.

@@ -563,13 +563,12 @@ namespace fmpm
                                   const bool                      with_forces)
   {
     // The velocities of the centre of mass, or with contact of the group's
-    // material (Eq. 28); their solves time themselves.
+    // material (Eq. 28).
     const bool contact = contact_active();
     if (contact)
       this->contact->compute_field(field);
     else
       compute_field(field);
-    TimerOutput::Scope timer(computing_timer, "stress update");
     const unsigned int n_materials = constitutive_models.size();
     // The batch's entry arrays (zero: in 2D the out-of-plane entries stay
     // so).

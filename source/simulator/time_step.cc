@@ -6,8 +6,6 @@
 
 #include <fmpm/simulator.h>
 
-#include <optional>
-
 namespace fmpm
 {
   template <int dim>
@@ -63,8 +61,12 @@ namespace fmpm
   Simulator<dim>::do_time_step()
   {
     begin_step();
+    // One timer section per stage, named as the run header prints it.
     for (const StepStage &stage : step_stages)
-      (this->*stage.run)();
+      {
+        TimerOutput::Scope timer(computing_timer, stage.name);
+        (this->*stage.run)();
+      }
     finish_step();
     check_step_failures();
   }
@@ -94,14 +96,9 @@ namespace fmpm
     centre_of_mass.computed.fill(false);
     for (auto &impulse : reactions.step_impulse)
       impulse = Tensor<1, dim>();
-    timer.stop();
     // Box walls that move and regions in t: their nodes at t.
     if (velocity_conditions.nodes_move())
-      {
-        TimerOutput::Scope conditions_timer(computing_timer,
-                                            "velocity conditions");
-        velocity_conditions.move_nodes(t);
-      }
+      velocity_conditions.move_nodes(t);
   }
 
 
@@ -117,11 +114,8 @@ namespace fmpm
     //    26, §3.2).
     const double t = control.time();
     particles_to_grid(!parameters.method.strain_update_scheme.update_first);
-    {
-      TimerOutput::Scope timer(computing_timer, "grid solve");
-      centre_of_mass.momentum_time = t;
-      impose_velocity_conditions(centre_of_mass.momentum, t, nullptr);
-    }
+    centre_of_mass.momentum_time = t;
+    impose_velocity_conditions(centre_of_mass.momentum, t, nullptr);
     if (contact)
       contact->correct_extrapolated_momenta(t, Contact::Stage::extrapolated);
   }
@@ -156,25 +150,23 @@ namespace fmpm
     //    31).
     const double dt    = control.time_step();
     const double t_end = control.time() + dt;
-    {
-      TimerOutput::Scope timer(computing_timer, "grid solve");
-      set_scaled_sum(centre_of_mass.updated_momentum,
-                     centre_of_mass.momentum,
-                     dt,
-                     centre_of_mass.force);
-      impose_velocity_conditions(centre_of_mass.updated_momentum,
-                                 t_end,
-                                 &reactions.step_impulse);
-      set_scaled_sum(centre_of_mass.force,
-                     centre_of_mass.updated_momentum,
-                     -1.,
-                     centre_of_mass.momentum,
-                     1. / dt);
-      if (contact)
+    set_scaled_sum(centre_of_mass.updated_momentum,
+                   centre_of_mass.momentum,
+                   dt,
+                   centre_of_mass.force);
+    impose_velocity_conditions(centre_of_mass.updated_momentum,
+                               t_end,
+                               &reactions.step_impulse);
+    set_scaled_sum(centre_of_mass.force,
+                   centre_of_mass.updated_momentum,
+                   -1.,
+                   centre_of_mass.momentum,
+                   1. / dt);
+    if (contact)
+      {
         contact->update_momenta(dt, t_end);
-    }
-    if (contact) // (times itself)
-      contact->apply(Contact::Stage::updated);
+        contact->apply(Contact::Stage::updated);
+      }
   }
 
 
@@ -194,29 +186,21 @@ namespace fmpm
     const bool measure_reactions     = velocity_method_reactions();
     const bool centre_of_mass_series = !contact || grid_output_follows_step(dt);
     const auto &needed               = active_fields();
-    // One section for the fields (a section entry costs about a
-    // microsecond outside every section: much of a small scene's step).
-    std::optional<TimerOutput::Scope> timer;
-    timer.emplace(computing_timer, "grid solve");
     for (unsigned int f = 0; f < n_grid_fields; ++f)
       if ((needed[f] &&
            (centre_of_mass_series || f == lumped_velocity ||
             f == lumped_updated_velocity || f == lumped_acceleration)) ||
           (measure_reactions && (f == updated_velocity || f == velocity)))
-        compute_field(static_cast<GridField>(f), false);
-    if (contact) // (times itself)
-      {
-        timer.reset();
-        for (unsigned int f = 0; f < n_grid_fields; ++f)
-          if (needed[f])
-            contact->compute_field(static_cast<GridField>(f));
-        timer.emplace(computing_timer, "grid solve");
-      }
+        compute_field(static_cast<GridField>(f));
+    if (contact)
+      for (unsigned int f = 0; f < n_grid_fields; ++f)
+        if (needed[f])
+          contact->compute_field(static_cast<GridField>(f));
     // Seed 000 Eq. 4.1: f holds the conditions' forces, and the solve sets
     // the known accelerations of the corrected nodes (Δv⁺/Δt).
     if (parameters.output.write_grid_acceleration &&
         grid_output_follows_step(dt))
-      compute_field(acceleration, false);
+      compute_field(acceleration);
     // How well v⁺ satisfies the conditions (summary.json).
     if (centre_of_mass.computed[updated_velocity])
       {
@@ -261,7 +245,6 @@ namespace fmpm
     update_particles();
     if (parameters.output.track_dissipation)
       {
-        TimerOutput::Scope timer(computing_timer, "particle update");
         energy_balance.dissipated_energy +=
           Utilities::MPI::sum(local_dissipation, mpi_communicator);
         local_dissipation = 0;
@@ -280,13 +263,10 @@ namespace fmpm
     const double t_end = control.time() + control.time_step();
     Assert(point_loops.momenta_in_particle_update, ExcInternalError());
     finish_re_extrapolation();
-    {
-      TimerOutput::Scope timer(computing_timer, "grid solve");
-      centre_of_mass.momentum_time = t_end;
-      impose_velocity_conditions(centre_of_mass.momentum, t_end, nullptr);
-      centre_of_mass.computed[velocity] =
-        centre_of_mass.computed[lumped_velocity] = false;
-    }
+    centre_of_mass.momentum_time = t_end;
+    impose_velocity_conditions(centre_of_mass.momentum, t_end, nullptr);
+    centre_of_mass.computed[velocity] =
+      centre_of_mass.computed[lumped_velocity] = false;
     if (contact)
       contact->correct_extrapolated_momenta(t_end,
                                             Contact::Stage::re_extrapolated);

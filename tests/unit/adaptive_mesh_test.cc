@@ -131,9 +131,10 @@ TYPED_TEST(AdaptiveMeshTest, ConstantAndLinearFieldsSurviveTransfer)
       probe.initialize_simulator(*simulator);
       // The mesh really has hanging nodes touched by points.
       ASSERT_GT(probe.get_constraints().n_constraints(), 0u);
-      ASSERT_GT(simulator->get_triangulation().n_levels(), 2u);
+      ASSERT_GT(fmpm_tests::inspect(*simulator).get_triangulation().n_levels(),
+                2u);
       simulator->run();
-      const auto s = simulator->compute_statistics();
+      const auto s = fmpm_tests::inspect(*simulator).compute_statistics();
       ASSERT_GT(s.velocity_reference_squared, 0);
       EXPECT_LT(std::sqrt(s.velocity_error_squared /
                           s.velocity_reference_squared),
@@ -162,12 +163,13 @@ TYPED_TEST(AdaptiveMeshTest, FullMassMatrixSymmetricRowSumsLumped)
     prm);
   Probe<dim> probe;
   probe.initialize_simulator(*simulator);
-  const auto before = simulator->compute_statistics();
+  const auto before = fmpm_tests::inspect(*simulator).compute_statistics();
   simulator->run(); // one step: m, p and m̃ of the initial points
 
   // m̃ is kept cell by cell also on hanging-node meshes: the
   // constraints are applied when the cells are built.
-  const fmpm::CellwiseMatrix *K = simulator->get_cellwise_full_mass_matrix();
+  const fmpm::CellwiseMatrix *K =
+    fmpm_tests::inspect(*simulator).get_cellwise_full_mass_matrix();
   ASSERT_NE(K, nullptr);
   const auto &m           = probe.get_lumped_mass();
   const auto &constraints = probe.get_constraints();
@@ -256,7 +258,7 @@ TEST(AdaptiveMesh, EveryMassMatrixRunsWithHangingNodes)
       probe.initialize_simulator(*simulator);
       ASSERT_GT(probe.get_constraints().n_constraints(), 0u);
       simulator->run();
-      const auto  &history = simulator->get_history();
+      const auto  &history = fmpm_tests::inspect(*simulator).get_history();
       const double v0 = 1e-4, omega = M_PI / 2 * 10;
       const double amplitude = 2 * v0 / M_PI;
       double       max_error = 0;
@@ -308,11 +310,14 @@ TYPED_TEST(AdaptiveMeshTest, RemeshConservesMassAndMomentum)
       "\n set Initial velocity = " + (dim == 2 ? "1.5, 0.5" : "1.5, 0.5, 0.2") +
       "\nend\n",
     prm);
-  const auto         before  = simulator->compute_statistics();
-  const unsigned int n_cells = simulator->get_triangulation().n_active_cells();
+  const auto before = fmpm_tests::inspect(*simulator).compute_statistics();
+  const unsigned int n_cells =
+    fmpm_tests::inspect(*simulator).get_triangulation().n_active_cells();
   ASSERT_TRUE(simulator->adapt_mesh());
-  const auto after = simulator->compute_statistics();
-  EXPECT_NE(simulator->get_triangulation().n_active_cells(), n_cells);
+  const auto after = fmpm_tests::inspect(*simulator).compute_statistics();
+  EXPECT_NE(
+    fmpm_tests::inspect(*simulator).get_triangulation().n_active_cells(),
+    n_cells);
   EXPECT_NEAR(after.mass, before.mass, 1e-14 * before.mass);
   for (unsigned int d = 0; d < dim; ++d)
     EXPECT_NEAR(after.momentum[d], before.momentum[d], 1e-14 * before.mass);
@@ -325,8 +330,8 @@ TYPED_TEST(AdaptiveMeshTest, RemeshConservesMassAndMomentum)
               1e-14 * std::abs(before.potential_energy) + 1e-300);
 
   simulator->run();
-  EXPECT_GT(simulator->n_mesh_adaptations(), 2u);
-  for (const auto &row : simulator->get_history())
+  EXPECT_GT(fmpm_tests::inspect(*simulator).n_mesh_adaptations(), 2u);
+  for (const auto &row : fmpm_tests::inspect(*simulator).get_history())
     {
       for (unsigned int d = 0; d < dim; ++d)
         EXPECT_NEAR(row.momentum[d], before.momentum[d], 1e-12 * before.mass)
@@ -354,8 +359,9 @@ TEST(AdaptiveMesh, FullCoverageMatchesUniformRun)
                           extra,
                         prm);
     simulator->run();
-    return std::make_pair(simulator->get_history(),
-                          simulator->get_triangulation().n_active_cells());
+    return std::make_pair(
+      fmpm_tests::inspect(*simulator).get_history(),
+      fmpm_tests::inspect(*simulator).get_triangulation().n_active_cells());
   };
   const auto uniform =
     run("subsection Mesh\n set Initial global refinement = 1\nend\n",
@@ -395,8 +401,9 @@ TEST(AdaptiveMesh, SmallBodyInBigBoxMatchesUniformMesh)
                           "subsection Time\n set End time = 1\nend\n" + extra,
                         prm);
     simulator->run();
-    return std::make_pair(simulator->get_history(),
-                          simulator->get_triangulation().n_active_cells());
+    return std::make_pair(
+      fmpm_tests::inspect(*simulator).get_history(),
+      fmpm_tests::inspect(*simulator).get_triangulation().n_active_cells());
   };
   const auto adaptive = run("", "output-small-body");
   const auto uniform =
@@ -448,8 +455,9 @@ namespace
     simulator->run();
     // The interior vertices really moved.
     unsigned int n_moved = 0;
-    for (const auto &cell :
-         simulator->get_triangulation().active_cell_iterators())
+    for (const auto &cell : fmpm_tests::inspect(*simulator)
+                              .get_triangulation()
+                              .active_cell_iterators())
       for (const unsigned int v : cell->vertex_indices())
         {
           const double x = cell->vertex(v)[0] / (1.5 / (24 * n));
@@ -507,7 +515,8 @@ TEST(AdaptiveMesh, BallMeshCurvedBoundary)
                   "subsection Reference solution\n set Enable = false\nend\n"
                   "subsection Time\n set End time = 0.2\nend\n",
     prm);
-  const auto &triangulation = simulator->get_triangulation();
+  const auto &triangulation =
+    fmpm_tests::inspect(*simulator).get_triangulation();
   EXPECT_EQ(triangulation.n_active_cells(), 5u * 64u);
   for (const auto &cell : triangulation.active_cell_iterators())
     for (const unsigned int f : cell->face_indices())
@@ -516,9 +525,9 @@ TEST(AdaptiveMesh, BallMeshCurvedBoundary)
           for (unsigned int v = 0; v < 2; ++v)
             EXPECT_NEAR(cell->face(f)->vertex(v).norm(), 1.0, 1e-12);
         }
-  const auto before = simulator->compute_statistics();
+  const auto before = fmpm_tests::inspect(*simulator).compute_statistics();
   simulator->run();
-  for (const auto &row : simulator->get_history())
+  for (const auto &row : fmpm_tests::inspect(*simulator).get_history())
     {
       EXPECT_NEAR(row.momentum[0], before.momentum[0], 1e-12 * before.mass);
       EXPECT_NEAR(row.momentum[1], before.momentum[1], 1e-12 * before.mass);
@@ -557,11 +566,15 @@ TEST(AdaptiveMesh, KellyRefinement)
                       "subsection Time\n set End time = 0.2\n set Strain update = "
                       "usavg+\nend\n",
         prm);
-      EXPECT_GT(simulator->get_triangulation().n_active_cells(), 24u);
-      EXPECT_GT(simulator->get_triangulation().n_levels(), 2u);
+      EXPECT_GT(
+        fmpm_tests::inspect(*simulator).get_triangulation().n_active_cells(),
+        24u);
+      EXPECT_GT(fmpm_tests::inspect(*simulator).get_triangulation().n_levels(),
+                2u);
       simulator->run();
-      EXPECT_EQ(simulator->n_mesh_adaptations() > 0, interval > 0);
-      const auto  &history   = simulator->get_history();
+      EXPECT_EQ(fmpm_tests::inspect(*simulator).n_mesh_adaptations() > 0,
+                interval > 0);
+      const auto  &history   = fmpm_tests::inspect(*simulator).get_history();
       const double amplitude = 2e-4 / M_PI, omega = M_PI / 2 * 10;
       const double E0 = history.front().total_energy;
       for (const auto &row : history)

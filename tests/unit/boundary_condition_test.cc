@@ -53,9 +53,10 @@ namespace
   double
   condition_error(const fmpm::Simulator<dim> &simulator, const double t)
   {
-    const auto &conditions = simulator.get_velocity_conditions();
-    const auto &v =
-      simulator.get_grid_field(fmpm::ParticleUpdate::updated_velocity);
+    const auto &conditions =
+      fmpm_tests::inspect(simulator).get_velocity_conditions();
+    const auto &v = fmpm_tests::inspect(simulator).get_grid_field(
+      fmpm::ParticleUpdate::updated_velocity);
     double error = 0;
     for (const auto &c : conditions.node_conditions())
       {
@@ -97,7 +98,7 @@ TEST(BoundaryConditions, PistonReactionEqualsElasticForce)
             continue;
           }
         simulator->run();
-        const auto &history   = simulator->get_history();
+        const auto &history   = fmpm_tests::inspect(*simulator).get_history();
         double      sum_fixed = 0, sum_piston = 0, sum_expected = 0;
         for (const auto &row : history)
           if (row.time >= 0.15)
@@ -135,7 +136,7 @@ TEST(BoundaryConditions, MethodsReduceToLumpedWithLumpedMass)
                             "subsection Time\n set End time = 0.05\nend\n",
                           prm);
       simulator->run();
-      histories[method] = simulator->get_history();
+      histories[method] = fmpm_tests::inspect(*simulator).get_history();
     }
   const auto &lumped = histories["lumped"];
   for (const auto &method : all_methods)
@@ -241,7 +242,7 @@ end
   const double rho = 100, g = 10, H = 1, W = 0.25;
   const double base_stress = rho * g * H;
   double       max_error = 0, max_speed = 0;
-  const auto  &points = simulator->get_material_points();
+  const auto  &points = fmpm_tests::inspect(*simulator).get_material_points();
   for (unsigned int k = 0; k < points.n_points(); ++k)
     {
       const auto   p     = points.record(k);
@@ -256,7 +257,7 @@ end
   EXPECT_LT(max_error, 0.02 * base_stress);
   // Speed a point would gain falling freely for 1% of the run.
   EXPECT_LT(max_speed, 0.01 * g * 0.2);
-  const auto &reactions = simulator->get_reaction_forces();
+  const auto &reactions = fmpm_tests::inspect(*simulator).get_reaction_forces();
   // labels: 2 (base), 0, 1 (sides)
   EXPECT_NEAR(reactions[0][1], rho * g * H * W, 0.01 * rho * g * H * W);
   EXPECT_NEAR(reactions[1][0] + reactions[2][0], 0, 1e-6 * rho * g * H * W);
@@ -309,7 +310,7 @@ end
   // ∫ t_x dt over [0, 0.02] with the mid-step values (exact for the ramp).
   const double impulse_x = 50 * (0.01 / 2 + 0.01);
   const double impulse_y = 20 * 0.02;
-  const auto  &final     = simulator->get_history().back();
+  const auto  &final     = fmpm_tests::inspect(*simulator).get_history().back();
   EXPECT_NEAR(final.momentum[0], impulse_x * area, 1e-9 * impulse_x * area);
   EXPECT_NEAR(final.momentum[1], impulse_y * area, 1e-9 * impulse_y * area);
 }
@@ -347,7 +348,7 @@ end
   ParameterHandler  prm;
   auto simulator = make_simulator<2>({}, scene + quiet("output-rotating"), prm);
   simulator->run();
-  const auto  &history = simulator->get_history();
+  const auto  &history = fmpm_tests::inspect(*simulator).get_history();
   const double M       = history.front().mass;
   const double omega = 3, dt = 0.001, V = 0.5, r_c = 0.25;
   // b = −ω×(ω×r) − 2ω×V: (ω² r_x, −2 ω V_x) averaged over the block.
@@ -400,10 +401,12 @@ end
   simulator->run();
   // The wall's face is at 0.5 + 2 t = 0.7 at the end.
   double min_x = 1e30;
-  for (const auto &x : simulator->get_material_points().position)
+  for (const auto &x :
+       fmpm_tests::inspect(*simulator).get_material_points().position)
     min_x = std::min(min_x, x[0]);
   EXPECT_GE(min_x, 0.7 - 1e-12);
-  EXPECT_GT(simulator->get_history().back().momentum[0], 0);
+  EXPECT_GT(fmpm_tests::inspect(*simulator).get_history().back().momentum[0],
+            0);
 }
 
 
@@ -427,7 +430,7 @@ TEST(BoundaryConditions, RegionWallEqualsBoundaryIdWall)
                             wall,
                           prm);
       simulator->run();
-      histories.push_back(simulator->get_history());
+      histories.push_back(fmpm_tests::inspect(*simulator).get_history());
     }
   ASSERT_EQ(histories[0].size(), histories[1].size());
   // Labels: "1", "0", "2", "3" with ids; "0", "2", "3", "wall0" with the
@@ -529,8 +532,9 @@ TEST(BoundaryConditions, WallVelocityInXShearsABlockExactly)
                                            method_overrides("lumped", method),
                                          prm);
       simulator->run();
-      const auto &points    = simulator->get_material_points();
-      double      max_shear = 0, max_normal = 0, max_velocity = 0;
+      const auto &points =
+        fmpm_tests::inspect(*simulator).get_material_points();
+      double max_shear = 0, max_normal = 0, max_velocity = 0;
       for (unsigned int k = 0; k < points.n_points(); ++k)
         {
           const auto p = points.record(k);
@@ -553,7 +557,8 @@ TEST(BoundaryConditions, WallVelocityInXShearsABlockExactly)
       EXPECT_LT(max_velocity, 1e-12) << method;
 
       // Every wall node holds its own velocity.
-      const auto &conditions = simulator->get_velocity_conditions();
+      const auto &conditions =
+        fmpm_tests::inspect(*simulator).get_velocity_conditions();
       EXPECT_LT(condition_error(*simulator, t_end), 1e-12) << method;
       unsigned int n_moving = 0;
       for (const auto &c : conditions.node_conditions())
@@ -561,7 +566,7 @@ TEST(BoundaryConditions, WallVelocityInXShearsABlockExactly)
           ++n_moving;
       EXPECT_EQ(n_moving, 32u) << method; // the 32 boundary nodes
 
-      const auto  &last   = simulator->get_history().back();
+      const auto  &last = fmpm_tests::inspect(*simulator).get_history().back();
       const double energy = G * gamma * gamma / 2;
       EXPECT_NEAR(last.strain_energy, energy, 1e-9 * energy) << method;
       EXPECT_NEAR(summary_number(directory, "external_work"),
@@ -586,8 +591,9 @@ TEST(BoundaryConditions, WallVelocityIsEvaluatedAtEachNode)
       "subsection Boundary conditions\n subsection Moving wall 1\n  set "
                   "Velocity = 3*t\n end\nend\n",
     prm);
-  const auto &conditions  = simulator->get_velocity_conditions();
-  const auto &dof_handler = simulator->get_dof_handler();
+  const auto &conditions =
+    fmpm_tests::inspect(*simulator).get_velocity_conditions();
+  const auto &dof_handler = fmpm_tests::inspect(*simulator).get_dof_handler();
   // Owned node positions by local index (the owned range comes first).
   std::map<unsigned int, Point<2>> position;
   const IndexSet                  &owned = dof_handler.locally_owned_dofs();
@@ -678,7 +684,9 @@ TEST(BoundaryConditions, WallNodesMoveOnlyWhenTheyCan)
                       "set Boundary ids =\n  set Velocity = 0\n  " +
           wall + "\n end\nend\n",
         prm);
-      EXPECT_EQ(simulator->get_velocity_conditions().nodes_move(), moves)
+      EXPECT_EQ(
+        fmpm_tests::inspect(*simulator).get_velocity_conditions().nodes_move(),
+        moves)
         << wall;
     }
 }
@@ -742,9 +750,12 @@ end
                           prm);
       simulator->run();
       EXPECT_LT(condition_error(*simulator, 0.5), 1e-14);
-      EXPECT_EQ(simulator->get_velocity_conditions().node_conditions().size(),
+      EXPECT_EQ(fmpm_tests::inspect(*simulator)
+                  .get_velocity_conditions()
+                  .node_conditions()
+                  .size(),
                 10u); // 5 nodes on y = 1, two components each
-      histories.push_back(simulator->get_history());
+      histories.push_back(fmpm_tests::inspect(*simulator).get_history());
     }
   // Labels: "fixed_region"; "wall0", "wall1".
   ASSERT_EQ(histories[0].size(), histories[1].size());

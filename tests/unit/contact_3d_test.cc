@@ -133,7 +133,7 @@ namespace
                         prm);
     simulator->run();
     BlockHistory h;
-    for (const auto &row : simulator->get_history())
+    for (const auto &row : fmpm_tests::inspect(*simulator).get_history())
       {
         EXPECT_EQ(row.extra.size(), 2 * stride + 2);
         h.time.push_back(row.time);
@@ -236,7 +236,7 @@ namespace
                         overrides + output_overrides(directory),
                         prm);
     simulator->run();
-    const auto   &history = simulator->get_history();
+    const auto   &history = fmpm_tests::inspect(*simulator).get_history();
     SpheresResult s;
     s.E0                  = history.front().total_energy;
     s.E_end               = history.back().total_energy;

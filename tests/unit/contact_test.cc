@@ -295,8 +295,8 @@ namespace
           prm_two);
         one->run();
         two->run();
-        const auto &h1 = one->get_history();
-        const auto &h2 = two->get_history();
+        const auto &h1 = fmpm_tests::inspect(*one).get_history();
+        const auto &h2 = fmpm_tests::inspect(*two).get_history();
         ASSERT_EQ(h1.size(), h2.size());
         ASSERT_GT(h1.size(), 10u);
         const double E0 = h1.front().total_energy;
@@ -335,7 +335,7 @@ namespace
                           output_overrides(directory) + settings,
                           prm);
       simulator->run();
-      return simulator->get_history();
+      return fmpm_tests::inspect(*simulator).get_history();
     };
     for (const std::string update : {"xpic", "fmpm"})
       for (const unsigned int k : {2u, 5u})
@@ -419,7 +419,7 @@ namespace
                           output_overrides(directory) + full + settings,
                           prm);
       simulator->run();
-      return simulator->get_history();
+      return fmpm_tests::inspect(*simulator).get_history();
     };
     const auto one =
       run("subsection Particle update\n set Model name = fmpm\nend\n"
@@ -517,7 +517,7 @@ namespace
       make_simulator<2>({}, scene + output_overrides(directory), prm);
     simulator->run();
     std::map<types::particle_index, Tensor<1, 2>> result;
-    const auto &points = simulator->get_material_points();
+    const auto &points = fmpm_tests::inspect(*simulator).get_material_points();
     for (unsigned int k = 0; k < points.n_points(); ++k)
       {
         const auto p = points.record(k);
@@ -765,7 +765,7 @@ namespace
               method + mesh,
             prm);
           simulator->run();
-          return simulator->get_history();
+          return fmpm_tests::inspect(*simulator).get_history();
         };
         const auto uniform = run("", "output-contact-uniform");
         const auto adaptive =
@@ -842,7 +842,7 @@ namespace
     // extra: per material mass, v_x, v_y, σxx, σyy, σxy, K, U; then
     // friction_work, contact_nodes.
     BlockHistory h;
-    for (const auto &row : simulator->get_history())
+    for (const auto &row : fmpm_tests::inspect(*simulator).get_history())
       {
         EXPECT_EQ(row.extra.size(), 2 * 8 + 2u);
         h.time.push_back(row.time);
@@ -949,7 +949,7 @@ namespace
     simulator->run();
     const double threshold = 0.5 * 1000 * 1924 * 0.962;
     double       t0 = 0, s0 = 0;
-    for (const auto &row : simulator->get_history())
+    for (const auto &row : fmpm_tests::inspect(*simulator).get_history())
       {
         const double s = row.extra[4]; // σ_yy of material 0
         if (s < -threshold)
@@ -1006,7 +1006,7 @@ namespace
       prm);
     simulator->run();
     std::vector<double> stress;
-    for (const auto &row : simulator->get_history())
+    for (const auto &row : fmpm_tests::inspect(*simulator).get_history())
       {
         // mass-weighted σ_yy of the two materials (8 columns each in 2D)
         const double m0 = row.extra[0], m1 = row.extra[8];
@@ -1086,7 +1086,7 @@ namespace
       prm);
     simulator->run();
     std::vector<double> stress;
-    for (const auto &row : simulator->get_history())
+    for (const auto &row : fmpm_tests::inspect(*simulator).get_history())
       {
         // mass-weighted σ_yy of the materials (8 columns each in 2D)
         double mass = 0, sum = 0;
@@ -1101,8 +1101,9 @@ namespace
       {
         // The smallest distance between the layer's row of points and the
         // nearest row of either block.
-        const auto &points = simulator->get_material_points();
-        double      below = -1, above = 1, layer_low = 1, layer_high = -1;
+        const auto &points =
+          fmpm_tests::inspect(*simulator).get_material_points();
+        double below = -1, above = 1, layer_low = 1, layer_high = -1;
         for (unsigned int k = 0; k < points.n_points(); ++k)
           {
             const unsigned int body = static_cast<unsigned int>(
@@ -1176,7 +1177,7 @@ namespace
                                  update),
             prm);
           simulator->run();
-          return simulator->get_history();
+          return fmpm_tests::inspect(*simulator).get_history();
         };
         const auto perfect = run(" set Law = perfect\n", "output-perfect");
         const auto stiff   = run(" set Law = imperfect\n"
@@ -1221,7 +1222,7 @@ namespace
           law + "end\n",
         prm);
       simulator->run();
-      return simulator->get_history();
+      return fmpm_tests::inspect(*simulator).get_history();
     };
     const auto frictionless =
       run(" set Law = frictionless\n", "output-separate-frictionless");
@@ -1298,7 +1299,7 @@ namespace
     simulator->run();
     // The zero crossings of material 0's mean velocity: T/4, 3T/4 (and
     // 5T/4 at the end).
-    const auto         &history = simulator->get_history();
+    const auto         &history = fmpm_tests::inspect(*simulator).get_history();
     std::vector<double> crossings;
     for (unsigned int r = 1; r < history.size(); ++r)
       {
@@ -1345,7 +1346,7 @@ namespace
                     "subsection Time\n set Time step = 1.59090230663411e-05\nend\n",
       prm);
     simulator->run();
-    const auto &history = simulator->get_history();
+    const auto &history = fmpm_tests::inspect(*simulator).get_history();
     ASSERT_NEAR(history.back().time, 0.016, 1e-12);
     const double E0                = history.front().total_energy;
     double       max_contact_nodes = 0;
@@ -1378,7 +1379,7 @@ namespace
         "subsection Time\n set End time = 2.2\nend\n",
       prm);
     simulator->run();
-    const auto &history           = simulator->get_history();
+    const auto &history = fmpm_tests::inspect(*simulator).get_history();
     double      max_contact_nodes = 0;
     for (const auto &row : history)
       {
@@ -1448,8 +1449,8 @@ namespace
             output_overrides("output-blocks-" + method),
           prm);
         three->run();
-        const auto &h1 = one->get_history();
-        const auto &h3 = three->get_history();
+        const auto &h1 = fmpm_tests::inspect(*one).get_history();
+        const auto &h3 = fmpm_tests::inspect(*three).get_history();
         ASSERT_EQ(h1.size(), h3.size());
         const double E0                = h1.front().total_energy;
         const double p_norm            = h1.front().momentum.norm();
@@ -1581,12 +1582,14 @@ namespace
     auto             simulator = make_simulator<2>(
       {}, scene + output_overrides("output-ellipse-compaction-small"), prm);
     simulator->run();
-    ASSERT_NEAR(simulator->get_history().back().time, end_time, 1e-12);
+    ASSERT_NEAR(fmpm_tests::inspect(*simulator).get_history().back().time,
+                end_time,
+                1e-12);
 
     std::vector<Point<2>>     x;
     std::vector<unsigned int> body;
     double                    volume = 0;
-    const auto               &points = simulator->get_material_points();
+    const auto &points = fmpm_tests::inspect(*simulator).get_material_points();
     for (unsigned int k = 0; k < points.n_points(); ++k)
       {
         const auto p = points.record(k);
@@ -1608,7 +1611,8 @@ namespace
     EXPECT_LT(volume / (0.001 * face), 1.0);
     // Compacted: the piston (the last reaction, after the boundary ids 2, 0
     // and 1) presses with about 40 GPa over the box width.
-    const auto &reactions = simulator->get_history().back().reactions;
+    const auto &reactions =
+      fmpm_tests::inspect(*simulator).get_history().back().reactions;
     ASSERT_EQ(reactions.size(), 4u);
     EXPECT_GT(-reactions.back()[1] / 0.001, 30e9);
   }

@@ -121,7 +121,7 @@ TEST(EnergyBalance, ReportsTheShareOfTheExchangedEnergyLost)
   auto              simulator =
     make_simulator<2>({}, sagging_block(directory, "pic", Point<2>(), 4), prm);
   simulator->run();
-  const auto &history = simulator->get_history();
+  const auto &history = fmpm_tests::inspect(*simulator).get_history();
   ASSERT_GT(history.size(), 10u);
   const auto &first     = history.front();
   double      exchanged = first.kinetic_energy + first.strain_energy;
@@ -171,7 +171,7 @@ TEST(EnergyBalance, ExactOutputTimes)
         (exact ? "true" : "false") + "\nend\n";
       auto simulator = make_simulator<2>({}, overrides, prm);
       simulator->run();
-      const auto  &rows  = simulator->get_history();
+      const auto  &rows  = fmpm_tests::inspect(*simulator).get_history();
       unsigned int n_off = 0;
       for (unsigned int r = 0; r + 1 < rows.size(); ++r)
         {

@@ -64,7 +64,7 @@ namespace
     ParameterHandler prm;
     auto             simulator = make_simulator<dim>({}, scene, prm);
     simulator->run();
-    const auto &points = simulator->get_material_points();
+    const auto &points = fmpm_tests::inspect(*simulator).get_material_points();
     Filled      filled;
     for (unsigned int k = 0; k < points.n_points(); ++k)
       {
@@ -339,7 +339,7 @@ TEST(Geometry, GmshPhysicalGroupsPickBodyAndMaterial)
   simulator->run();
   using Index = fmpm::PropertyIndex<2>;
   std::array<double, 2> volume{}, mass{};
-  const auto           &points = simulator->get_material_points();
+  const auto &points = fmpm_tests::inspect(*simulator).get_material_points();
   for (unsigned int k = 0; k < points.n_points(); ++k)
     {
       const auto         p    = points.record(k);

@@ -55,9 +55,9 @@ namespace
                           " set Write grid acceleration = true\nend\n",
             prm);
           simulator->run();
-          const auto &a =
-            simulator->get_grid_field(fmpm::ParticleUpdate::acceleration);
-          const auto &dofs = simulator->get_dof_handler();
+          const auto &a = fmpm_tests::inspect(*simulator)
+                            .get_grid_field(fmpm::ParticleUpdate::acceleration);
+          const auto &dofs = fmpm_tests::inspect(*simulator).get_dof_handler();
           // Node heights from the DoF support points (Q1: the vertices).
           std::map<types::global_dof_index, double> height;
           for (const auto &cell : dofs.active_cell_iterators())

@@ -75,7 +75,7 @@ end
     auto simulator = make_simulator<2>({}, column_scene(initial_stress), prm);
     simulator->run();
     ColumnRun   result;
-    const auto &points = simulator->get_material_points();
+    const auto &points = fmpm_tests::inspect(*simulator).get_material_points();
     for (unsigned int k = 0; k < points.n_points(); ++k)
       {
         const auto   p     = points.record(k);
@@ -88,7 +88,7 @@ end
           std::max(result.max_speed,
                    fmpm::get_vector<2>(p, Index::velocity).norm());
       }
-    for (const auto &row : simulator->get_history())
+    for (const auto &row : fmpm_tests::inspect(*simulator).get_history())
       result.max_kinetic_energy =
         std::max(result.max_kinetic_energy, row.kinetic_energy);
     return result;
@@ -161,7 +161,7 @@ end
   auto             simulator = make_simulator<2>({}, scene, prm);
   simulator->run();
   const double mu = 4e5, lambda = 1e6 - 2. / 3 * 4e5;
-  const auto  &points = simulator->get_material_points();
+  const auto  &points = fmpm_tests::inspect(*simulator).get_material_points();
   ASSERT_GT(points.n_points(), 0u);
   double strain_energy = 0;
   for (unsigned int k = 0; k < points.n_points(); ++k)
@@ -189,9 +189,10 @@ end
                        lambda / 2 * std::log(J) * std::log(J);
       strain_energy += W * p[Index::initial_volume];
     }
-  EXPECT_NEAR(simulator->get_history().front().strain_energy,
-              strain_energy,
-              1e-6 * strain_energy);
+  EXPECT_NEAR(
+    fmpm_tests::inspect(*simulator).get_history().front().strain_energy,
+    strain_energy,
+    1e-6 * strain_energy);
 }
 
 
@@ -232,7 +233,7 @@ end
   auto             simulator = make_simulator<2>({}, scene, prm);
   simulator->run();
   double      expected = 0;
-  const auto &points   = simulator->get_material_points();
+  const auto &points   = fmpm_tests::inspect(*simulator).get_material_points();
   for (unsigned int k = 0; k < points.n_points(); ++k)
     {
       const auto   p  = points.record(k);
@@ -246,9 +247,10 @@ end
       const double W  = ((1 + nu) * ss - nu * tr * tr) / (2 * E);
       expected += W * p[Index::initial_volume];
     }
-  EXPECT_NEAR(simulator->get_history().front().strain_energy,
-              expected,
-              1e-3 * expected);
+  EXPECT_NEAR(
+    fmpm_tests::inspect(*simulator).get_history().front().strain_energy,
+    expected,
+    1e-3 * expected);
 }
 
 
@@ -290,7 +292,7 @@ end
   ParameterHandler  prm;
   auto              simulator = make_simulator<2>({}, scene, prm);
   simulator->run();
-  const auto &points = simulator->get_material_points();
+  const auto &points = fmpm_tests::inspect(*simulator).get_material_points();
   ASSERT_GT(points.n_points(), 0u);
   for (unsigned int k = 0; k < points.n_points(); ++k)
     {
@@ -301,7 +303,8 @@ end
       // Compressed: J < 1.
       EXPECT_LT(p[Index::volume], p[Index::initial_volume]);
     }
-  EXPECT_GT(simulator->get_history().front().strain_energy, 0);
+  EXPECT_GT(fmpm_tests::inspect(*simulator).get_history().front().strain_energy,
+            0);
 }
 
 

@@ -24,6 +24,7 @@
 
 #include <random>
 
+#include "series_helpers.h"
 #include <gtest/gtest.h>
 
 namespace
@@ -220,8 +221,7 @@ TEST(MassMatrix, FmpmSweepsEqualXpicRecursion)
   for (unsigned int k = 1; k <= 8; ++k)
     {
       fmpm::GridVectorField v_code = cloud.new_field();
-      fmpm::MassMatrix::apply_fmpm_inverse(
-        cloud.m_tilde, cloud.m, cloud.p, v_code, k, 0);
+      fmpm_tests::fmpm_inverse(cloud.m_tilde, cloud.m, cloud.p, v_code, k, 0);
 
       // v = Σ_ℓ v_ℓ, v_1 = k v^(L), v_ℓ = (C_kℓ/C_k,ℓ−1) S⁺S v_{ℓ−1} with
       // C_kℓ = (−1)^(ℓ+1) binom(k, ℓ) (Eq. 1.30), so the ratio is
@@ -260,8 +260,7 @@ TEST(MassMatrix, XpicProjectionEqualsFmpmVelocity)
             residual[q] -= smoothed[q];
         }
       fmpm::GridVectorField v = cloud.new_field();
-      fmpm::MassMatrix::apply_fmpm_inverse(
-        cloud.m_tilde, cloud.m, cloud.p, v, k, 0);
+      fmpm_tests::fmpm_inverse(cloud.m_tilde, cloud.m, cloud.p, v, k, 0);
       const auto S_v       = cloud.to_points(v);
       double     max_error = 0, max_value = 0;
       for (unsigned int q = 0; q < S_v.size(); ++q)
@@ -303,8 +302,7 @@ TEST(MassMatrix, SeriesConvergesToExactSolve)
   for (unsigned int k = 1; k <= 30; ++k)
     {
       fmpm::GridVectorField v = cloud.new_field();
-      fmpm::MassMatrix::apply_fmpm_inverse(
-        cloud.m_tilde, cloud.m, cloud.p, v, k, 0);
+      fmpm_tests::fmpm_inverse(cloud.m_tilde, cloud.m, cloud.p, v, k, 0);
       const double error = difference(v, v_exact);
       EXPECT_LT(error, previous) << "k = " << k;
       previous = error;
@@ -414,8 +412,7 @@ TEST(MassMatrix, HeldNodesStayAtTheirValues)
 
   std::vector<fmpm::GridScalar> mask(2, known);
   fmpm::GridVectorField         w = cloud.new_field();
-  fmpm::MassMatrix::apply_fmpm_inverse(
-    cloud.m_tilde, cloud.m, cloud.p, w, 4, 0, &mask);
+  fmpm_tests::fmpm_inverse(cloud.m_tilde, cloud.m, cloud.p, w, 4, 0, &mask);
   for (unsigned int i = 0; i < cloud.m.size(); ++i)
     {
       if (known.local_element(i) != 0)
@@ -474,9 +471,9 @@ TEST(MassMatrix, CellwiseMatrixEqualsAssembledMatrix)
     {
       fmpm::GridVectorField v_sparse   = cloud.new_field();
       fmpm::GridVectorField v_cellwise = cloud.new_field();
-      fmpm::MassMatrix::apply_fmpm_inverse(
+      fmpm_tests::fmpm_inverse(
         cloud.m_tilde, cloud.m, cloud.p, v_sparse, k, 1e-300);
-      fmpm::MassMatrix::apply_fmpm_inverse(
+      fmpm_tests::fmpm_inverse(
         cellwise, cloud.m, cloud.p, v_cellwise, k, 1e-300);
       EXPECT_LT(difference(v_sparse, v_cellwise), 1e-12 * v_sparse.l2_norm())
         << "k = " << k;
@@ -496,7 +493,7 @@ TEST(MassMatrix, AdaptiveOrderStopsAtTheTolerance)
                         const double       tolerance,
                         unsigned int      *used = nullptr) {
     fmpm::GridVectorField v     = cloud.new_field();
-    const unsigned int    order = fmpm::MassMatrix::apply_fmpm_inverse(
+    const unsigned int    order = fmpm_tests::fmpm_inverse(
       cloud.m_tilde, cloud.m, cloud.p, v, k, 0, nullptr, nullptr, tolerance);
     if (used)
       *used = order;

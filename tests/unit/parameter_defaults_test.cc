@@ -306,6 +306,12 @@ namespace
       EXPECT_FIELD(max_iterations);
       EXPECT_FIELD(weak_node_threshold);
       EXPECT_FIELD(lumped_fraction);
+      // Contact's exact solve holds no defaults of its own: it reads these.
+      const auto exact = parsed.exact_solve();
+      ASSERT_TRUE(exact.has_value());
+      EXPECT_EQ(exact->tolerance, defaults.tolerance);
+      EXPECT_EQ(exact->max_iterations, defaults.max_iterations);
+      EXPECT_EQ(exact->weak_node_threshold, defaults.weak_node_threshold);
     }
     {
       const auto parsed_plugin =

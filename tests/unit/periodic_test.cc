@@ -39,7 +39,7 @@ namespace
                         output_overrides("output-simple-shear") + overrides,
                         prm);
     simulator->run();
-    const auto &points = simulator->get_material_points();
+    const auto &points = fmpm_tests::inspect(*simulator).get_material_points();
     ShearResult result;
     double      volume = 0;
     for (unsigned int k = 0; k < points.n_points(); ++k)
@@ -145,7 +145,7 @@ namespace
                         " set Center = 0.7, 0.6\n set Half lengths = 0.25, 0.25\nend\n",
           prm);
         simulator->run();
-        const auto &history = simulator->get_history();
+        const auto &history = fmpm_tests::inspect(*simulator).get_history();
         const auto &first   = history.front();
         for (const auto &row : history)
           {
@@ -158,7 +158,8 @@ namespace
             EXPECT_LT(row.strain_energy, 1e-9 * first.kinetic_energy) << update;
           }
         EXPECT_NEAR(history.back().time, 4, 1e-12);
-        const auto  &points    = simulator->get_material_points();
+        const auto &points =
+          fmpm_tests::inspect(*simulator).get_material_points();
         unsigned int n_wrapped = 0;
         for (unsigned int k = 0; k < points.n_points(); ++k)
           for (unsigned int d = 0; d < 2; ++d)

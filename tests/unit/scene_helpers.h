@@ -44,6 +44,37 @@ namespace fmpm_tests
                                                   MPI_COMM_WORLD);
   }
 
+  /** Read access to a Simulator's state for the tests (SimulatorAccess
+   * with its accessors public). */
+  template <int dim>
+  class Inspector : public fmpm::SimulatorAccess<dim>
+  {
+  public:
+    explicit Inspector(const fmpm::Simulator<dim> &simulator)
+    {
+      this->initialize_simulator(simulator);
+    }
+
+    using fmpm::SimulatorAccess<dim>::compute_statistics;
+    using fmpm::SimulatorAccess<dim>::get_cellwise_full_mass_matrix;
+    using fmpm::SimulatorAccess<dim>::get_dof_handler;
+    using fmpm::SimulatorAccess<dim>::get_grid_field;
+    using fmpm::SimulatorAccess<dim>::get_history;
+    using fmpm::SimulatorAccess<dim>::get_material_points;
+    using fmpm::SimulatorAccess<dim>::get_reaction_forces;
+    using fmpm::SimulatorAccess<dim>::get_triangulation;
+    using fmpm::SimulatorAccess<dim>::get_velocity_conditions;
+    using fmpm::SimulatorAccess<dim>::n_mesh_adaptations;
+  };
+
+  /** An Inspector of @p simulator. */
+  template <int dim>
+  Inspector<dim>
+  inspect(const fmpm::Simulator<dim> &simulator)
+  {
+    return Inspector<dim>(simulator);
+  }
+
   /** Output to @p directory, no VTU, no timer summary. */
   inline std::string
   output_overrides(const std::string &directory)

@@ -31,6 +31,7 @@
 #include <random>
 #include <vector>
 
+#include "scene_helpers.h"
 #include <gtest/gtest.h>
 
 namespace
@@ -904,7 +905,7 @@ namespace
     fmpm::read_scene(sources, prm, parameters);
     fmpm::Simulator<2> simulator(parameters, prm, MPI_COMM_WORLD);
     simulator.run();
-    return simulator.get_history();
+    return fmpm_tests::inspect(simulator).get_history();
   }
 
   void

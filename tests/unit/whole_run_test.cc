@@ -15,6 +15,7 @@
 #include <iostream>
 #include <map>
 
+#include "scene_helpers.h"
 #include <gtest/gtest.h>
 
 namespace
@@ -33,7 +34,7 @@ namespace
     fmpm::read_scene(sources, prm, parameters);
     fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD);
     simulator.run();
-    return simulator.get_history();
+    return fmpm_tests::inspect(simulator).get_history();
   }
 
   const std::string parameter_dir = FMPM_SOURCE_DIR "/parameters/";
@@ -319,7 +320,8 @@ TEST(WholeRun, MassExtrapolationConservesMass)
   simulator.run();
   NodalMassProbe<2> probe;
   probe.initialize_simulator(simulator);
-  const double total_point_mass = simulator.get_history().back().mass;
+  const double total_point_mass =
+    fmpm_tests::inspect(simulator).get_history().back().mass;
   EXPECT_NEAR(probe.total_nodal_mass(),
               total_point_mass,
               1e-12 * total_point_mass);

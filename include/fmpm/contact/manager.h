@@ -16,6 +16,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -321,14 +322,11 @@ namespace fmpm
       std::vector<CloudPoint<dim>> cloud;
       /** The exact solve with contact (Mass matrix = full): its settings,
        * taken from the mass matrix, and its CG figures since the start. */
-      bool material_exact_solve = false;
+      std::optional<MassMatrix::ExactSolveSettings> material_exact_solve;
       /** The owned nodes with materials in contact and those materials
        * (bit a: material a). */
       std::vector<std::pair<unsigned int, unsigned int>> contact_groups;
       std::vector<GridScalar> known_velocity_mask, known_velocity_value;
-      double                  material_solve_tolerance      = 1e-10;
-      double                  material_weak_threshold       = 0.1;
-      unsigned int            material_solve_max_iterations = 1000;
       unsigned long long material_solves = 0, material_solve_iterations = 0,
                          material_solve_failures = 0;
       /** n̂ and the separation (cells) at contact nodes (grid output). */

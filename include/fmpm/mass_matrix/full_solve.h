@@ -24,6 +24,16 @@ namespace fmpm
       bool         converged  = true;
     };
 
+    /** @brief The CG settings of an exact solve v = m̃⁻¹p, which a mass
+     * matrix gives the multimaterial exact solve of contact; no defaults
+     * here: they are the mass matrix's parameters. */
+    struct ExactSolveSettings
+    {
+      double       tolerance;
+      unsigned int max_iterations;
+      double       weak_node_threshold;
+    };
+
     /** @brief How solve_full_mass_system() solves. */
     struct FullMassSolveSettings
     {

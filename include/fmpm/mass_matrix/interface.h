@@ -5,6 +5,7 @@
 #define fmpm_mass_matrix_interface_h
 
 #include <fmpm/grid_vectors.h>
+#include <fmpm/mass_matrix/full_solve.h>
 #include <fmpm/plugins.h>
 #include <fmpm/simulator_access.h>
 #include <fmpm/time_step_stability.h>
@@ -69,12 +70,7 @@ namespace fmpm
 
       /** @brief The CG settings of an exact solve v = m̃⁻¹p (the
        * multimaterial exact solve uses them), or none. */
-      struct ExactSolveSettings
-      {
-        double       tolerance;
-        unsigned int max_iterations;
-        double       weak_node_threshold;
-      };
+      using ExactSolveSettings = MassMatrix::ExactSolveSettings;
       virtual std::optional<ExactSolveSettings>
       exact_solve() const
       {

@@ -17,6 +17,7 @@
 namespace fmpm
 {
   class SimulationControl;
+  class SimulationFailure;
   template <int dim>
   struct ConditionReactions;
   namespace Contact
@@ -59,6 +60,13 @@ namespace fmpm
       finish()
       {}
 
+      /** The run ends (collective): @p status as summary.json gives it
+       * ("completed", "stopped: ...", "failed: ..."), @p failure the
+       * failure or nullptr. */
+      virtual void
+      end_of_run(const std::string &, const SimulationFailure *)
+      {}
+
       /** Add what a checkpoint keeps to @p status_strings (rank 0's is
        * written). */
       virtual void
@@ -71,6 +79,10 @@ namespace fmpm
       {}
 
     protected:
+      /** The checkpoint directory a resumed run read (empty: not
+       * resumed). */
+      const std::string &
+      checkpoint_resumed_from() const;
       /** Time, step and the output schedule (output_number()). */
       const SimulationControl &
       get_simulation_control() const;
@@ -152,6 +164,14 @@ namespace fmpm
       {
         for (auto &postprocessor : postprocessors)
           postprocessor->finish();
+      }
+
+      /** The end of the run, with its status (Interface::end_of_run()). */
+      void
+      end_of_run(const std::string &status, const SimulationFailure *failure)
+      {
+        for (auto &postprocessor : postprocessors)
+          postprocessor->end_of_run(status, failure);
       }
 
       void
