@@ -286,6 +286,15 @@ namespace fmpm
                   });
                 return Status::ok;
               }
+
+            case Type::b2spline:
+            case Type::b3spline:
+            case Type::b2gimp:
+            case Type::b2cpdi:
+              Assert(false,
+                     ExcMessage("Axisymmetric B-splines are refused at set-up "
+                                "(Geometry = axisymmetric)."));
+              break;
           }
         return Status::ok;
       }

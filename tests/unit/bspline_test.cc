@@ -959,7 +959,8 @@ namespace
           }
         MeshSetup<dim>          mesh(subdivisions, lower, upper);
         std::vector<Point<dim>> node_position(
-          mesh.partitioner->local_size() + mesh.partitioner->n_ghost_indices());
+          mesh.partitioner->locally_owned_size() +
+          mesh.partitioner->n_ghost_indices());
         for (const auto &[dof, position] : mesh.support_points)
           if (mesh.partitioner->in_local_range(dof) ||
               mesh.partitioner->is_ghost_entry(dof))

@@ -202,11 +202,10 @@ namespace
   {
     TinyGrid<dim>         grid;
     SeriesMassMatrix<dim> mass_matrix(grid.m_tilde, grid.state.mass, 3);
-    const std::array<GridField, 3> fields = {lumped_velocity,
-                                             lumped_updated_velocity,
-                                             lumped_acceleration};
+    const std::array<GridField, 3> fields = {
+      {lumped_velocity, lumped_updated_velocity, lumped_acceleration}};
     const std::array<const std::array<std::array<double, dim>, n_nodes> *, 3>
-      sources = {&grid.p, &grid.p_updated, &grid.f};
+      sources = {{&grid.p, &grid.p_updated, &grid.f}};
     for (unsigned int n = 0; n < 3; ++n)
       {
         grid.state.compute(fields[n], grid.solver, mass_matrix, dt);
