@@ -311,6 +311,27 @@ namespace fmpm
           }
     }
 
+    /** F^n of the group: the store's columns, or gathered into
+     * @p F_gathered for a group spread over the batch (several materials). */
+    template <int dim>
+    inline std::array<const double *, 9>
+    old_deformation_gradients(const MaterialGroup      &group,
+                              const StressColumns<dim> &columns,
+                              Kinematics::BatchEntries &F_gathered)
+    {
+      std::array<const double *, 9> F_old;
+      for (unsigned int c = 0; c < 9; ++c)
+        if (group.contiguous)
+          F_old[c] = columns.F[c] + group.k0;
+        else
+          {
+            for (unsigned int q = 0; q < group.n; ++q)
+              F_gathered[c][q] = columns.F[c][group.point[q]];
+            F_old[c] = F_gathered[c];
+          }
+      return F_old;
+    }
+
     /** F^{n+1} and J of the group into @p inputs from its velocity
      * gradients, by the method's F update (seed 001). */
     template <int dim>
@@ -327,18 +348,8 @@ namespace fmpm
         method.deformation_gradient_update;
       if (F_update == DeformationGradientUpdate::cayley)
         {
-          // F^n: the store's columns, or gathered for a group spread over
-          // the batch (several materials).
-          std::array<const double *, 9> F_old;
-          for (unsigned int c = 0; c < 9; ++c)
-            if (group.contiguous)
-              F_old[c] = columns.F[c] + group.k0;
-            else
-              {
-                for (unsigned int q = 0; q < group.n; ++q)
-                  F_gathered[c][q] = columns.F[c][group.point[q]];
-                F_old[c] = F_gathered[c];
-              }
+          const auto F_old =
+            old_deformation_gradients(group, columns, F_gathered);
           Kinematics::cayley_update<dim>(group.n,
                                          dt,
                                          inputs.velocity_gradient,
@@ -377,16 +388,8 @@ namespace fmpm
         method.deformation_gradient_update;
       if (F_update == DeformationGradientUpdate::cayley)
         {
-          std::array<const double *, 9> F_old;
-          for (unsigned int c = 0; c < 9; ++c)
-            if (group.contiguous)
-              F_old[c] = columns.F[c] + group.k0;
-            else
-              {
-                for (unsigned int q = 0; q < group.n; ++q)
-                  F_gathered[c][q] = columns.F[c][group.point[q]];
-                F_old[c] = F_gathered[c];
-              }
+          const auto F_old =
+            old_deformation_gradients(group, columns, F_gathered);
           Kinematics::axisymmetric_cayley_update(group.n,
                                                  dt,
                                                  inputs.velocity_gradient,
