@@ -87,34 +87,6 @@ namespace
     "Exit codes: 0 completed, 1 bad input, 2 numerical failure, 3 stopped by\n"
     "SIGTERM/SIGINT after writing a checkpoint.\n";
 
-  template <int dim>
-  int
-  run(const fmpm::Parameters   &parameters,
-      dealii::ParameterHandler &prm,
-      const bool                resume)
-  {
-    fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD, resume);
-    try
-      {
-        simulator.run();
-      }
-    catch (const fmpm::SimulationFailure &)
-      {
-        return 2;
-      }
-    return simulator.stopped_by_signal() ? 3 : 0;
-  }
-
-  /** The scene set up (mesh, plugins, points), not run: its point count. */
-  template <int dim>
-  unsigned long long
-  set_up_only(const fmpm::Parameters &parameters, dealii::ParameterHandler &prm)
-  {
-    fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD, false);
-    simulator.disable_timing_summary();
-    return simulator.n_material_points();
-  }
-
   /** The files and folders a run writes into Output/Directory. */
   bool
   is_run_output(const std::filesystem::path &path)
@@ -166,6 +138,57 @@ namespace
       std::cout << "fmpm: moved the " << earlier.size()
                 << " files of an earlier run in <" << directory << "> to <"
                 << previous.string() << ">" << std::endl;
+  }
+
+  /** The scene as read, in both of deal.II's listings, beside the output. */
+  void
+  write_scene_listing(const std::string              &directory,
+                      const dealii::ParameterHandler &prm)
+  {
+    std::filesystem::create_directories(directory);
+    std::ofstream prm_out(directory + "/parameters.prm");
+    prm.print_parameters(prm_out, dealii::ParameterHandler::ShortPRM);
+    std::ofstream json_out(directory + "/parameters.json");
+    prm.print_parameters(json_out, dealii::ParameterHandler::JSON);
+  }
+
+  template <int dim>
+  int
+  run(const fmpm::Parameters   &parameters,
+      dealii::ParameterHandler &prm,
+      const bool                resume)
+  {
+    // Set-up first: a scene refused there leaves an earlier run's files
+    // where they are.
+    fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD, resume);
+    if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+      {
+        if (!resume)
+          set_aside_earlier_run(parameters.output.directory,
+                                parameters.test_mode);
+        write_scene_listing(parameters.output.directory, prm);
+      }
+    // No rank writes into the directory before the earlier run is set aside.
+    MPI_Barrier(MPI_COMM_WORLD);
+    try
+      {
+        simulator.run();
+      }
+    catch (const fmpm::SimulationFailure &)
+      {
+        return 2;
+      }
+    return simulator.stopped_by_signal() ? 3 : 0;
+  }
+
+  /** The scene set up (mesh, plugins, points), not run: its point count. */
+  template <int dim>
+  unsigned long long
+  set_up_only(const fmpm::Parameters &parameters, dealii::ParameterHandler &prm)
+  {
+    fmpm::Simulator<dim> simulator(parameters, prm, MPI_COMM_WORLD, false);
+    simulator.disable_timing_summary();
+    return simulator.n_material_points();
   }
 
   /** Output/Directory must be a directory that can be made or written. */
@@ -406,19 +429,6 @@ main(int argc, char **argv)
 
   try
     {
-      if (is_root)
-        {
-          if (!resume)
-            set_aside_earlier_run(parameters.output.directory,
-                                  parameters.test_mode);
-          std::filesystem::create_directories(parameters.output.directory);
-          std::ofstream prm_out(parameters.output.directory +
-                                "/parameters.prm");
-          prm.print_parameters(prm_out, ParameterHandler::ShortPRM);
-          std::ofstream json_out(parameters.output.directory +
-                                 "/parameters.json");
-          prm.print_parameters(json_out, ParameterHandler::JSON);
-        }
       if (parameters.size.dimension == 2)
         return run<2>(parameters, prm, resume);
       else

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # Every scene in parameters/ starts and takes its first steps without a
-# warning or note about its own settings.
+# warning or note about its own settings (lines naming its output folder,
+# which holds the word in the test's name, aside).
 #
 #   check_shipped_scenes.sh FMPM PARAMETERS_DIR
 set -u
@@ -15,7 +16,7 @@ for scene in "$parameters"/*.prm; do
   code=$?
   if [ "$code" -ne 0 ]; then
     tail -5 "$name.log"; echo "FAIL: $name exits with $code"; fail=1
-  elif grep -i -E "warning|note:" "$name.log"; then
+  elif grep -v -F "$PWD" "$name.log" | grep -i -E "warning|note:"; then
     echo "FAIL: $name warns about its settings"; fail=1
   else
     echo "ok: $name"
