@@ -38,7 +38,7 @@ namespace fmpm
 
   template <int dim>
   std::vector<unsigned int>
-  MaterialPoints<dim>::invariant_core_slots()
+  MaterialPoints<dim>::invariant_core_slots(const bool axisymmetric)
   {
     using Index                      = PropertyIndex<dim>;
     std::vector<unsigned int> result = {Index::mass,
@@ -47,8 +47,9 @@ namespace fmpm
                                         Index::body_id};
     for (unsigned int d = 0; d < dim; ++d)
       result.push_back(Index::initial_half_length + d);
-    // Plane strain: F_33 = 1.
-    if (dim == 2)
+    // Plane strain: F_33 = 1 (axisymmetric: the hoop stretch, updated by
+    // the stress update).
+    if (dim == 2 && !axisymmetric)
       result.push_back(Index::deformation_gradient + 8);
     return result;
   }

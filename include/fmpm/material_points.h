@@ -56,11 +56,12 @@ namespace fmpm
                const std::vector<unsigned int> &invariant_slots = {});
 
     /** @brief The core slots no pass writes after a point is created or
-     * arrives: M, V₀, material, body, l₀ and in 2D F_33. A column of such a
-     * slot whose values are all equal (one material, uniform points) stays so,
-     * and rebin() does not permute it. */
+     * arrives: M, V₀, material, body, l₀ and in 2D plane strain F_33 (not
+     * @p axisymmetric: there F_33 is the hoop stretch). A column of such a
+     * slot whose values are all equal (one material, uniform points) stays
+     * so, and rebin() does not permute it. */
     static std::vector<unsigned int>
-    invariant_core_slots();
+    invariant_core_slots(const bool axisymmetric);
 
     /** @brief The slots that are zero in 2D (plane strain): F_xz, F_yz,
      * F_zx, F_zy, σ_xz, σ_yz; none in 3D. */

@@ -13,12 +13,23 @@ namespace fmpm
     GeometrySink<dim>::reset(std::vector<MaterialField<dim>> &fields,
                              const NormalNeeds               &normal_needs,
                              const bool                       interface_state,
-                             const MaterialPoints<dim>       &material_points)
+                             const MaterialPoints<dim>       &material_points,
+                             const bool                       axisymmetric)
     {
-      points      = &material_points;
-      using Index = PropertyIndex<dim>;
-      mass        = points->column(Index::mass);
-      volume      = points->column(Index::volume);
+      points          = &material_points;
+      using Index     = PropertyIndex<dim>;
+      mass            = points->column(Index::mass);
+      volume          = points->column(Index::volume);
+      gradient_weight = volume;
+      if (axisymmetric && normal_needs.volume_gradients)
+        {
+          // A = V/r_p (r_p > 0: the support builder refuses points on the
+          // axis).
+          area.resize(points->n_points());
+          for (unsigned int k = 0; k < area.size(); ++k)
+            area[k] = volume[k] / points->position[k][0];
+          gradient_weight = area.data();
+        }
       for (unsigned int d = 0; d < dim; ++d)
         initial_position[d] = points->column(Index::initial_position + d);
       gradient.clear();

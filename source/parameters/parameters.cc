@@ -70,9 +70,9 @@ namespace fmpm
       "the y axis: x = r >= 0, y = z; the mesh must start at r = 0 or beyond; "
       "nodes on r = 0 keep zero radial velocity; masses, volumes, forces, "
       "tractions and energies are per radian). Axisymmetric scenes take the "
-      "shape functions classic, ugimp, cpgimp and cpdi, and no multimaterial "
-      "contact. Dimension = 3 takes only 'plane strain' (which then means "
-      "nothing). Units: none.");
+      "shape functions classic, ugimp, cpgimp and cpdi; multimaterial "
+      "contact acts in the r-z plane. Dimension = 3 takes only 'plane "
+      "strain' (which then means nothing). Units: none.");
     MeshParameters::declare_parameters(prm, dim);
     MeshRefinementParameters::declare_parameters(prm);
     BoundaryConditionParameters::declare_parameters(prm, size);
@@ -187,11 +187,6 @@ namespace fmpm
                                "Shape function/Type = " +
                                method.shape_function +
                                " yet; allowed: classic, ugimp, cpgimp, cpdi."));
-        AssertThrow(!contact.multimaterial || size.n_materials < 2,
-                    ExcMessage(
-                      "Geometry = axisymmetric does not support "
-                      "multimaterial contact yet (Contact/Model name); "
-                      "use the single velocity field."));
         AssertThrow(!mesh.periodic[0],
                     ExcMessage("Geometry = axisymmetric: Mesh/Periodic "
                                "directions cannot include x (= r)."));

@@ -251,7 +251,8 @@ namespace fmpm
         // The points are created anew in the finer cells.
         points.initialize(particle_properties.n_properties(),
                           MaterialPoints<dim>::plane_strain_zero_slots(),
-                          MaterialPoints<dim>::invariant_core_slots());
+                          MaterialPoints<dim>::invariant_core_slots(
+                            parameters.axisymmetric));
         triangulation.prepare_coarsening_and_refinement();
         triangulation.execute_coarsening_and_refinement();
         setup_after_mesh_change();

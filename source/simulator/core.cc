@@ -171,7 +171,8 @@ namespace fmpm
                                   particle_properties.n_properties());
     points.initialize(particle_properties.n_properties(),
                       MaterialPoints<dim>::plane_strain_zero_slots(),
-                      MaterialPoints<dim>::invariant_core_slots());
+                      MaterialPoints<dim>::invariant_core_slots(
+                        parameters.axisymmetric));
     particle_handler.signals.particle_lost.connect(
       [this](const typename Particles::ParticleIterator<dim> &particle,
              const typename Triangulation<dim>::active_cell_iterator &) {

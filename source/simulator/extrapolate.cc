@@ -162,7 +162,7 @@ namespace fmpm
       with_forces || contact_geometry.needs_gradients();
     if (!contact && parameters.axisymmetric)
       {
-        // With the hoop force (no contact: refused at set-up).
+        // With the hoop force.
         Transfer::ForceSink<dim, true> hoop_force(points, external_loads, f);
         hoop_force.read_hoop_function(supports);
         Transfer::IfActive<Transfer::ForceSink<dim, true>> forces(hoop_force,
@@ -176,12 +176,41 @@ namespace fmpm
       }
     else
       {
-        Transfer::IfActive<Transfer::PerMaterial<Transfer::ForceSink<dim>>>
-                                  forces(material_force, with_forces);
         MaterialGeometrySink<dim> geometry{contact_geometry,
                                            supports.material.data()};
-        for_each_point(
-          with_gradients, forces, material_mass_momentum, geometry, full_mass);
+        if (parameters.axisymmetric)
+          {
+            // f^α0 with the hoop force.
+            Transfer::PerMaterial<Transfer::ForceSink<dim, true>>
+              material_hoop_force(supports.material.data());
+            for (auto &field : material_fields)
+              {
+                for (unsigned int d = 0; d < dim; ++d)
+                  f[d] = field.force.block(d).begin();
+                material_hoop_force.sinks.emplace_back(points,
+                                                       external_loads,
+                                                       f);
+                material_hoop_force.sinks.back().read_hoop_function(supports);
+              }
+            Transfer::IfActive<
+              Transfer::PerMaterial<Transfer::ForceSink<dim, true>>>
+              forces(material_hoop_force, with_forces);
+            for_each_point(with_gradients,
+                           forces,
+                           material_mass_momentum,
+                           geometry,
+                           full_mass);
+          }
+        else
+          {
+            Transfer::IfActive<Transfer::PerMaterial<Transfer::ForceSink<dim>>>
+              forces(material_force, with_forces);
+            for_each_point(with_gradients,
+                           forces,
+                           material_mass_momentum,
+                           geometry,
+                           full_mass);
+          }
         // m = Σ_α m^α, p = Σ_α p^α, f = Σ_α f^α0.
         centre_of_mass.set_to_sum(material_fields, true, true, with_forces);
       }

@@ -643,7 +643,8 @@ namespace fmpm
     // their ids are set below, before the store is put in cell order.
     points.initialize(particle_properties.n_properties(),
                       MaterialPoints<dim>::plane_strain_zero_slots(),
-                      MaterialPoints<dim>::invariant_core_slots());
+                      MaterialPoints<dim>::invariant_core_slots(
+                        parameters.axisymmetric));
     points.reserve(n_new_points);
     CellRuns<dim>                   cell_runs;
     std::vector<unsigned long long> points_per_body(n_bodies, 0);

@@ -466,14 +466,14 @@ namespace fmpm
 
     /** f^α0 = 0 of every material (contact, Eq. 29) and one force sink
      * per material into them. */
-    template <int dim, typename MaterialFields>
-    Transfer::PerMaterial<Transfer::ForceSink<dim>>
+    template <int dim, bool hoop, typename MaterialFields>
+    Transfer::PerMaterial<Transfer::ForceSink<dim, hoop>>
     material_force_sinks(const MaterialPoints<dim> &points,
                          ExternalLoads<dim>        &loads,
                          const SupportCache<dim>   &supports,
                          MaterialFields            &material_fields)
     {
-      Transfer::PerMaterial<Transfer::ForceSink<dim>> sinks(
+      Transfer::PerMaterial<Transfer::ForceSink<dim, hoop>> sinks(
         supports.material.data());
       for (auto &material_field : material_fields)
         {
@@ -482,6 +482,8 @@ namespace fmpm
           for (unsigned int d = 0; d < dim; ++d)
             f_alpha[d] = material_field.force.block(d).begin();
           sinks.sinks.emplace_back(points, loads, f_alpha);
+          if constexpr (hoop)
+            sinks.sinks.back().read_hoop_function(supports);
         }
       return sinks;
     }
@@ -602,18 +604,27 @@ namespace fmpm
     for (unsigned int d = 0; d < dim; ++d)
       f[d] = centre_of_mass.force.block(d).begin();
     const Transfer::ForceSink<dim> force(points, external_loads, f);
-    // Axisymmetric: with the hoop rate and force (no contact).
+    // Axisymmetric: with the hoop rate and force.
     const bool                     axisymmetric = parameters.axisymmetric;
     Transfer::ForceSink<dim, true> hoop_force(points, external_loads, f);
     hoop_force.read_hoop_function(supports);
     const Transfer::PerMaterial<Transfer::ForceSink<dim>> material_force =
-      with_forces && contact ?
-        material_force_sinks(points,
-                             external_loads,
-                             supports,
-                             this->contact->material_fields()) :
+      with_forces && contact && !axisymmetric ?
+        material_force_sinks<dim, false>(points,
+                                         external_loads,
+                                         supports,
+                                         this->contact->material_fields()) :
         Transfer::PerMaterial<Transfer::ForceSink<dim>>(
           supports.material.data());
+    const Transfer::PerMaterial<Transfer::ForceSink<dim, true>>
+      material_hoop_force =
+        with_forces && contact && axisymmetric ?
+          material_force_sinks<dim, true>(points,
+                                          external_loads,
+                                          supports,
+                                          this->contact->material_fields()) :
+          Transfer::PerMaterial<Transfer::ForceSink<dim, true>>(
+            supports.material.data());
 
     compute_cell_sizes(points,
                        triangulation.n_active_cells(),
@@ -706,7 +717,11 @@ namespace fmpm
         // f of the batch's points from their new stresses, in the
         // store's order (with contact f^α0 of the point's material, Eq.
         // 29).
-        if (with_forces && contact)
+        if (with_forces && contact && axisymmetric)
+          batch_supports.add_points_out_of_line(batch_begin,
+                                                batch_end,
+                                                material_hoop_force);
+        else if (with_forces && contact)
           batch_supports.add_points(batch_begin, batch_end, material_force);
         else if (with_forces && axisymmetric)
           batch_supports.add_points_out_of_line(batch_begin,

@@ -29,6 +29,12 @@ namespace fmpm
      * add each point's share with the same operations; Manager owns the
      * sink and hands it out (Manager::begin_geometry()).
      *
+     * Axisymmetric (V per radian, V = A r_p): g^α weights each point by its
+     * area A = V/r_p, so that the r-weighting of the volume does not tilt the
+     * normals towards +r (the gradient of the r-weighted volume has the
+     * component V/r in r inside a body, comparable at r ≈ h to the jump at
+     * a surface).
+     *
      * @tparam dim space dimension
      */
     template <int dim>
@@ -37,12 +43,14 @@ namespace fmpm
     public:
       /** Zero the fields of @p fields that @p normal_needs and
        * @p interface_state ask for (the others are left alone and not added
-       * to), reading the points of @p material_points. */
+       * to), reading the points of @p material_points (@p axisymmetric:
+       * the weights of g^α are the areas V/r_p). */
       void
       reset(std::vector<MaterialField<dim>> &fields,
             const NormalNeeds               &normal_needs,
             const bool                       interface_state,
-            const MaterialPoints<dim>       &material_points);
+            const MaterialPoints<dim>       &material_points,
+            const bool                       axisymmetric);
 
       /** Add the ghosts of @p field's share of what reset() zeroed (after a
        * sweep of add_point()). */
@@ -74,9 +82,12 @@ namespace fmpm
         const double      V = volume[k];
         const Point<dim> &X = points->position[k];
         if (!gradient.empty())
-          for (unsigned int j = 0; j < n_entries; ++j)
-            for (unsigned int d = 0; d < dim; ++d)
-              gradient[alpha * dim + d][node[j]] += V * G[j][d];
+          {
+            const double w = gradient_weight[k];
+            for (unsigned int j = 0; j < n_entries; ++j)
+              for (unsigned int d = 0; d < dim; ++d)
+                gradient[alpha * dim + d][node[j]] += w * G[j][d];
+          }
         if (!position.empty())
           for (unsigned int j = 0; j < n_entries; ++j)
             for (unsigned int d = 0; d < dim; ++d)
@@ -98,7 +109,10 @@ namespace fmpm
     private:
       const MaterialPoints<dim> *points = nullptr;
       const double              *mass = nullptr, *volume = nullptr;
-      const double              *initial_position[dim] = {};
+      /** The weight of a point in g^α: V, or V/r_p axisymmetric. */
+      const double       *gradient_weight = nullptr;
+      std::vector<double> area;
+      const double       *initial_position[dim] = {};
       /** [α dim + d] (nodal_volume: [α]); empty where nothing reads it. */
       std::vector<double *> gradient, position, displacement, nodal_volume;
     };

@@ -132,7 +132,11 @@ namespace fmpm
       GeometrySink<dim> &
       begin_geometry(const MaterialPoints<dim> &points)
       {
-        geometry_sink.reset(fields, needs, needs_interface, points);
+        geometry_sink.reset(fields,
+                            needs,
+                            needs_interface,
+                            points,
+                            this->get_parameters().axisymmetric);
         return geometry_sink;
       }
 
