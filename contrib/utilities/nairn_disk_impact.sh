@@ -8,12 +8,14 @@
 # Needs a NairnMPM binary (see nairn_common.sh).
 # Prints the points, steps, wall time and the energy lost, 1 - (KE + SE)_end / (KE + SE)_0.
 # usage: nairn_disk_impact.sh VARIANT [THREADS]    VARIANT = FLIP | FMPM<k> | XPIC<k>
-# env: CELL (mm, default 0.5)
+# env: CELL (mm, default 0.5), SHAPE (NairnMPM's shape function, default lCPDI; B2SPLINE, B2GIMP,
+#      B2CPDI for B-splines)
 set -euo pipefail
 var=${1:?variant}; np=${2:-1}
 here=$(cd "$(dirname "$0")" && pwd); source "$here/nairn_common.sh"
 nairn_binary; nairn_task "$var" > /dev/null
 CELL=${CELL:-0.5}
+SHAPE=${SHAPE:-lCPDI}
 nairn_workdir ndisk
 material() {
   echo "  <Material Type=\"28\" Name=\"$1\"><rho>0.0015</rho><K>980.392156862745</K><G>375.939849624060</G><UJOption>2</UJOption></Material>"
@@ -26,7 +28,7 @@ cat > in.xml <<X
     <ConsistentUnits length="mm" mass="g" time="ms"/></Header>
   <MPMHeader>
     <MPMMethod>3</MPMMethod><SkipPostExtrapolation/>
-    <GIMP type="lCPDI"/>
+    <GIMP type="$SHAPE"/>
     <MatlPtsPerElement>4</MatlPtsPerElement>
     <Timing CFL="0.2"/>
     <MaxTime>0.245</MaxTime>
@@ -59,6 +61,7 @@ import nairn_results
 var, np_, wall = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
 steps, npts, rows, col = nairn_results.load()
 e = lambda r: r[col['Kinetic Energy']] + r[col['Strain Energy']]
-print(f'NairnMPM disk impact {var} threads={np_} points={npts} steps={steps} wall_s={wall:.2f} '
+import os
+print(f'NairnMPM disk impact {var} shape={os.environ.get("SHAPE", "lCPDI")} threads={np_} points={npts} steps={steps} wall_s={wall:.2f} '
       f'energy_lost={100 * (1 - e(rows[-1]) / e(rows[0])):.2f}%')
 PY
