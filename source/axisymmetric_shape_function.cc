@@ -272,18 +272,17 @@ namespace fmpm
                 patch.reinit(transfer, cell_index);
                 // (A box beyond the patch's cells, e.g. out of the mesh:
                 // the quadrature.)
-                if (!patch.applies(x, l))
+                if (!patch.for_each_node_if_applies(
+                      x,
+                      l,
+                      [&](const unsigned int            local,
+                          const types::global_dof_index dof,
+                          const double                  S,
+                          const Tensor<1, 2>           &G,
+                          const double                  T) {
+                        support.push_back(Node{local, dof, false, S, G, T});
+                      }))
                   return gimp_quadrature(transfer, cell_index, x, l, support);
-                patch.for_each_node(
-                  x,
-                  l,
-                  [&](const unsigned int            local,
-                      const types::global_dof_index dof,
-                      const double                  S,
-                      const Tensor<1, 2>           &G,
-                      const double                  T) {
-                    support.push_back(Node{local, dof, false, S, G, T});
-                  });
                 return Status::ok;
               }
 

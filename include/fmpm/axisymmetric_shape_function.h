@@ -211,31 +211,32 @@ namespace fmpm
       public:
         using UniformPatchPlanes<2>::reinit;
 
-        /**
-         * @brief Whether the closed forms hold for a point at @p x with
-         * half-lengths @p l: x in the cell, l ≤ h/2, r_p + l_r > 0, and
-         * the cut box overlaps only cells of the patch.
-         */
-        bool
-        applies(const Point<2> &x, const Tensor<1, 2> &l) const
+        /** @brief The planes and nodes of the cell's patch from those
+         * built for it before (ShapeFunction::UniformGimpPatch::planes(),
+         * kept across steps). */
+        void
+        reinit(const UniformPatchPlanes<2> &planes)
         {
-          unsigned int first[2], last[2];
-          return columns_if_applies(x, l, first, last);
+          UniformPatchPlanes<2>::operator=(planes);
         }
 
         /**
-         * @brief Call @p sink(local index, DoF, S, G, T) for every node at
-         * r ≥ 0 of the patch cells the cut box overlaps where S, G or T is
-         * not zero (applies() must hold).
+         * @brief If the closed forms hold for a point at @p x with
+         * half-lengths @p l (x in the cell, l ≤ h/2, r_p + l_r > 0, and
+         * the cut box overlaps only cells of the patch), call
+         * @p sink(local index, DoF, S, G, T) for every node at r ≥ 0 of
+         * the patch cells the cut box overlaps where S, G or T is not zero.
+         * @return whether they hold (else nothing is called)
          */
         template <typename Sink>
-        void
-        for_each_node(const Point<2>     &x,
-                      const Tensor<1, 2> &l,
-                      Sink              &&sink) const
+        DEAL_II_ALWAYS_INLINE bool
+        for_each_node_if_applies(const Point<2>     &x,
+                                 const Tensor<1, 2> &l,
+                                 Sink              &&sink) const
         {
           unsigned int first[2], last[2];
-          columns_if_applies(x, l, first, last);
+          if (!columns_if_applies(x, l, first, last))
+            return false;
           RadialWeights radial[4];
           double        z_value[4], z_gradient[4];
           for (unsigned int p = first[0]; p <= last[0]; ++p)
@@ -259,6 +260,7 @@ namespace fmpm
                     sink(local_index[slot], dof[slot], S, G, T);
                   }
               }
+          return true;
         }
 
       private:

@@ -258,6 +258,14 @@ namespace fmpm
     public:
       using UniformPatchPlanes<dim>::reinit;
 
+      /** @brief The patch's planes and nodes (read by the axisymmetric
+       * closed forms of the same cell). */
+      const UniformPatchPlanes<dim> &
+      planes() const
+      {
+        return *this;
+      }
+
       /**
        * @brief Whether the closed forms hold for a point at @p x with
        * half-lengths @p l: x in the cell, l ≤ h/2, and the box x ± l

@@ -77,16 +77,9 @@ namespace fmpm
     {
       c    = points.cell_index[cell_number];
       data = &transfer.cell_data(c);
-      if constexpr (dim == 2)
-        if (axisymmetric)
-          {
-            axisymmetric_gimp_patch_ready = gimp && data->uniform_patch;
-            if (axisymmetric_gimp_patch_ready)
-              axisymmetric_gimp_patch.reinit(transfer, c);
-            return;
-          }
       if (gimp && data->uniform_patch)
         {
+          // (Built once per cell, kept across steps.)
           if (patches.gimp_of_cell[c] == numbers::invalid_unsigned_int)
             {
               patches.gimp_of_cell[c] = patches.gimp.size();
@@ -95,6 +88,15 @@ namespace fmpm
             }
           gimp_patch = &patches.gimp[patches.gimp_of_cell[c]];
         }
+      if constexpr (dim == 2)
+        if (axisymmetric)
+          {
+            // The axisymmetric closed forms read the same planes.
+            axisymmetric_gimp_patch_ready = gimp && data->uniform_patch;
+            if (axisymmetric_gimp_patch_ready)
+              axisymmetric_gimp_patch.reinit(gimp_patch->planes());
+            return;
+          }
       cpdi_patch = nullptr;
       if (cpdi && data->uniform_patch)
         {
@@ -431,12 +433,15 @@ namespace fmpm
             {
               const Tensor<1, dim> l =
                 ShapeFunction::gimp_half_lengths(shape_function, F, l0);
-              if (axisymmetric_gimp_patch.applies(x, l))
-                {
-                  cache.make_room(16);
-                  if (cache.T.size() < cache.node.size())
-                    cache.T.resize(cache.node.size());
-                  axisymmetric_gimp_patch.for_each_node(
+              cache.make_room(16);
+              if (cache.T.size() < cache.node.size())
+                cache.T.resize(cache.node.size());
+              unsigned int *const   node_out = cache.node.data() + first;
+              double *const         S_out    = cache.S.data() + first;
+              Tensor<1, dim> *const G_out    = cache.G.data() + first;
+              double *const         T_out    = cache.T.data() + first;
+              unsigned int          count    = 0;
+              if (axisymmetric_gimp_patch.for_each_node_if_applies(
                     x,
                     l,
                     [&](const unsigned int local_index,
@@ -444,9 +449,14 @@ namespace fmpm
                         const double          S_ip,
                         const Tensor<1, dim> &G_ip,
                         const double          T_ip) {
-                      cache.T[cache.n_stored] = T_ip;
-                      cache.append(local_index, S_ip, G_ip);
-                    });
+                      node_out[count] = local_index;
+                      S_out[count]    = S_ip;
+                      G_out[count]    = G_ip;
+                      T_out[count]    = T_ip;
+                      ++count;
+                    }))
+                {
+                  cache.n_stored += count;
                   return;
                 }
             }
