@@ -13,9 +13,11 @@ namespace fmpm
     GeometrySink<dim>::reset(std::vector<MaterialField<dim>> &fields,
                              const NormalNeeds               &normal_needs,
                              const bool                       interface_state,
-                             const MaterialPoints<dim>       &material_points)
+                             const MaterialPoints<dim>       &material_points,
+                             const unsigned char *const       point_material)
     {
       points      = &material_points;
+      material    = point_material;
       using Index = PropertyIndex<dim>;
       mass        = points->column(Index::mass);
       volume      = points->column(Index::volume);
