@@ -394,6 +394,111 @@ namespace fmpm
 
 
 
+    namespace
+    {
+      /** The CPDI support of compute_support(): on a uniform patch of exact
+       * boxes the closed form (UniformCpdiPatch), else the corners located
+       * one by one (seed 001 Eq. cpdi). */
+      template <int dim>
+      Status
+      cpdi_support(const GridTransfer<dim> &transfer,
+                   const unsigned int       cell_index,
+                   const Point<dim>        &x,
+                   const Tensor<2, dim>    &F,
+                   const Tensor<1, dim>    &l0,
+                   std::vector<Node<dim>>  &support,
+                   const bool               allow_closed_form,
+                   const double             cpdi_critical_radius)
+      {
+        using Transfer                  = GridTransfer<dim>;
+        constexpr unsigned int      n   = Transfer::n_nodes;
+        const auto                 &own = transfer.cell_data(cell_index);
+        std::array<double, n>       S;
+        typename Transfer::Location location;
+        // On a uniform patch of exact boxes: the corners' cells
+        // arithmetically (the same bits).
+        if (allow_closed_form && own.uniform_patch)
+          {
+            UniformCpdiPatch<dim> patch;
+            patch.reinit(transfer, cell_index);
+            constexpr unsigned int size =
+              UniformCpdiPatch<dim>::max_support_size;
+            std::array<unsigned int, size>   node;
+            std::array<double, size>         S_p;
+            std::array<Tensor<1, dim>, size> G_p;
+            const unsigned int               count = patch.applies() ?
+                                                       patch.support(transfer,
+                                                       x,
+                                                       F,
+                                                       l0,
+                                                       cpdi_critical_radius,
+                                                       node.data(),
+                                                       S_p.data(),
+                                                       G_p.data()) :
+                                                       0;
+            for (unsigned int e = 0; e < count; ++e)
+              for (const unsigned int other : transfer.patch(cell_index))
+                {
+                  const auto &cell = transfer.cell_data(other);
+                  const auto  i    = std::find(cell.local_index.begin(),
+                                           cell.local_index.end(),
+                                           node[e]);
+                  if (i != cell.local_index.end())
+                    {
+                      support.push_back(Node<dim>{
+                        node[e],
+                        transfer.dof_index(cell, i - cell.local_index.begin()),
+                        false,
+                        S_p[e],
+                        G_p[e]});
+                      break;
+                    }
+                }
+            if (count > 0)
+              return Status::ok;
+          }
+        // Corners x_α = x_p + s r_α, s = F diag(l⁰) (seed 001 Eq. cpdi):
+        // S̄ = mean_α S_g(x_α), Ḡ = 2^-dim s⁻ᵀ Σ_α r_α S_g(x_α).
+        Tensor<2, dim> s;
+        for (unsigned int c = 0; c < dim; ++c)
+          for (unsigned int j = 0; j < dim; ++j)
+            s[c][j] = F[c][j] * l0[j];
+        if (cpdi_critical_radius > 0)
+          {
+            double h = std::numeric_limits<double>::max();
+            for (unsigned int d = 0; d < dim; ++d)
+              h = std::min(h, own.upper()[d] - own.lower()[d]);
+            limit_cpdi_domain(s, cpdi_critical_radius * h);
+          }
+        const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
+        const double         weight              = 1.0 / n; // 2^-dim
+        unsigned int         hint                = cell_index;
+        for (unsigned int alpha = 0; alpha < n; ++alpha)
+          {
+            Tensor<1, dim> r;
+            for (unsigned int j = 0; j < dim; ++j)
+              r[j] = ((alpha >> j) & 1) ? 1. : -1.;
+            const Point<dim> corner = x + s * r;
+            const auto       found =
+              transfer.locate(cell_index, corner, hint, location);
+            if (found != Transfer::LocateStatus::found)
+              return found == Transfer::LocateStatus::outside_mesh ?
+                       Status::outside_mesh :
+                       Status::beyond_neighbors;
+            hint             = location.cell;
+            const auto &cell = transfer.cell_data(location.cell);
+            Transfer::values(location.xi, S);
+            const Tensor<1, dim> w = weight * (s_inverse_transpose * r);
+            for (unsigned int i = 0; i < n; ++i)
+              add_node<dim>(
+                support, transfer, cell, i, weight * S[i], S[i] * w);
+          }
+        return Status::ok;
+      }
+    } // namespace
+
+
+
     template <int dim>
     Status
     compute_support(const Type               type,
@@ -436,86 +541,14 @@ namespace fmpm
             }
 
           case Type::cpdi:
-            {
-              // On a uniform patch of exact boxes: the corners' cells
-              // arithmetically (the same bits).
-              if (allow_closed_form && own.uniform_patch)
-                {
-                  UniformCpdiPatch<dim> patch;
-                  patch.reinit(transfer, cell_index);
-                  constexpr unsigned int size =
-                    UniformCpdiPatch<dim>::max_support_size;
-                  std::array<unsigned int, size>   node;
-                  std::array<double, size>         S_p;
-                  std::array<Tensor<1, dim>, size> G_p;
-                  const unsigned int               count =
-                    patch.applies() ? patch.support(transfer,
-                                                    x,
-                                                    F,
-                                                    l0,
-                                                    cpdi_critical_radius,
-                                                    node.data(),
-                                                    S_p.data(),
-                                                    G_p.data()) :
-                                                    0;
-                  for (unsigned int e = 0; e < count; ++e)
-                    for (const unsigned int other : transfer.patch(cell_index))
-                      {
-                        const auto &cell = transfer.cell_data(other);
-                        const auto  i    = std::find(cell.local_index.begin(),
-                                                 cell.local_index.end(),
-                                                 node[e]);
-                        if (i != cell.local_index.end())
-                          {
-                            support.push_back(
-                              Node<dim>{node[e],
-                                        transfer.dof_index(
-                                          cell, i - cell.local_index.begin()),
-                                        false,
-                                        S_p[e],
-                                        G_p[e]});
-                            break;
-                          }
-                      }
-                  if (count > 0)
-                    return Status::ok;
-                }
-              // Corners x_α = x_p + s r_α, s = F diag(l⁰) (seed 001 Eq. cpdi):
-              // S̄ = mean_α S_g(x_α), Ḡ = 2^-dim s⁻ᵀ Σ_α r_α S_g(x_α).
-              Tensor<2, dim> s;
-              for (unsigned int c = 0; c < dim; ++c)
-                for (unsigned int j = 0; j < dim; ++j)
-                  s[c][j] = F[c][j] * l0[j];
-              if (cpdi_critical_radius > 0)
-                {
-                  double h = std::numeric_limits<double>::max();
-                  for (unsigned int d = 0; d < dim; ++d)
-                    h = std::min(h, own.upper()[d] - own.lower()[d]);
-                  limit_cpdi_domain(s, cpdi_critical_radius * h);
-                }
-              const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
-              const double         weight              = 1.0 / n; // 2^-dim
-              unsigned int         hint                = cell_index;
-              for (unsigned int alpha = 0; alpha < n; ++alpha)
-                {
-                  Tensor<1, dim> r;
-                  for (unsigned int j = 0; j < dim; ++j)
-                    r[j] = ((alpha >> j) & 1) ? 1. : -1.;
-                  const Point<dim> corner = x + s * r;
-                  const auto       found =
-                    transfer.locate(cell_index, corner, hint, location);
-                  if (found != Transfer::LocateStatus::found)
-                    return status_of(found);
-                  hint             = location.cell;
-                  const auto &cell = transfer.cell_data(location.cell);
-                  Transfer::values(location.xi, S);
-                  const Tensor<1, dim> w = weight * (s_inverse_transpose * r);
-                  for (unsigned int i = 0; i < n; ++i)
-                    add_node<dim>(
-                      support, transfer, cell, i, weight * S[i], S[i] * w);
-                }
-              return Status::ok;
-            }
+            return cpdi_support(transfer,
+                                cell_index,
+                                x,
+                                F,
+                                l0,
+                                support,
+                                allow_closed_form,
+                                cpdi_critical_radius);
 
           case Type::ugimp:
           case Type::cpgimp:
@@ -567,186 +600,6 @@ namespace fmpm
     }
 
 
-
-    template <int dim>
-    void
-    UniformPatchPlanes<dim>::reinit(const GridTransfer<dim> &transfer,
-                                    const unsigned int       cell_index)
-    {
-      const auto &own = transfer.cell_data(cell_index);
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          h[d]        = own.upper()[d] - own.lower()[d];
-          plane[d][0] = own.lower()[d] - h[d];
-          plane[d][1] = own.lower()[d];
-          plane[d][2] = own.upper()[d];
-          plane[d][3] = own.upper()[d] + h[d];
-        }
-      local_index.fill(numbers::invalid_unsigned_int);
-      has_cell.fill(false);
-      Assert(own.uniform_patch,
-             ExcMessage("UniformPatchPlanes needs a uniform patch."));
-      for (const unsigned int other : transfer.patch(cell_index))
-        {
-          const auto  &cell   = transfer.cell_data(other);
-          unsigned int column = 0, stride = 1;
-          for (unsigned int d = 0; d < dim; ++d, stride *= 3)
-            {
-              const double centre = 0.5 * (cell.lower()[d] + cell.upper()[d]);
-              column += stride * (centre < own.lower()[d] ? 0 :
-                                  centre < own.upper()[d] ? 1 :
-                                                            2);
-            }
-          has_cell[column] = true;
-          // Each vertex's planes from its coordinates (any vertex order).
-          for (unsigned int i = 0; i < GridTransfer<dim>::n_nodes; ++i)
-            {
-              unsigned int slot = 0;
-              for (unsigned int d = 0; d < dim; ++d)
-                {
-                  const double       v = cell.vertex[i][d];
-                  const unsigned int p = v < own.lower()[d] - 0.5 * h[d] ? 0 :
-                                         v < own.lower()[d] + 0.5 * h[d] ? 1 :
-                                         v < own.upper()[d] + 0.5 * h[d] ? 2 :
-                                                                           3;
-                  plane[d][p]          = v;
-                  slot |= p << (2 * d);
-                }
-              local_index[slot] = cell.local_index[i];
-              dof[slot]         = transfer.dof_index(cell, i);
-            }
-        }
-    }
-
-
-
-    template <int dim>
-    bool
-    UniformGimpPatch<dim>::applies(const Point<dim>     &x,
-                                   const Tensor<1, dim> &l) const
-    {
-      unsigned int first[dim], last[dim];
-      return columns_if_applies(x, l, first, last);
-    }
-
-
-
-    template <int dim>
-    void
-    UniformCpdiPatch<dim>::reinit(const GridTransfer<dim> &transfer,
-                                  const unsigned int       cell_index)
-    {
-      const auto &own = transfer.cell_data(cell_index);
-      Assert(own.uniform_patch,
-             ExcMessage("UniformCpdiPatch needs a uniform patch."));
-      // compute_support()'s h of the critical radius.
-      smallest_extent = std::numeric_limits<double>::max();
-      for (unsigned int d = 0; d < dim; ++d)
-        smallest_extent =
-          std::min(smallest_extent, own.upper()[d] - own.lower()[d]);
-      double h[dim];
-      for (unsigned int d = 0; d < dim; ++d)
-        {
-          h[d]               = own.upper()[d] - own.lower()[d];
-          inverse_spacing[d] = 1. / h[d];
-          plane[d][0]        = own.lower()[d] - h[d];
-          plane[d][1]        = own.lower()[d];
-          plane[d][2]        = own.upper()[d];
-          plane[d][3]        = own.upper()[d] + h[d];
-        }
-      // The plane of each vertex coordinate (any vertex order).
-      auto plane_of = [&](const double v, const unsigned int d) {
-        return v < own.lower()[d] - 0.5 * h[d] ? 0u :
-               v < own.lower()[d] + 0.5 * h[d] ? 1u :
-               v < own.upper()[d] + 0.5 * h[d] ? 2u :
-                                                 3u;
-      };
-      const auto &patch = transfer.patch(cell_index);
-      for (const unsigned int other : patch)
-        for (unsigned int i = 0; i < n_nodes; ++i)
-          for (unsigned int d = 0; d < dim; ++d)
-            {
-              const double v           = transfer.cell_data(other).vertex[i][d];
-              plane[d][plane_of(v, d)] = v;
-            }
-
-      has_cell.fill(false);
-      this->cell_index.fill(numbers::invalid_unsigned_int);
-      exact = true;
-      for (const unsigned int other : patch)
-        {
-          const auto  &data   = transfer.cell_data(other);
-          unsigned int column = 0, stride = 1;
-          for (unsigned int d = 0; d < dim; ++d, stride *= 3)
-            {
-              const double centre = 0.5 * (data.lower()[d] + data.upper()[d]);
-              column += stride * (centre < own.lower()[d] ? 0 :
-                                  centre < own.upper()[d] ? 1 :
-                                                            2);
-            }
-          has_cell[column]         = true;
-          this->cell_index[column] = other;
-          ColumnCell &column_cell  = cell[column];
-          // ξ = diag(1/h) (x − x_lower) with the bits of
-          // GridTransfer::reference_point(): the inverse Jacobian has no
-          // off-diagonal entry and vertex 0 lies on the lower planes.
-          unsigned int c = column;
-          for (unsigned int d = 0; d < dim; ++d, c /= 3)
-            {
-              column_cell.inverse_extent[d] =
-                data.inverse_jacobian_transpose[d][d];
-              exact = exact && data.inverse_jacobian_transpose[d][d] > 0 &&
-                      data.vertex[0][d] == plane[d][c % 3];
-              for (unsigned int e = 0; e < dim; ++e)
-                if (e != d)
-                  exact = exact && data.inverse_jacobian_transpose[d][e] == 0;
-            }
-          for (unsigned int i = 0; i < n_nodes; ++i)
-            {
-              unsigned int slot = 0;
-              for (unsigned int d = 0; d < dim; ++d)
-                slot |= plane_of(data.vertex[i][d], d) << (2 * d);
-              column_cell.local_index[i] = data.local_index[i];
-              column_cell.slot[i]        = slot;
-            }
-        }
-      exact = exact && own.uniform_patch;
-    }
-
-
-
-    template <int dim>
-    bool
-    UniformCpdiPatch<dim>::locate_in_general(const GridTransfer<dim> &transfer,
-                                             const Point<dim>        &corner,
-                                             const unsigned int       hint,
-                                             unsigned int            &column,
-                                             Point<dim>              &xi) const
-    {
-      typename GridTransfer<dim>::Location location;
-      if (transfer.locate(cell_index[own_column],
-                          corner,
-                          cell_index[hint],
-                          location) != GridTransfer<dim>::LocateStatus::found)
-        return false;
-      for (unsigned int c = 0; c < n_columns; ++c)
-        if (has_cell[c] && cell_index[c] == location.cell)
-          {
-            column = c;
-            xi     = location.xi;
-            return true;
-          }
-      return false;
-    }
-
-
-
-    template class UniformCpdiPatch<2>;
-    template class UniformCpdiPatch<3>;
-    template struct UniformPatchPlanes<2>;
-    template struct UniformPatchPlanes<3>;
-    template class UniformGimpPatch<2>;
-    template class UniformGimpPatch<3>;
 
     template Tensor<1, 2>
     gimp_half_lengths<2>(const Type,

@@ -4,6 +4,7 @@
 #ifndef fmpm_simulator_h
 #define fmpm_simulator_h
 
+#include <fmpm/bspline_supports.h>
 #include <fmpm/constitutive_model/interface.h>
 #include <fmpm/contact/manager.h>
 #include <fmpm/external_loads.h>
@@ -22,7 +23,6 @@
 #include <fmpm/postprocess/global_statistics.h>
 #include <fmpm/postprocess/history_file.h>
 #include <fmpm/postprocess/interface.h>
-#include <fmpm/shape_function.h>
 #include <fmpm/simulation_control.h>
 #include <fmpm/simulator_access.h>
 #include <fmpm/support_cache.h>
