@@ -4,9 +4,9 @@
 // The B-spline shape functions on the mesh: the lattice and vertex map of
 // a uniform box mesh, the vertices a cell's points can reach, the messages
 // of a failed support (the per-point supports are inline in
-// shape_function.h).
+// bspline_supports.h).
 
-#include <fmpm/shape_function.h>
+#include <fmpm/bspline_supports.h>
 
 #include <deal.II/base/exceptions.h>
 

@@ -15,60 +15,6 @@ namespace fmpm
 {
   namespace ShapeFunction
   {
-    Type
-    parse(const std::string &name)
-    {
-      if (name == "classic")
-        return Type::classic;
-      if (name == "ugimp")
-        return Type::ugimp;
-      if (name == "cpgimp")
-        return Type::cpgimp;
-      if (name == "cpdi")
-        return Type::cpdi;
-      if (name == "b2spline")
-        return Type::b2spline;
-      if (name == "b3spline")
-        return Type::b3spline;
-      if (name == "b2gimp")
-        return Type::b2gimp;
-      if (name == "b2cpdi")
-        return Type::b2cpdi;
-      AssertThrow(false,
-                  ExcMessage("Shape function/Type = <" + name +
-                             "> is not one of " + pattern() + "."));
-      return Type::classic;
-    }
-
-
-
-    std::string
-    parameter_name(const Type type)
-    {
-      switch (type)
-        {
-          case Type::classic:
-            return "classic";
-          case Type::ugimp:
-            return "ugimp";
-          case Type::cpgimp:
-            return "cpgimp";
-          case Type::cpdi:
-            return "cpdi";
-          case Type::b2spline:
-            return "b2spline";
-          case Type::b3spline:
-            return "b3spline";
-          case Type::b2gimp:
-            return "b2gimp";
-          case Type::b2cpdi:
-            return "b2cpdi";
-        }
-      return "classic";
-    }
-
-
-
     template <int dim>
     Tensor<1, dim>
     gimp_half_lengths(const Type            type,
@@ -394,6 +340,111 @@ namespace fmpm
 
 
 
+    namespace
+    {
+      /** The CPDI support of compute_support(): on a uniform patch of exact
+       * boxes the closed form (UniformCpdiPatch), else the corners located
+       * one by one (seed 001 Eq. cpdi). */
+      template <int dim>
+      Status
+      cpdi_support(const GridTransfer<dim> &transfer,
+                   const unsigned int       cell_index,
+                   const Point<dim>        &x,
+                   const Tensor<2, dim>    &F,
+                   const Tensor<1, dim>    &l0,
+                   std::vector<Node<dim>>  &support,
+                   const bool               allow_closed_form,
+                   const double             cpdi_critical_radius)
+      {
+        using Transfer                  = GridTransfer<dim>;
+        constexpr unsigned int      n   = Transfer::n_nodes;
+        const auto                 &own = transfer.cell_data(cell_index);
+        std::array<double, n>       S;
+        typename Transfer::Location location;
+        // On a uniform patch of exact boxes: the corners' cells
+        // arithmetically (the same bits).
+        if (allow_closed_form && own.uniform_patch)
+          {
+            UniformCpdiPatch<dim> patch;
+            patch.reinit(transfer, cell_index);
+            constexpr unsigned int size =
+              UniformCpdiPatch<dim>::max_support_size;
+            std::array<unsigned int, size>   node;
+            std::array<double, size>         S_p;
+            std::array<Tensor<1, dim>, size> G_p;
+            const unsigned int               count = patch.applies() ?
+                                                       patch.support(transfer,
+                                                       x,
+                                                       F,
+                                                       l0,
+                                                       cpdi_critical_radius,
+                                                       node.data(),
+                                                       S_p.data(),
+                                                       G_p.data()) :
+                                                       0;
+            for (unsigned int e = 0; e < count; ++e)
+              for (const unsigned int other : transfer.patch(cell_index))
+                {
+                  const auto &cell = transfer.cell_data(other);
+                  const auto  i    = std::find(cell.local_index.begin(),
+                                           cell.local_index.end(),
+                                           node[e]);
+                  if (i != cell.local_index.end())
+                    {
+                      support.push_back(Node<dim>{
+                        node[e],
+                        transfer.dof_index(cell, i - cell.local_index.begin()),
+                        false,
+                        S_p[e],
+                        G_p[e]});
+                      break;
+                    }
+                }
+            if (count > 0)
+              return Status::ok;
+          }
+        // Corners x_α = x_p + s r_α, s = F diag(l⁰) (seed 001 Eq. cpdi):
+        // S̄ = mean_α S_g(x_α), Ḡ = 2^-dim s⁻ᵀ Σ_α r_α S_g(x_α).
+        Tensor<2, dim> s;
+        for (unsigned int c = 0; c < dim; ++c)
+          for (unsigned int j = 0; j < dim; ++j)
+            s[c][j] = F[c][j] * l0[j];
+        if (cpdi_critical_radius > 0)
+          {
+            double h = std::numeric_limits<double>::max();
+            for (unsigned int d = 0; d < dim; ++d)
+              h = std::min(h, own.upper()[d] - own.lower()[d]);
+            limit_cpdi_domain(s, cpdi_critical_radius * h);
+          }
+        const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
+        const double         weight              = 1.0 / n; // 2^-dim
+        unsigned int         hint                = cell_index;
+        for (unsigned int alpha = 0; alpha < n; ++alpha)
+          {
+            Tensor<1, dim> r;
+            for (unsigned int j = 0; j < dim; ++j)
+              r[j] = ((alpha >> j) & 1) ? 1. : -1.;
+            const Point<dim> corner = x + s * r;
+            const auto       found =
+              transfer.locate(cell_index, corner, hint, location);
+            if (found != Transfer::LocateStatus::found)
+              return found == Transfer::LocateStatus::outside_mesh ?
+                       Status::outside_mesh :
+                       Status::beyond_neighbors;
+            hint             = location.cell;
+            const auto &cell = transfer.cell_data(location.cell);
+            Transfer::values(location.xi, S);
+            const Tensor<1, dim> w = weight * (s_inverse_transpose * r);
+            for (unsigned int i = 0; i < n; ++i)
+              add_node<dim>(
+                support, transfer, cell, i, weight * S[i], S[i] * w);
+          }
+        return Status::ok;
+      }
+    } // namespace
+
+
+
     template <int dim>
     Status
     compute_support(const Type               type,
@@ -436,86 +487,14 @@ namespace fmpm
             }
 
           case Type::cpdi:
-            {
-              // On a uniform patch of exact boxes: the corners' cells
-              // arithmetically (the same bits).
-              if (allow_closed_form && own.uniform_patch)
-                {
-                  UniformCpdiPatch<dim> patch;
-                  patch.reinit(transfer, cell_index);
-                  constexpr unsigned int size =
-                    UniformCpdiPatch<dim>::max_support_size;
-                  std::array<unsigned int, size>   node;
-                  std::array<double, size>         S_p;
-                  std::array<Tensor<1, dim>, size> G_p;
-                  const unsigned int               count =
-                    patch.applies() ? patch.support(transfer,
-                                                    x,
-                                                    F,
-                                                    l0,
-                                                    cpdi_critical_radius,
-                                                    node.data(),
-                                                    S_p.data(),
-                                                    G_p.data()) :
-                                                    0;
-                  for (unsigned int e = 0; e < count; ++e)
-                    for (const unsigned int other : transfer.patch(cell_index))
-                      {
-                        const auto &cell = transfer.cell_data(other);
-                        const auto  i    = std::find(cell.local_index.begin(),
-                                                 cell.local_index.end(),
-                                                 node[e]);
-                        if (i != cell.local_index.end())
-                          {
-                            support.push_back(
-                              Node<dim>{node[e],
-                                        transfer.dof_index(
-                                          cell, i - cell.local_index.begin()),
-                                        false,
-                                        S_p[e],
-                                        G_p[e]});
-                            break;
-                          }
-                      }
-                  if (count > 0)
-                    return Status::ok;
-                }
-              // Corners x_α = x_p + s r_α, s = F diag(l⁰) (seed 001 Eq. cpdi):
-              // S̄ = mean_α S_g(x_α), Ḡ = 2^-dim s⁻ᵀ Σ_α r_α S_g(x_α).
-              Tensor<2, dim> s;
-              for (unsigned int c = 0; c < dim; ++c)
-                for (unsigned int j = 0; j < dim; ++j)
-                  s[c][j] = F[c][j] * l0[j];
-              if (cpdi_critical_radius > 0)
-                {
-                  double h = std::numeric_limits<double>::max();
-                  for (unsigned int d = 0; d < dim; ++d)
-                    h = std::min(h, own.upper()[d] - own.lower()[d]);
-                  limit_cpdi_domain(s, cpdi_critical_radius * h);
-                }
-              const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
-              const double         weight              = 1.0 / n; // 2^-dim
-              unsigned int         hint                = cell_index;
-              for (unsigned int alpha = 0; alpha < n; ++alpha)
-                {
-                  Tensor<1, dim> r;
-                  for (unsigned int j = 0; j < dim; ++j)
-                    r[j] = ((alpha >> j) & 1) ? 1. : -1.;
-                  const Point<dim> corner = x + s * r;
-                  const auto       found =
-                    transfer.locate(cell_index, corner, hint, location);
-                  if (found != Transfer::LocateStatus::found)
-                    return status_of(found);
-                  hint             = location.cell;
-                  const auto &cell = transfer.cell_data(location.cell);
-                  Transfer::values(location.xi, S);
-                  const Tensor<1, dim> w = weight * (s_inverse_transpose * r);
-                  for (unsigned int i = 0; i < n; ++i)
-                    add_node<dim>(
-                      support, transfer, cell, i, weight * S[i], S[i] * w);
-                }
-              return Status::ok;
-            }
+            return cpdi_support(transfer,
+                                cell_index,
+                                x,
+                                F,
+                                l0,
+                                support,
+                                allow_closed_form,
+                                cpdi_critical_radius);
 
           case Type::ugimp:
           case Type::cpgimp:

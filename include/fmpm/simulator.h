@@ -4,6 +4,7 @@
 #ifndef fmpm_simulator_h
 #define fmpm_simulator_h
 
+#include <fmpm/bspline_supports.h>
 #include <fmpm/constitutive_model/interface.h>
 #include <fmpm/contact/manager.h>
 #include <fmpm/external_loads.h>
@@ -22,7 +23,6 @@
 #include <fmpm/postprocess/global_statistics.h>
 #include <fmpm/postprocess/history_file.h>
 #include <fmpm/postprocess/interface.h>
-#include <fmpm/shape_function.h>
 #include <fmpm/simulation_control.h>
 #include <fmpm/simulator_access.h>
 #include <fmpm/support_cache.h>
@@ -516,22 +516,6 @@ namespace fmpm
     // --- output (simulator/output.cc) ---
     void
     output_results(const GlobalStatistics<dim> &statistics);
-    void
-    write_summary(const std::string           &status,
-                  const SimulationFailure     *failure,
-                  const GlobalStatistics<dim> &statistics);
-    /** summary.json's entries of the results: energies, errors, contact,
-     * conditions, the mass matrix's figures, the failure (rank 0). */
-    void
-    write_summary_results(
-      std::ostream                                      &out,
-      const GlobalStatistics<dim>                       &statistics,
-      const SimulationFailure                           *failure,
-      const double                                       condition_error,
-      const std::vector<std::pair<std::string, double>> &contact_figures,
-      const std::map<std::string, double> &mass_matrix_statistics) const;
-    void
-    print_progress(const GlobalStatistics<dim> &statistics, const bool force);
 
     MPI_Comm            mpi_communicator;
     const Parameters    parameters;

@@ -14,9 +14,11 @@ namespace fmpm
                              const NormalNeeds               &normal_needs,
                              const bool                       interface_state,
                              const MaterialPoints<dim>       &material_points,
+                             const unsigned char *const       point_material,
                              const bool                       axisymmetric)
     {
       points          = &material_points;
+      material        = point_material;
       using Index     = PropertyIndex<dim>;
       mass            = points->column(Index::mass);
       volume          = points->column(Index::volume);

@@ -182,6 +182,89 @@ namespace fmpm
 
 
     template <int dim>
+    GeometrySink<dim> &
+    Manager<dim>::begin_extrapolation(const MaterialPoints<dim> &points,
+                                      const unsigned char *const point_material,
+                                      const bool                 with_forces)
+    {
+      invalidate_geometry(true);
+      for (auto &field : fields)
+        {
+          field.mass     = 0;
+          field.momentum = 0;
+          if (with_forces)
+            field.force = 0;
+        }
+      if (material_full_mass_needed)
+        for (auto &matrix : full_mass)
+          matrix.clear();
+      geometry_sink.reset(fields,
+                          needs,
+                          needs_interface,
+                          points,
+                          point_material,
+                          this->get_parameters().axisymmetric);
+      return geometry_sink;
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::finish_extrapolation(NodalField<dim> &total,
+                                       const bool       with_forces)
+    {
+      total.set_to_sum(fields, true, true, with_forces);
+      for (auto &field : fields)
+        {
+          field.mass.compress(VectorOperation::add);
+          field.momentum.compress(VectorOperation::add);
+          if (with_forces)
+            field.force.compress(VectorOperation::add);
+          GeometrySink<dim>::compress(field, needs, needs_interface);
+          field.mass.update_ghost_values();
+          field.computed.fill(false);
+        }
+    }
+
+
+
+    template <int dim>
+    GeometrySink<dim> &
+    Manager<dim>::begin_re_extrapolation(
+      const MaterialPoints<dim> &points,
+      const unsigned char *const point_material)
+    {
+      for (auto &field : fields)
+        field.momentum = 0;
+      geometry_sink.reset(fields,
+                          needs,
+                          needs_interface,
+                          points,
+                          point_material,
+                          this->get_parameters().axisymmetric);
+      return geometry_sink;
+    }
+
+
+
+    template <int dim>
+    void
+    Manager<dim>::finish_re_extrapolation(NodalField<dim> &total)
+    {
+      invalidate_geometry(false);
+      total.set_to_sum(fields, false, true, false);
+      for (auto &field : fields)
+        {
+          field.momentum.compress(VectorOperation::add);
+          GeometrySink<dim>::compress(field, needs, needs_interface);
+          field.computed.fill(false);
+        }
+    }
+
+
+
+    template <int dim>
     void
     Manager<dim>::correct_extrapolated_momenta(const double t,
                                                const Stage  stage)

@@ -4,6 +4,7 @@
 // Time/Strain update, Shape function, Deformation gradient, Particle update,
 // Mass matrix.
 
+#include <fmpm/bspline.h>
 #include <fmpm/mass_matrix/interface.h>
 #include <fmpm/parameters.h>
 #include <fmpm/particle_update/interface.h>

@@ -82,6 +82,51 @@ namespace fmpm
       return this->get_simulator().contact->history_values();
     }
 
+
+
+    template <int dim>
+    GlobalStatistics<dim>
+    Interface<dim>::current_statistics() const
+    {
+      return this->get_simulator().compute_statistics();
+    }
+
+
+
+    template <int dim>
+    const RunCounters &
+    Interface<dim>::get_run_counters() const
+    {
+      return this->get_simulator().counters;
+    }
+
+
+
+    template <int dim>
+    const std::string &
+    Interface<dim>::latest_checkpoint() const
+    {
+      return this->get_simulator().checkpoint_state.latest;
+    }
+
+
+
+    template <int dim>
+    const ExternalLoads<dim> &
+    Interface<dim>::get_external_loads() const
+    {
+      return this->get_simulator().external_loads;
+    }
+
+
+
+    template <int dim>
+    const Manager<dim> &
+    Interface<dim>::get_postprocess_manager() const
+    {
+      return this->get_simulator().postprocessors;
+    }
+
     template class Interface<2>;
     template class Interface<3>;
   } // namespace Postprocess

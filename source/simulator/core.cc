@@ -4,6 +4,8 @@
 // The run loop and the MPM time step of seed 000 §2.2.
 
 #include <fmpm/postprocess/point_csv.h>
+#include <fmpm/postprocess/progress.h>
+#include <fmpm/postprocess/summary_file.h>
 #include <fmpm/postprocess/test_output.h>
 #include <fmpm/postprocess/visualization.h>
 #include <fmpm/simulator.h>
@@ -95,6 +97,9 @@ namespace fmpm
     if (parameters.output.write_vtu)
       postprocessors.add(std::make_unique<Postprocess::Visualization<dim>>(),
                          *this);
+    postprocessors.add(std::make_unique<Postprocess::Progress<dim>>(), *this);
+    postprocessors.add(std::make_unique<Postprocess::SummaryFile<dim>>(),
+                       *this);
     if (checkpoint_state.resume)
       {
         load_checkpoint();
@@ -296,7 +301,7 @@ namespace fmpm
             start_energy_balance(statistics);
             output_results(statistics);
           }
-        print_progress(statistics, true);
+        postprocessors.progress(statistics);
 
         while (!control.finished())
           {
@@ -443,8 +448,7 @@ namespace fmpm
     const bool         output_now = control.output_due_now();
     const bool         progress_now =
       Utilities::MPI::broadcast(mpi_communicator,
-                                MPI_Wtime() - counters.last_progress_wall >
-                                  parameters.output.progress_seconds,
+                                postprocessors.progress_due(),
                                 0);
     schedule_timer.stop();
     if (output_now || progress_now || control.reached_end_time())
@@ -454,7 +458,7 @@ namespace fmpm
         if (output_now || control.reached_end_time())
           output_results(statistics);
         if (progress_now)
-          print_progress(statistics, false);
+          postprocessors.progress(statistics);
       }
   }
 
@@ -472,7 +476,7 @@ namespace fmpm
         pcout << "*** Stopped by a signal at step " << control.step_number()
               << ", t = " << control.time() << "; writing a checkpoint"
               << std::endl;
-        write_summary("stopped: signal", nullptr, compute_statistics());
+        postprocessors.stopping("stopped: signal");
       }
     write_checkpoint();
     return checkpoint_state.stop_requested;
@@ -488,7 +492,7 @@ namespace fmpm
     // The last step a run takes is always written.
     if (!control.output_written_now())
       output_results(statistics);
-    print_progress(statistics, true);
+    postprocessors.progress(statistics);
     const bool reached_end = control.reached_end_time();
     if (!checkpoint_state.stopped_on_signal && !reached_end)
       pcout << "*** Stopped by Time/Maximum number of steps = "
@@ -502,12 +506,8 @@ namespace fmpm
                                  "stopped: signal" :
                                reached_end ? "completed" :
                                              "stopped: step limit";
-    postprocessors.end_of_run(status, nullptr);
     postprocessors.finish();
-    write_summary(status, nullptr, statistics);
-    pcout << "      timer sections cover " << std::fixed << std::setprecision(1)
-          << 100 * counters.timer_coverage << " % of the wall time"
-          << std::defaultfloat << std::endl;
+    postprocessors.end_of_run(status, nullptr);
   }
 
 
@@ -540,8 +540,6 @@ namespace fmpm
       pcout << "    Note: " << control.time_step_rule().note() << std::endl;
     const std::string status = std::string("failed: ") + failure.what();
     postprocessors.end_of_run(status, &failure);
-    const GlobalStatistics<dim> statistics = compute_statistics();
-    write_summary(status, &failure, statistics);
   }
 
 

@@ -15,30 +15,6 @@
 
 namespace fmpm
 {
-  namespace
-  {
-    /** The contact geometry of point k's material (seed 004 Eq. 11). */
-    template <int dim>
-    struct MaterialGeometrySink
-    {
-      template <typename Count>
-      DEAL_II_ALWAYS_INLINE void
-      point(const unsigned int          k,
-            const unsigned int *const   node,
-            const double *const         S,
-            const Tensor<1, dim> *const G,
-            const Count                 n) const
-      {
-        geometry.add_point(k, material[k], node, S, G, n);
-      }
-
-      const Contact::GeometrySink<dim> &geometry;
-      const unsigned char *const        material;
-    };
-  } // namespace
-
-
-
   template <int dim>
   template <typename... Sinks>
   void
@@ -101,23 +77,20 @@ namespace fmpm
         full_mass_targets.cellwise = &centre_of_mass.cellwise_full_mass;
       }
 
-    // Per-material fields (contact): m^α, p^α0, f^α0, g^α, Σ S M X, and
-    // m̃^α = Σ_{p∈α} S M Sᵀ (seed 004 Eq. 37) for the multimaterial series
-    // and exact solve.
-    if (contact)
-      this->contact->invalidate_geometry(true);
+    // Per-material fields (contact, zeroed by the manager): m^α, p^α0,
+    // f^α0, g^α, Σ S M X, and m̃^α = Σ_{p∈α} S M Sᵀ (seed 004 Eq. 37) for
+    // the multimaterial series and exact solve.
     std::vector<Contact::MaterialField<dim>>  no_material_fields;
     std::vector<Contact::MaterialField<dim>> &material_fields =
       contact ? this->contact->material_fields() : no_material_fields;
     if (contact && this->contact->needs_material_full_mass())
-      {
-        full_mass_targets.material = &this->contact->material_full_mass();
-        for (auto &matrix : *full_mass_targets.material)
-          matrix.clear();
-      }
+      full_mass_targets.material = &this->contact->material_full_mass();
     const Contact::GeometrySink<dim>  no_contact_geometry;
     const Contact::GeometrySink<dim> &contact_geometry =
-      contact ? this->contact->begin_geometry(points) : no_contact_geometry;
+      contact ? this->contact->begin_extrapolation(points,
+                                                   supports.material.data(),
+                                                   with_forces) :
+                no_contact_geometry;
 
     // The sinks of m, p (Sᵀ) and f (Gᵀ, body force) of the centre of mass
     // or, with contact, of the point's material (Eqs. 5, 29).
@@ -136,10 +109,6 @@ namespace fmpm
       supports.material.data());
     for (auto &field : material_fields)
       {
-        field.mass     = 0;
-        field.momentum = 0;
-        if (with_forces)
-          field.force = 0;
         for (unsigned int d = 0; d < dim; ++d)
           {
             p[d] = field.momentum.block(d).begin();
@@ -176,8 +145,6 @@ namespace fmpm
       }
     else
       {
-        MaterialGeometrySink<dim> geometry{contact_geometry,
-                                           supports.material.data()};
         if (parameters.axisymmetric)
           {
             // f^α0 with the hoop force.
@@ -198,7 +165,7 @@ namespace fmpm
             for_each_point(with_gradients,
                            forces,
                            material_mass_momentum,
-                           geometry,
+                           contact_geometry,
                            full_mass);
           }
         else
@@ -208,11 +175,12 @@ namespace fmpm
             for_each_point(with_gradients,
                            forces,
                            material_mass_momentum,
-                           geometry,
+                           contact_geometry,
                            full_mass);
           }
-        // m = Σ_α m^α, p = Σ_α p^α, f = Σ_α f^α0.
-        centre_of_mass.set_to_sum(material_fields, true, true, with_forces);
+        // m = Σ_α m^α, p = Σ_α p^α, f = Σ_α f^α0 (and the ghosts of the
+        // material fields).
+        this->contact->finish_extrapolation(centre_of_mass, with_forces);
       }
 
     centre_of_mass.mass.compress(VectorOperation::add);
@@ -222,16 +190,6 @@ namespace fmpm
     if (assemble_full)
       centre_of_mass.full_mass_matrix.compress(VectorOperation::add);
     centre_of_mass.mass.update_ghost_values();
-    for (auto &field : material_fields)
-      {
-        field.mass.compress(VectorOperation::add);
-        field.momentum.compress(VectorOperation::add);
-        if (with_forces)
-          field.force.compress(VectorOperation::add);
-        this->contact->compress_geometry(field);
-        field.mass.update_ghost_values();
-        field.computed.fill(false);
-      }
     mass_matrix->setup();
   }
 
@@ -245,21 +203,8 @@ namespace fmpm
     // contact p = Σ_α p^α (Eq. 6); the ghosts added (with contact also of
     // g^α, Σ S M X, u^α, V^α where read).
     if (contact_active())
-      {
-        this->contact->invalidate_geometry(false);
-        centre_of_mass.set_to_sum(this->contact->material_fields(),
-                                  false,
-                                  true,
-                                  false);
-      }
+      this->contact->finish_re_extrapolation(centre_of_mass);
     centre_of_mass.momentum.compress(VectorOperation::add);
-    if (contact_active())
-      for (auto &field : this->contact->material_fields())
-        {
-          field.momentum.compress(VectorOperation::add);
-          this->contact->compress_geometry(field);
-          field.computed.fill(false);
-        }
   }
 
 

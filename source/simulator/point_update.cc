@@ -174,8 +174,8 @@ namespace fmpm
         }
     }
 
-    /** p^α = 0 of every material (contact) and one momentum sink per
-     * material into them. */
+    /** One momentum sink per material (contact; p^α zeroed by the
+     * manager). */
     template <int dim, typename MaterialFields>
     Transfer::PerMaterial<Transfer::MassMomentumSink<dim, false>>
     material_momentum_sinks(const MaterialPoints<dim> &points,
@@ -186,7 +186,6 @@ namespace fmpm
         supports.material.data());
       for (auto &field : material_fields)
         {
-          field.momentum = 0;
           double *p[dim];
           for (unsigned int d = 0; d < dim; ++d)
             p[d] = field.momentum.block(d).begin();
@@ -276,8 +275,10 @@ namespace fmpm
     const bool re_extrapolate = point_loops.momenta_in_particle_update;
     Contact::GeometrySink<dim>        no_contact_geometry;
     const Contact::GeometrySink<dim> &contact_geometry =
-      re_extrapolate && contact ? this->contact->begin_geometry(points) :
-                                  no_contact_geometry;
+      re_extrapolate && contact ?
+        this->contact->begin_re_extrapolation(points,
+                                              supports.material.data()) :
+        no_contact_geometry;
     const Transfer::MassMomentumSink<dim, false> momentum =
       momentum_sink(points,
                     re_extrapolate && !contact ? &centre_of_mass : nullptr);
@@ -295,23 +296,22 @@ namespace fmpm
     // operations of particles_to_grid().
     const auto re_extrapolate_point =
       [&](const unsigned int k, const auto &data) DEAL_II_ALWAYS_INLINE {
-        support_of.visit(
-          k,
-          data,
-          contact_geometry.needs_gradients(),
-          [&](const unsigned int *const   node,
-              const double *const         S,
-              const Tensor<1, dim> *const G,
-              const auto                  n_entries) DEAL_II_ALWAYS_INLINE {
-            if (contact)
-              {
-                material_momentum.point(k, node, S, G, n_entries);
-                contact_geometry.add_point(
-                  k, supports.material[k], node, S, G, n_entries);
-              }
-            else
-              momentum.point(k, node, S, G, n_entries);
-          });
+        support_of.visit(k,
+                         data,
+                         contact_geometry.needs_gradients(),
+                         [&](const unsigned int *const   node,
+                             const double *const         S,
+                             const Tensor<1, dim> *const G,
+                             const auto n_entries) DEAL_II_ALWAYS_INLINE {
+                           if (contact)
+                             {
+                               material_momentum.point(
+                                 k, node, S, G, n_entries);
+                               contact_geometry.point(k, node, S, G, n_entries);
+                             }
+                           else
+                             momentum.point(k, node, S, G, n_entries);
+                         });
       };
 
     // One batch per cell with points (the plugin's virtual call per batch).

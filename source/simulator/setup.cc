@@ -120,6 +120,71 @@ namespace fmpm
 
 
 
+  namespace
+  {
+    /** The sparsity of the full mass matrix m̃ (Eq. 1.9) into @p sparsity:
+     * the nodes of each cell, and with @p patch_supports (GIMP, CPDI) all
+     * nodes of the patch of a point's cell (the cells sharing a vertex
+     * with it), with B-splines those within their reach. */
+    template <int dim>
+    void
+    make_full_mass_sparsity(
+      const DoFHandler<dim>                     &dof_handler,
+      const AffineConstraints<double>           &constraints,
+      const Utilities::MPI::Partitioner         &partitioner,
+      const GridTransfer<dim>                   &transfer,
+      const ShapeFunction::BSplineSupports<dim> &bspline_supports,
+      const bool                                 patch_supports,
+      TrilinosWrappers::SparsityPattern         &sparsity)
+    {
+      DoFTools::make_sparsity_pattern(dof_handler,
+                                      sparsity,
+                                      constraints,
+                                      false,
+                                      Utilities::MPI::this_mpi_process(
+                                        dof_handler.get_communicator()));
+      if (bspline_supports.active())
+        {
+          std::vector<unsigned int>            local_indices;
+          std::vector<types::global_dof_index> reach_dofs;
+          for (const auto &cell : dof_handler.active_cell_iterators())
+            if (cell->is_locally_owned())
+              {
+                bspline_supports.vertices_in_reach(
+                  transfer.cell_data(cell->active_cell_index()), local_indices);
+                reach_dofs.clear();
+                for (const unsigned int local : local_indices)
+                  reach_dofs.push_back(partitioner.local_to_global(local));
+                constraints.add_entries_local_to_global(reach_dofs,
+                                                        sparsity,
+                                                        false);
+              }
+        }
+      else if (patch_supports)
+        {
+          std::vector<types::global_dof_index> patch_dofs;
+          for (const auto &cell : dof_handler.active_cell_iterators())
+            if (cell->is_locally_owned())
+              {
+                patch_dofs.clear();
+                for (const unsigned int other :
+                     transfer.patch(cell->active_cell_index()))
+                  for (unsigned int i = 0; i < GridTransfer<dim>::n_nodes; ++i)
+                    if (const auto dof =
+                          transfer.dof_index(transfer.cell_data(other), i);
+                        std::find(patch_dofs.begin(), patch_dofs.end(), dof) ==
+                        patch_dofs.end())
+                      patch_dofs.push_back(dof);
+                constraints.add_entries_local_to_global(patch_dofs,
+                                                        sparsity,
+                                                        false);
+              }
+        }
+    }
+  } // namespace
+
+
+
   template <int dim>
   void
   Simulator<dim>::setup_dofs()
@@ -232,55 +297,13 @@ namespace fmpm
                                                    locally_owned_dofs,
                                                    locally_relevant_dofs,
                                                    mpi_communicator);
-        DoFTools::make_sparsity_pattern(dof_handler,
-                                        sparsity,
-                                        constraints,
-                                        false,
-                                        Utilities::MPI::this_mpi_process(
-                                          mpi_communicator));
-        // GIMP/CPDI couple all nodes of the patch of a point's cell (the
-        // cells sharing a vertex with it); B-splines those within their
-        // reach.
-        if (bspline_supports.active())
-          {
-            std::vector<unsigned int>            local_indices;
-            std::vector<types::global_dof_index> reach_dofs;
-            for (const auto &cell : triangulation.active_cell_iterators())
-              if (cell->is_locally_owned())
-                {
-                  bspline_supports.vertices_in_reach(
-                    transfer.cell_data(cell->active_cell_index()),
-                    local_indices);
-                  reach_dofs.clear();
-                  for (const unsigned int local : local_indices)
-                    reach_dofs.push_back(partitioner->local_to_global(local));
-                  constraints.add_entries_local_to_global(reach_dofs,
-                                                          sparsity,
-                                                          false);
-                }
-          }
-        else if (shape_function != ShapeFunction::Type::classic)
-          {
-            std::vector<types::global_dof_index> patch_dofs;
-            for (const auto &cell : triangulation.active_cell_iterators())
-              if (cell->is_locally_owned())
-                {
-                  patch_dofs.clear();
-                  for (const unsigned int other :
-                       transfer.patch(cell->active_cell_index()))
-                    for (unsigned int i = 0; i < GridTransfer<dim>::n_nodes;
-                         ++i)
-                      if (const auto dof =
-                            transfer.dof_index(transfer.cell_data(other), i);
-                          std::find(patch_dofs.begin(),
-                                    patch_dofs.end(),
-                                    dof) == patch_dofs.end())
-                        patch_dofs.push_back(dof);
-                  constraints.add_entries_local_to_global(patch_dofs,
-                                                          sparsity,
-                                                          false);
-                }
-          }
+        make_full_mass_sparsity(dof_handler,
+                                constraints,
+                                *partitioner,
+                                transfer,
+                                bspline_supports,
+                                shape_function != ShapeFunction::Type::classic,
+                                sparsity);
         sparsity.compress();
         centre_of_mass.full_mass_matrix.reinit(sparsity);
       }

@@ -163,6 +163,21 @@ namespace fmpm
         velocity_gradients<true>(group, batch_begin, v, L);
       }
 
+      /** L of @p group: hoop_velocity_gradients() if @p axisymmetric, else
+       * velocity_gradients(). */
+      void
+      group_velocity_gradients(const bool                axisymmetric,
+                               const MaterialGroup      &group,
+                               const unsigned int        batch_begin,
+                               const double *const       v[dim],
+                               Kinematics::BatchEntries &L)
+      {
+        if (axisymmetric)
+          hoop_velocity_gradients(group, batch_begin, v, L);
+        else
+          velocity_gradients(group, batch_begin, v, L);
+      }
+
       /** add_points() of the hoop force sink, out of line. */
       template <typename Sink>
       [[gnu::noinline]] void
@@ -464,8 +479,8 @@ namespace fmpm
           }
     }
 
-    /** f^α0 = 0 of every material (contact, Eq. 29) and one force sink
-     * per material into them. */
+    /** One force sink per material into its f^α0 (contact, Eq. 29;
+     * zeroed by the manager). */
     template <int dim, bool hoop, typename MaterialFields>
     Transfer::PerMaterial<Transfer::ForceSink<dim, hoop>>
     material_force_sinks(const MaterialPoints<dim> &points,
@@ -477,7 +492,6 @@ namespace fmpm
         supports.material.data());
       for (auto &material_field : material_fields)
         {
-          material_field.force = 0;
           double *f_alpha[dim];
           for (unsigned int d = 0; d < dim; ++d)
             f_alpha[d] = material_field.force.block(d).begin();
@@ -486,6 +500,22 @@ namespace fmpm
             sinks.sinks.back().read_hoop_function(supports);
         }
       return sinks;
+    }
+
+    /** The points of the batch [batch_begin, batch_end) by their
+     * @p material into @p by_material (only with two or more materials). */
+    inline void
+    sort_by_material(const unsigned int                      batch_begin,
+                     const unsigned int                      batch_end,
+                     const unsigned char *const              material,
+                     std::vector<std::vector<unsigned int>> &by_material)
+    {
+      if (by_material.size() <= 1)
+        return;
+      for (auto &points_of_material : by_material)
+        points_of_material.clear();
+      for (unsigned int k = batch_begin; k < batch_end; ++k)
+        by_material[material[k]].push_back(k);
     }
 
     /** The group of material @p m in the batch [batch_begin, batch_end)
@@ -613,7 +643,7 @@ namespace fmpm
         material_force_sinks<dim, false>(points,
                                          external_loads,
                                          supports,
-                                         this->contact->material_fields()) :
+                                         this->contact->begin_forces()) :
         Transfer::PerMaterial<Transfer::ForceSink<dim>>(
           supports.material.data());
     const Transfer::PerMaterial<Transfer::ForceSink<dim, true>>
@@ -622,7 +652,7 @@ namespace fmpm
           material_force_sinks<dim, true>(points,
                                           external_loads,
                                           supports,
-                                          this->contact->material_fields()) :
+                                          this->contact->begin_forces()) :
           Transfer::PerMaterial<Transfer::ForceSink<dim, true>>(
             supports.material.data());
 
@@ -644,13 +674,10 @@ namespace fmpm
       {
         const unsigned int batch_end =
           std::min(batch_begin + stress_batch_size, supports.n_points());
-        if (n_materials > 1)
-          {
-            for (unsigned int m = 0; m < n_materials; ++m)
-              by_material[m].clear();
-            for (unsigned int k = batch_begin; k < batch_end; ++k)
-              by_material[supports.material[k]].push_back(k);
-          }
+        sort_by_material(batch_begin,
+                         batch_end,
+                         supports.material.data(),
+                         by_material);
 
         for (unsigned int m = 0; m < n_materials; ++m)
           {
@@ -666,16 +693,8 @@ namespace fmpm
             inputs.resize(group.n);
             inputs.reference_density = parameters.materials[m].density;
             // L, and what else the model reads.
-            if (axisymmetric)
-              batch_supports.hoop_velocity_gradients(group,
-                                                     batch_begin,
-                                                     v_a,
-                                                     inputs.velocity_gradient);
-            else
-              batch_supports.velocity_gradients(group,
-                                                batch_begin,
-                                                v_a,
-                                                inputs.velocity_gradient);
+            batch_supports.group_velocity_gradients(
+              axisymmetric, group, batch_begin, v_a, inputs.velocity_gradient);
             gather_model_inputs(
               model, group, columns, points, cell_size_by_index, inputs);
             if (axisymmetric)
@@ -734,14 +753,8 @@ namespace fmpm
     if (with_forces)
       {
         if (contact) // f = Σ_α f^α0
-          centre_of_mass.set_to_sum(this->contact->material_fields(),
-                                    false,
-                                    false,
-                                    true);
+          this->contact->finish_forces(centre_of_mass);
         centre_of_mass.force.compress(VectorOperation::add);
-        if (contact)
-          for (auto &material_field : this->contact->material_fields())
-            material_field.force.compress(VectorOperation::add);
       }
   }
 

@@ -12,8 +12,8 @@
 // vertex (b2gimp's boxes of less than a cell reach one cell only).
 
 #include <fmpm/bspline_ghosts.h>
+#include <fmpm/bspline_supports.h>
 #include <fmpm/grid_transfer.h>
-#include <fmpm/shape_function.h>
 
 #include <deal.II/base/partitioner.h>
 #include <deal.II/distributed/tria.h>

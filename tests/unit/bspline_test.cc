@@ -15,8 +15,8 @@
 // lattices.
 
 #include <fmpm/bspline.h>
+#include <fmpm/bspline_supports.h>
 #include <fmpm/grid_transfer.h>
-#include <fmpm/shape_function.h>
 
 #include <deal.II/base/partitioner.h>
 #include <deal.II/distributed/tria.h>

@@ -26,8 +26,10 @@ namespace fmpm
      * normals and laws read: g^α = Σ V G and Σ S M X (seed 004 Eq. 11), and
      * for the interface laws u^α = Σ S M (x − X₀) and V^α = Σ S V. The
      * first extrapolation and the re-extrapolation in the particle update
-     * add each point's share with the same operations; Manager owns the
-     * sink and hands it out (Manager::begin_geometry()).
+     * add each point's share with the same operations, point() as a sink of
+     * the point loop (Transfer::for_each_point()); Manager owns the sink and
+     * its fields, zeroes and sums them and hands the sink out
+     * (Manager::begin_extrapolation(), begin_re_extrapolation()).
      *
      * Axisymmetric (V per radian, V = A r_p): g^α weights each point by its
      * area A = V/r_p, so that the r-weighting of the volume does not tilt the
@@ -43,13 +45,15 @@ namespace fmpm
     public:
       /** Zero the fields of @p fields that @p normal_needs and
        * @p interface_state ask for (the others are left alone and not added
-       * to), reading the points of @p material_points (@p axisymmetric:
-       * the weights of g^α are the areas V/r_p). */
+       * to), reading the points of @p material_points of materials
+       * @p point_material (@p axisymmetric: the weights of g^α are the
+       * areas V/r_p). */
       void
       reset(std::vector<MaterialField<dim>> &fields,
             const NormalNeeds               &normal_needs,
             const bool                       interface_state,
             const MaterialPoints<dim>       &material_points,
+            const unsigned char *const       point_material,
             const bool                       axisymmetric);
 
       /** Add the ghosts of @p field's share of what reset() zeroed (after a
@@ -106,8 +110,21 @@ namespace fmpm
           }
       }
 
+      /** The sink of the point loop: point @p k of its material. */
+      template <typename Count>
+      DEAL_II_ALWAYS_INLINE void
+      point(const unsigned int          k,
+            const unsigned int *const   node,
+            const double *const         S,
+            const Tensor<1, dim> *const G,
+            const Count                 n_entries) const
+      {
+        add_point(k, material[k], node, S, G, n_entries);
+      }
+
     private:
-      const MaterialPoints<dim> *points = nullptr;
+      const MaterialPoints<dim> *points   = nullptr;
+      const unsigned char       *material = nullptr;
       const double              *mass = nullptr, *volume = nullptr;
       /** The weight of a point in g^α: V, or V/r_p axisymmetric. */
       const double       *gradient_weight = nullptr;

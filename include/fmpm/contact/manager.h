@@ -126,37 +126,55 @@ namespace fmpm
         return needs_interface;
       }
 
-      /** The sink that adds each point's share of g^α, Σ S M X, u^α and
-       * V^α (what normal_needs() and needs_interface_state() ask for), those
-       * fields zeroed, for a sweep over @p points. */
+      /** The extrapolation of a step over @p points of materials
+       * @p point_material: m^α, p^α, with @p with_forces f^α0, m̃^α where
+       * needed and the geometry fields zeroed; returns the sink that adds
+       * each point's share of g^α, Σ S M X, u^α and V^α (what normal_needs()
+       * and needs_interface_state() ask for) to the point loop. */
       GeometrySink<dim> &
-      begin_geometry(const MaterialPoints<dim> &points)
+      begin_extrapolation(const MaterialPoints<dim> &points,
+                          const unsigned char *const point_material,
+                          const bool                 with_forces);
+
+      /** After the point loop of begin_extrapolation(): m = Σ_α m^α, p =
+       * Σ_α p^α and with @p with_forces f = Σ_α f^α0 into @p total (seed
+       * 004 Eq. 6; ghosts included, @p total's compress() is the
+       * caller's), then the ghosts of every material field added. */
+      void
+      finish_extrapolation(NodalField<dim> &total, const bool with_forces);
+
+      /** The forces of the stress update (USF/USAVG): f^α0 zeroed; returns
+       * the material fields for the force sinks. */
+      std::vector<MaterialField<dim>> &
+      begin_forces()
       {
-        geometry_sink.reset(fields,
-                            needs,
-                            needs_interface,
-                            points,
-                            this->get_parameters().axisymmetric);
-        return geometry_sink;
+        for (auto &field : fields)
+          field.force = 0;
+        return fields;
       }
 
-      /** Add the ghosts of what the geometry sink added to @p field. */
+      /** After the stress update's forces: f = Σ_α f^α0 into @p total (as
+       * finish_extrapolation()), then the ghosts of f^α0 added. */
       void
-      compress_geometry(MaterialField<dim> &field) const
+      finish_forces(NodalField<dim> &total)
       {
-        GeometrySink<dim>::compress(field, needs, needs_interface);
+        total.set_to_sum(fields, false, false, true);
+        for (auto &field : fields)
+          field.force.compress(VectorOperation::add);
       }
 
-      /** The points moved or were extrapolated again: the geometry is found
-       * anew at the next correction; with @p masses_changed also the nodes
-       * with 2+ materials. */
+      /** The re-extrapolation p^α = SᵀMV^{n+1} of the particle update
+       * (USL+/USAVG+): p^α and the geometry fields zeroed; returns the
+       * geometry sink (as begin_extrapolation()). */
+      GeometrySink<dim> &
+      begin_re_extrapolation(const MaterialPoints<dim> &points,
+                             const unsigned char *const point_material);
+
+      /** After the re-extrapolation: p = Σ_α p^α into @p total (as
+       * finish_extrapolation()), the ghosts of p^α and the geometry
+       * added. */
       void
-      invalidate_geometry(const bool masses_changed)
-      {
-        geometry_valid = false;
-        if (masses_changed)
-          multimaterial_nodes_valid = false;
-      }
+      finish_re_extrapolation(NodalField<dim> &total);
 
       /** Velocity conditions on every material's extrapolated momenta p^α
        * at time @p t (with that material's lumped masses), then the
@@ -302,7 +320,18 @@ namespace fmpm
       std::vector<CellwiseMatrix> full_mass;
       NormalNeeds                 needs;
       bool                        needs_interface = false;
-      /** What the points add to the geometry fields (begin_geometry()). */
+      /** The points moved or were extrapolated again: the geometry is found
+       * anew at the next correction; with @p masses_changed also the nodes
+       * with 2+ materials. */
+      void
+      invalidate_geometry(const bool masses_changed)
+      {
+        geometry_valid = false;
+        if (masses_changed)
+          multimaterial_nodes_valid = false;
+      }
+      /** What the points add to the geometry fields (begin_extrapolation()).
+       */
       GeometrySink<dim>                           geometry_sink;
       std::unique_ptr<NormalMethodInterface<dim>> normal_method;
       /** The law of materials a < b at [a * n_materials + b]. */

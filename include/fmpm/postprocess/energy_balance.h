@@ -158,11 +158,8 @@ namespace fmpm
       /** Mesh adaptations during the run (after the initial one). */
       unsigned int mesh_adaptations = 0;
       /** MPI_Wtime() at the start (shifted back by the time before a
-       * checkpoint on resume), and at the last progress line. */
-      double wall_start         = 0;
-      double last_progress_wall = -1e30;
-      /** The share of the wall time the timer sections cover. */
-      double timer_coverage = 0;
+       * checkpoint on resume). */
+      double wall_start = 0;
 
       /** What a checkpoint keeps: the counts and the wall time elapsed
        * (a resumed run's wall clock starts that much earlier). */

@@ -19,6 +19,8 @@ namespace fmpm
   class SimulationControl;
   class SimulationFailure;
   template <int dim>
+  class ExternalLoads;
+  template <int dim>
   struct ConditionReactions;
   namespace Contact
   {
@@ -34,6 +36,9 @@ namespace fmpm
   {
     template <int dim>
     class EnergyBalance;
+    template <int dim>
+    class Manager;
+    struct RunCounters;
 
     /**
      * @brief A postprocessor: called at every output of the run with the
@@ -58,6 +63,25 @@ namespace fmpm
        * its error. */
       virtual void
       finish()
+      {}
+
+      /** Whether a progress line is due now (rank 0's answer counts). */
+      virtual bool
+      progress_due() const
+      {
+        return false;
+      }
+
+      /** A progress line with @p statistics: at the start, when
+       * progress_due(), and at the end (collective). */
+      virtual void
+      progress(const GlobalStatistics<dim> &)
+      {}
+
+      /** The run stops on a signal with @p status (a kill may follow
+       * within a second): write what must not be lost (collective). */
+      virtual void
+      stopping(const std::string &)
       {}
 
       /** The run ends (collective): @p status as summary.json gives it
@@ -111,6 +135,22 @@ namespace fmpm
        * (Contact::Manager::history_values(); collective). */
       std::pair<double, double>
       contact_history_values() const;
+      /** The statistics of the current state (collective). */
+      GlobalStatistics<dim>
+      current_statistics() const;
+      /** The run's counts (steps, points, adaptations) and its wall clock
+       * start. */
+      const RunCounters &
+      get_run_counters() const;
+      /** The last checkpoint written (empty: none). */
+      const std::string &
+      latest_checkpoint() const;
+      /** Gravity, body force, rotating frame, tractions and their work. */
+      const ExternalLoads<dim> &
+      get_external_loads() const;
+      /** The run's postprocessors. */
+      const Manager<dim> &
+      get_postprocess_manager() const;
     };
 
 
@@ -164,6 +204,32 @@ namespace fmpm
       {
         for (auto &postprocessor : postprocessors)
           postprocessor->finish();
+      }
+
+      /** Whether a postprocessor wants a progress line now. */
+      bool
+      progress_due() const
+      {
+        bool due = false;
+        for (const auto &postprocessor : postprocessors)
+          due = postprocessor->progress_due() || due;
+        return due;
+      }
+
+      /** A progress line (Interface::progress()). */
+      void
+      progress(const GlobalStatistics<dim> &statistics)
+      {
+        for (auto &postprocessor : postprocessors)
+          postprocessor->progress(statistics);
+      }
+
+      /** The run stops on a signal (Interface::stopping()). */
+      void
+      stopping(const std::string &status)
+      {
+        for (auto &postprocessor : postprocessors)
+          postprocessor->stopping(status);
       }
 
       /** The end of the run, with its status (Interface::end_of_run()). */

@@ -5,9 +5,9 @@
 #define fmpm_transfer_support_builder_h
 
 #include <fmpm/axisymmetric_shape_function.h>
+#include <fmpm/bspline_supports.h>
 #include <fmpm/grid_transfer.h>
 #include <fmpm/material_points.h>
-#include <fmpm/shape_function.h>
 #include <fmpm/support_cache.h>
 
 #include <deal.II/base/partitioner.h>
