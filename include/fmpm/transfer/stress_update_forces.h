@@ -26,8 +26,7 @@ namespace fmpm
                          Manager *const             contact,
                          const bool                 active)
     {
-      PerMaterial<ForceSink<dim, hoop>> sinks(
-        supports.material.data());
+      PerMaterial<ForceSink<dim, hoop>> sinks(supports.material.data());
       if (!active)
         return sinks;
       for (auto &material_field : contact->begin_forces())
@@ -86,8 +85,8 @@ namespace fmpm
       template <typename Batch>
       void
       add(const Batch       &batch_supports,
-          const unsigned int        batch_begin,
-          const unsigned int        batch_end) const
+          const unsigned int batch_begin,
+          const unsigned int batch_end) const
       {
         if (!with_forces)
           return;
@@ -114,14 +113,13 @@ namespace fmpm
         return result;
       }
 
-      const bool                                            with_forces;
-      const bool                                            contact;
-      const bool                                            axisymmetric;
-      const ForceSink<dim>                        force;
-      ForceSink<dim, true>                        hoop_force;
-      const PerMaterial<ForceSink<dim>> material_force;
-      const PerMaterial<ForceSink<dim, true>>
-        material_hoop_force;
+      const bool                              with_forces;
+      const bool                              contact;
+      const bool                              axisymmetric;
+      const ForceSink<dim>                    force;
+      ForceSink<dim, true>                    hoop_force;
+      const PerMaterial<ForceSink<dim>>       material_force;
+      const PerMaterial<ForceSink<dim, true>> material_hoop_force;
     };
   } // namespace Transfer
 } // namespace fmpm
