@@ -183,6 +183,22 @@ namespace fmpm
 
     template <int dim>
     GeometrySink<dim> &
+    Manager<dim>::reset_geometry_sink(const MaterialPoints<dim> &points,
+                                      const unsigned char *const point_material)
+    {
+      geometry_sink.reset(fields,
+                          needs,
+                          needs_interface,
+                          points,
+                          point_material,
+                          this->get_parameters().axisymmetric);
+      return geometry_sink;
+    }
+
+
+
+    template <int dim>
+    GeometrySink<dim> &
     Manager<dim>::begin_extrapolation(const MaterialPoints<dim> &points,
                                       const unsigned char *const point_material,
                                       const bool                 with_forces)
@@ -198,13 +214,7 @@ namespace fmpm
       if (material_full_mass_needed)
         for (auto &matrix : full_mass)
           matrix.clear();
-      geometry_sink.reset(fields,
-                          needs,
-                          needs_interface,
-                          points,
-                          point_material,
-                          this->get_parameters().axisymmetric);
-      return geometry_sink;
+      return reset_geometry_sink(points, point_material);
     }
 
 
@@ -237,13 +247,7 @@ namespace fmpm
     {
       for (auto &field : fields)
         field.momentum = 0;
-      geometry_sink.reset(fields,
-                          needs,
-                          needs_interface,
-                          points,
-                          point_material,
-                          this->get_parameters().axisymmetric);
-      return geometry_sink;
+      return reset_geometry_sink(points, point_material);
     }
 
 

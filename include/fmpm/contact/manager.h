@@ -330,6 +330,10 @@ namespace fmpm
         if (masses_changed)
           multimaterial_nodes_valid = false;
       }
+      /** The geometry sink emptied for a new point loop over @p points. */
+      GeometrySink<dim> &
+      reset_geometry_sink(const MaterialPoints<dim> &points,
+                          const unsigned char *const point_material);
       /** What the points add to the geometry fields (begin_extrapolation()).
        */
       GeometrySink<dim>                           geometry_sink;
