@@ -29,7 +29,11 @@ Two kinds of prediction for the vibrating bar and the stability study:
   geometries: ``1d`` (a line of cells) and ``strip`` (the vibrating bar's
   2D strip one cell high with roller walls, Poisson's ratio 0: only x
   velocities, stresses sigma_xx and sigma_xy; this adds modes that vary
-  across the strip).
+  across the strip).  In 1D the shape functions may also be fmpm's
+  quadratic or cubic B-splines (``b2spline``, support +-1.5 cells, knots at
+  the cell centres; ``b3spline``, +-2 cells, knots at the vertices), the
+  interior basis of a uniform grid: the cardinal B-splines centred on the
+  vertices.
 
 Run ``mpm_dispersion.py`` to print a table of critical Courant numbers.
 Needs numpy (Debian: python3-numpy; the script falls back to
@@ -53,6 +57,57 @@ except ImportError:  # pyenv Python without numpy: try Debian's packages
 STRAIN_UPDATES = ("usf", "usl", "usl+", "usavg", "usavg+")
 PARTICLE_UPDATES = ("flip", "pic", "fmpm", "xpic", "flip pic blend")
 MASS_MATRICES = ("lumped", "fmpm", "full", "consistent")
+SHAPES = ("linear", "b2spline", "b3spline")
+
+
+def cardinal_bspline(x, degree):
+    """(N(x), N'(x)) of the centred cardinal B-spline of the degree
+    (1: the hat, 2: support |x| < 3/2, 3: support |x| < 2), h = 1."""
+    a = abs(x)
+    sign = 1.0 if x >= 0 else -1.0
+    if degree == 1:
+        return (1 - a, -sign) if a < 1 else (0.0, 0.0)
+    if degree == 2:
+        if a < 0.5:
+            return 0.75 - a * a, -2 * x
+        if a < 1.5:
+            return 0.5 * (1.5 - a) ** 2, -sign * (1.5 - a)
+        return 0.0, 0.0
+    if degree == 3:
+        if a < 1:
+            return 2 / 3 - a * a + 0.5 * a ** 3, sign * (-2 * a + 1.5 * a * a)
+        if a < 2:
+            return (2 - a) ** 3 / 6, -sign * 0.5 * (2 - a) ** 2
+        return 0.0, 0.0
+    raise ValueError(f"unknown degree {degree}")
+
+
+def shape_degree(shape):
+    try:
+        return SHAPES.index(shape) + 1
+    except ValueError:
+        raise ValueError(f"unknown shape '{shape}' (allowed: "
+                         f"{', '.join(SHAPES)})") from None
+
+
+def bspline_mass_symbol(theta, degree, rho=1.0, h=1.0):
+    """Exact integral of rho N_0 N_j over the line, Bloch reduced:
+    sum_j exp(i theta j) int N(x) N(x - j) dx (Gauss quadrature per knot
+    span, exact for the piecewise polynomial)."""
+    nodes, weights = np.polynomial.legendre.leggauss(degree + 1)
+    half = 0.5 * (degree + 1)
+    knots = np.arange(-half, half + 1e-12, 1.0)
+    total = 0j
+    for j in range(-degree, degree + 1):
+        integral = 0.0
+        for left, right in zip(knots[:-1], knots[1:]):
+            for xi, w in zip(nodes, weights):
+                x = 0.5 * (left + right) + 0.5 * (right - left) * xi
+                integral += 0.5 * (right - left) * w * (
+                    cardinal_bspline(x, degree)[0]
+                    * cardinal_bspline(x - j, degree)[0])
+        total += cmath.exp(1j * theta * j) * integral
+    return rho * h * total
 
 
 # ---------------------------------------------------------------------------
@@ -117,12 +172,26 @@ class Cell:
     """
 
     def __init__(self, theta, geometry="1d", ppc=2, h=1.0, rho=1.0,
-                 modulus=100.0, shear=50.0):
+                 modulus=100.0, shear=50.0, shape="linear"):
         self.geometry = geometry
+        degree = shape_degree(shape)
+        if degree > 1 and geometry != "1d":
+            raise ValueError("B-splines are modelled in 1D only")
         xi = [(q + 0.5) / ppc for q in range(ppc)]
         phase = cmath.exp(1j * theta)
         points = []  # (shape row, d/dx row, d/dy row)
-        if geometry == "1d":
+        if geometry == "1d" and degree > 1:
+            # Row of a point at a (cell units from the cell's left vertex):
+            # sum over the vertices j it reaches of N(a - j) exp(i theta j).
+            volume = h / ppc
+            reach = range(-degree, degree + 2)
+            for a in xi:
+                values = [cardinal_bspline(a - j, degree) for j in reach]
+                points.append((
+                    [sum(v[0] * phase ** j for v, j in zip(values, reach))],
+                    [sum(v[1] * phase ** j for v, j in zip(values, reach))
+                     / h], None))
+        elif geometry == "1d":
             volume = h / ppc
             for a in xi:
                 points.append(([(1 - a) + a * phase],
@@ -151,7 +220,9 @@ class Cell:
         # Lumped: the real row sums S^T M 1 (every node gets sum N_i m_p).
         real = np.array([p[0] for p in self._real_rows(xi)])
         self.lumped = self.mass * real.sum(axis=0)
-        self.consistent = self._consistent(theta, h, rho)
+        self.consistent = (self._consistent(theta, h, rho) if degree == 1
+                           else np.array([[bspline_mass_symbol(
+                               theta, degree, rho, h)]]))
 
     def _real_rows(self, xi):
         """Shape function rows of the points with theta = 0 summed over the
@@ -267,24 +338,25 @@ def step_matrix(cell, nu, update="fmpm", mass="lumped", order=1,
     return matrix
 
 
-def spectral_radius(nu, thetas=None, geometry="1d", ppc=2, **scheme):
+def spectral_radius(nu, thetas=None, geometry="1d", ppc=2, shape="linear",
+                    **scheme):
     """Largest |eigenvalue| of the step over the Bloch wave numbers."""
     if thetas is None:
         thetas = np.linspace(0, math.pi, 33)
     worst = 0.0
     for theta in thetas:
-        cell = Cell(theta, geometry, ppc)
+        cell = Cell(theta, geometry, ppc, shape=shape)
         eigenvalues = np.linalg.eigvals(step_matrix(cell, nu, **scheme))
         worst = max(worst, float(np.abs(eigenvalues).max()))
     return worst
 
 
 def critical_courant(geometry="1d", ppc=2, low=0.05, high=3.0,
-                     tolerance=1e-3, growth=1e-6, **scheme):
+                     tolerance=1e-3, growth=1e-6, shape="linear", **scheme):
     """Largest Courant number with spectral radius <= 1 + growth, found by
     scanning then bisecting (None if stable up to ``high``)."""
     def stable(nu):
-        return spectral_radius(nu, geometry=geometry, ppc=ppc,
+        return spectral_radius(nu, geometry=geometry, ppc=ppc, shape=shape,
                                **scheme) <= 1 + growth
 
     grid = np.arange(low, high + 1e-9, 0.05)
@@ -305,7 +377,8 @@ def critical_courant(geometry="1d", ppc=2, low=0.05, high=3.0,
     return None
 
 
-def mode_frequency(theta, nu, geometry="1d", ppc=2, **scheme):
+def mode_frequency(theta, nu, geometry="1d", ppc=2, shape="linear",
+                   **scheme):
     """(relative frequency error, energy factor per period) of the physical
     mode with wave number theta (= k h) at Courant number nu: the
     eigenvalue of the step closest to exp(i nu theta) in phase, among the
@@ -314,7 +387,7 @@ def mode_frequency(theta, nu, geometry="1d", ppc=2, **scheme):
     c, h = 10.0, 1.0
     dt = nu * h / c
     omega = c * theta / h
-    cell = Cell(theta, geometry, ppc)
+    cell = Cell(theta, geometry, ppc, shape=shape)
     eigenvalues = np.linalg.eigvals(step_matrix(cell, nu, c=c, h=h,
                                                 **scheme))
     candidates = [z for z in eigenvalues if abs(z) > 0.5
@@ -337,8 +410,15 @@ def main(argv=None):
     parser.add_argument("--strain", default="usavg+",
                         choices=STRAIN_UPDATES)
     parser.add_argument("--update", default="fmpm", choices=PARTICLE_UPDATES)
-    parser.add_argument("--ppc", type=int, default=2)
+    parser.add_argument("--ppc", type=int, default=None,
+                        help="points per cell (default: 2 linear, p + 1 "
+                        "B-splines)")
+    parser.add_argument("--shape", default="linear", choices=SHAPES)
     arguments = parser.parse_args(argv)
+    if arguments.shape != "linear":
+        return bspline_table(arguments)
+    if arguments.ppc is None:
+        arguments.ppc = 2
     print(f"Critical Courant numbers (particle update "
           f"'{arguments.update}', strain update '{arguments.strain}', "
           f"{arguments.ppc} points per cell and direction)")
@@ -357,6 +437,24 @@ def main(argv=None):
             values.append("> 3" if nu is None else f"{nu:.3f}")
         label = mass if mass != "fmpm" else f"fmpm k={order}"
         print(f"{label:14s} {fe:12.3f} {values[0]:>8s} {values[1]:>10s}")
+    return 0
+
+
+def bspline_table(arguments):
+    """Critical Courant numbers of the methods of doc/studies/bsplines.md
+    on the periodic 1D line of B-spline cells (interior basis)."""
+    ppc = arguments.ppc or shape_degree(arguments.shape) + 1
+    print(f"Critical Courant numbers, {arguments.shape} on a periodic line "
+          f"(strain update '{arguments.strain}', {ppc} points per cell)")
+    methods = [("FLIP", dict(update="flip", mass="lumped"))]
+    methods += [(f"FMPM({k})", dict(update="fmpm", mass="fmpm", order=k))
+                for k in (2, 4, 8, 16)]
+    methods += [("XPIC(5)", dict(update="xpic", mass="fmpm", order=5)),
+                ("exact full mass", dict(update="fmpm", mass="full"))]
+    for label, scheme in methods:
+        nu = critical_courant("1d", ppc, shape=arguments.shape,
+                              strain=arguments.strain, **scheme)
+        print(f"{label:16s} {'> 3' if nu is None else f'{nu:.3f}':>8s}")
     return 0
 
 

@@ -79,5 +79,57 @@ class FmpmStepTest(unittest.TestCase):
         self.assertAlmostEqual(factor ** 2, 0.7488, places=3)
 
 
+class BSplineTest(unittest.TestCase):
+    def test_basis_is_a_linear_partition_of_unity(self):
+        for degree in (2, 3):
+            for a in (0.0, 0.3, 0.5, 0.9):
+                rows = [(j, dispersion.cardinal_bspline(a - j, degree))
+                        for j in range(-3, 5)]
+                self.assertAlmostEqual(sum(v for _, (v, _) in rows), 1.0,
+                                       places=14)
+                self.assertAlmostEqual(sum(d for _, (_, d) in rows), 0.0,
+                                       places=14)
+                self.assertAlmostEqual(sum(j * v for j, (v, _) in rows), a,
+                                       places=14)
+
+    def test_consistent_mass_symbol(self):
+        # int N N(x - j) is the B-spline of degree 2p + 1 at j: at theta = pi
+        # (11 - 26/3 + 1/6)/20 = 2/15 (quadratic), (2416 - 2382 + 240 - 2)
+        # /5040 = 17/315 (cubic); 1 at theta = 0.
+        for degree, at_pi in ((2, 2 / 15), (3, 17 / 315)):
+            self.assertAlmostEqual(
+                dispersion.bspline_mass_symbol(0.0, degree).real, 1.0,
+                places=13)
+            self.assertAlmostEqual(
+                dispersion.bspline_mass_symbol(math.pi, degree).real, at_pi,
+                places=13)
+
+    def test_smooth_basis_leaves_only_the_time_error(self):
+        # With the exact mass integral the B-splines' spatial frequency error
+        # is of higher order: what remains at second order is leapfrog's
+        # +nu^2 theta^2/24 (linear elements: (1 + nu^2)/24, 7x more).
+        theta, nu = 0.05, 0.4
+        for shape, ppc, tolerance in (("b3spline", 4, 0.005),
+                                      ("b2spline", 24, 0.02)):
+            error, energy = dispersion.mode_frequency(
+                theta, nu, ppc=ppc, shape=shape, update="fmpm",
+                mass="consistent", strain="usavg+")
+            self.assertAlmostEqual(error / theta ** 2 / (nu ** 2 / 24), 1.0,
+                                   delta=tolerance)
+            self.assertAlmostEqual(energy, 1.0, places=6)
+
+    def test_bsplines_are_more_stable_than_linear(self):
+        # Interior (periodic) limits of the exact full mass: 0.5 linear,
+        # higher for the smoother bases (doc/studies/bsplines.md).
+        scheme = dict(update="fmpm", mass="full", strain="usavg+")
+        linear = dispersion.critical_courant("1d", 2, **scheme)
+        quadratic = dispersion.critical_courant("1d", 3, shape="b2spline",
+                                                **scheme)
+        cubic = dispersion.critical_courant("1d", 4, shape="b3spline",
+                                            **scheme)
+        self.assertLess(linear + 0.05, quadratic)
+        self.assertLess(quadratic + 0.03, cubic)
+
+
 if __name__ == "__main__":
     unittest.main()
