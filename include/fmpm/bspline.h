@@ -435,6 +435,84 @@ namespace fmpm
         return local[e];
       }
 
+      /**
+       * @brief The entries of @p product as ProductSupport::for_each_node()
+       * gives them to a sink that stores the local index, S and G (same
+       * order, same products, the entries whose S and G are zero left
+       * out), with the local indices read along the rows of the dense map
+       * instead of one local_index() a node: one bounds check a support.
+       *
+       * @return false if a node is not held by this rank (that node is left
+       * out, as the sink leaves it out), or if the support is not inside the
+       * map's box (then nothing is written; use for_each_node()).
+       */
+      bool
+      write_product(const ProductSupport<dim> &product,
+                    unsigned int              *node,
+                    double                    *S,
+                    Tensor<1, dim>            *G,
+                    unsigned int              &n_written,
+                    bool                      &all_on_rank) const
+      {
+        unsigned int base = 0, stride[dim];
+        unsigned int row  = 1;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const int k = product.first[d] - first[d];
+            if (k < 0 || k + product.count[d] > count[d])
+              return false;
+            base += row * k;
+            stride[d] = row;
+            row *= count[d];
+          }
+        n_written     = 0;
+        all_on_rank   = true;
+        const auto &w = product.w, &dw = product.dw;
+        const auto  emit = [&](const unsigned int    e,
+                              const double          value,
+                              const Tensor<1, dim> &g) {
+          if (value == 0 && g.norm_square() == 0)
+            return;
+          const unsigned int local_index = local[e];
+          if (local_index == numbers::invalid_unsigned_int)
+            {
+              all_on_rank = false;
+              return;
+            }
+          node[n_written] = local_index;
+          S[n_written]    = value;
+          G[n_written]    = g;
+          ++n_written;
+        };
+        // The products of ProductSupport::for_each_node(), factor by
+        // factor in its order (bitwise the same S and G).
+        if constexpr (dim == 2)
+          for (unsigned int k1 = 0; k1 < product.count[1]; ++k1)
+            for (unsigned int k0 = 0; k0 < product.count[0]; ++k0)
+              {
+                Tensor<1, dim> g;
+                g[0] = dw[0][k0] * w[1][k1];
+                g[1] = dw[1][k1] * w[0][k0];
+                emit(base + k0 + stride[1] * k1, w[0][k0] * w[1][k1], g);
+              }
+        else if constexpr (dim == 3)
+          for (unsigned int k2 = 0; k2 < product.count[2]; ++k2)
+            for (unsigned int k1 = 0; k1 < product.count[1]; ++k1)
+              for (unsigned int k0 = 0; k0 < product.count[0]; ++k0)
+                {
+                  Tensor<1, dim> g;
+                  g[0] = dw[0][k0] * w[1][k1] * w[2][k2];
+                  g[1] = dw[1][k1] * w[0][k0] * w[2][k2];
+                  g[2] = dw[2][k2] * w[0][k0] * w[1][k1];
+                  emit(base + k0 + stride[1] * k1 + stride[2] * k2,
+                       w[0][k0] * w[1][k1] * w[2][k2],
+                       g);
+                }
+        else
+          return false;
+        return true;
+      }
+
     private:
       int                       first[dim] = {};
       unsigned int              count[dim] = {};

@@ -140,7 +140,7 @@ namespace fmpm
                 BSpline::ProductSupport<dim> product;
                 if (lattice.point_support(x, product) != BSpline::Status::ok)
                   return Status::in_padding_layer;
-                product.for_each_node(sink);
+                write_product(product, node, S, G, count, sink, status);
                 break;
               }
             case Kind::gimp:
@@ -151,7 +151,7 @@ namespace fmpm
                 BSpline::ProductSupport<dim> product;
                 if (lattice.gimp_support(x, l0, product) != BSpline::Status::ok)
                   return Status::in_padding_layer;
-                product.for_each_node(sink);
+                write_product(product, node, S, G, count, sink, status);
                 break;
               }
             case Kind::cpdi:
@@ -194,6 +194,29 @@ namespace fmpm
       explain(const Status status);
 
     private:
+      /** The entries of a tensor-product support: along the rows of the
+       * vertex map (VertexMap::write_product()), or through @p sink where
+       * the support leaves the map's box. */
+      template <typename Sink>
+      DEAL_II_ALWAYS_INLINE void
+      write_product(const BSpline::ProductSupport<dim> &product,
+                    unsigned int                       *node,
+                    double                             *S,
+                    Tensor<1, dim>                     *G,
+                    unsigned int                       &count,
+                    Sink                               &sink,
+                    Status                             &status) const
+      {
+        bool all_on_rank = true;
+        if (vertices.write_product(product, node, S, G, count, all_on_rank))
+          {
+            if (!all_on_rank)
+              status = Status::vertex_not_on_rank;
+          }
+        else
+          product.for_each_node(sink);
+      }
+
       enum class Kind
       {
         none,

@@ -907,6 +907,105 @@ namespace
     EXPECT_EQ(map.local_index(beyond), numbers::invalid_unsigned_int);
   }
 
+  // VertexMap::write_product() gives the entries of a tensor-product
+  // support with the same local indices, S and G (bitwise) and in the same
+  // order as ProductSupport::for_each_node() with one local_index() per
+  // node, for b2spline, b3spline and b2gimp supports all over the mesh
+  // (open knots: the supports at the boundary are narrower); a window that
+  // leaves the map's box is refused and nothing is written.
+  TYPED_TEST(BSplineLatticeTest, VertexMapWritesProductsAsTheLookupDoes)
+  {
+    constexpr int             dim = TypeParam::value;
+    std::vector<unsigned int> subdivisions;
+    Point<dim>                lower, upper;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        subdivisions.push_back(5 + d);
+        lower[d] = -1 + 0.25 * d;
+        upper[d] = lower[d] + 0.3 * subdivisions[d];
+      }
+    MeshSetup<dim>                         mesh(subdivisions, lower, upper);
+    std::mt19937                           generator(11 + dim);
+    std::uniform_real_distribution<double> unit(0, 1);
+    constexpr unsigned int max_size = fmpm::BSpline::BoxSupport<dim>::max_size;
+    unsigned int           n_compared = 0;
+    for (const unsigned int degree : {2u, 3u})
+      {
+        std::string error;
+        const auto  lattice = fmpm::BSpline::Lattice<dim>::of_mesh(
+          mesh.transfer,
+          mesh.triangulation.n_active_cells(),
+          degree,
+          Boundary::open_knots,
+          MPI_COMM_WORLD,
+          error);
+        ASSERT_TRUE(error.empty()) << error;
+        fmpm::BSpline::VertexMap<dim> map;
+        map.reinit(lattice, mesh.transfer, mesh.triangulation.n_active_cells());
+        for (unsigned int sample = 0; sample < 200; ++sample)
+          for (const bool gimp : {false, true})
+            {
+              if (gimp && degree != 2)
+                continue;
+              Point<dim>     x;
+              Tensor<1, dim> l;
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  x[d] = lower[d] + (upper[d] - lower[d]) * unit(generator);
+                  l[d] = 0.15 * unit(generator);
+                }
+              fmpm::BSpline::ProductSupport<dim> product;
+              ASSERT_EQ(gimp ? lattice.gimp_support(x, l, product) :
+                               lattice.point_support(x, product),
+                        fmpm::BSpline::Status::ok);
+              std::vector<unsigned int>   node;
+              std::vector<double>         S;
+              std::vector<Tensor<1, dim>> G;
+              product.for_each_node([&](const std::array<int, dim> &index,
+                                        const double                value,
+                                        const Tensor<1, dim>       &gradient) {
+                node.push_back(map.local_index(index));
+                S.push_back(value);
+                G.push_back(gradient);
+              });
+              unsigned int   written_node[max_size];
+              double         written_S[max_size];
+              Tensor<1, dim> written_G[max_size];
+              unsigned int   n_written   = 0;
+              bool           all_on_rank = false;
+              ASSERT_TRUE(map.write_product(product,
+                                            written_node,
+                                            written_S,
+                                            written_G,
+                                            n_written,
+                                            all_on_rank));
+              EXPECT_TRUE(all_on_rank);
+              ASSERT_EQ(n_written, node.size()) << x;
+              for (unsigned int j = 0; j < n_written; ++j)
+                {
+                  EXPECT_EQ(written_node[j], node[j]);
+                  EXPECT_EQ(written_S[j], S[j]);
+                  for (unsigned int d = 0; d < dim; ++d)
+                    EXPECT_EQ(written_G[j][d], G[j][d]);
+                }
+              ++n_compared;
+
+              // The window shifted one vertex below the lattice: refused.
+              fmpm::BSpline::ProductSupport<dim> shifted = product;
+              shifted.first[0]                           = -1;
+              n_written                                  = 7;
+              EXPECT_FALSE(map.write_product(shifted,
+                                             written_node,
+                                             written_S,
+                                             written_G,
+                                             n_written,
+                                             all_on_rank));
+              EXPECT_EQ(n_written, 7u);
+            }
+      }
+    EXPECT_EQ(n_compared, 600u);
+  }
+
   // Meshes that are not box lattices are refused with the reason.
   TYPED_TEST(BSplineLatticeTest, RefusesMeshesThatAreNotBoxLattices)
   {
