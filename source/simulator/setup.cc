@@ -527,16 +527,6 @@ namespace fmpm
                                "'contact position' (with your Critical "
                                "separation), 'velocity only' or "
                                "'specified'."));
-        const auto &conditions = parameters.boundary_conditions;
-        AssertThrow(parameters.method.bspline_boundary != "padding" ||
-                      (conditions.fixed.empty() && conditions.roller.empty() &&
-                       conditions.moving_walls.empty()),
-                    ExcMessage(
-                      "Shape function/B-spline boundary = padding has no "
-                      "velocity conditions (its walls would lie inside the "
-                      "padding layer): remove Boundary conditions/Fixed "
-                      "boundary ids, Roller boundary ids and Moving walls, or "
-                      "use 'open knots', whose boundary vertices carry them."));
       }
 
     // Periodic faces (Mesh/Periodic directions) carry no condition; what

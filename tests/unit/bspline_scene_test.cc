@@ -145,7 +145,7 @@ TEST(BSplineScene, RefusedScenesNameTheParameter)
                  "subsection Boundary conditions\n set Roller boundary ids "
                  "= 0\nend\n",
                  "Shape function/Type = b2spline");
-  // Padding with a wall.
+  // Padding with points in the padding layer (the bar fills the mesh).
   expect_refusal("subsection Shape function\n set Type = b2spline\n"
                  " set B-spline boundary = padding\nend\n",
                  "B-spline boundary = padding");
