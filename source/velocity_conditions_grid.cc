@@ -299,11 +299,11 @@ namespace fmpm
     const bool                   difference,
     std::vector<Tensor<1, dim>> *impulse) const
   {
-    // The mirror may be a ghost: its summed value from its owner (this is
-    // collective; every rank calls it with a padding layer).
+    // The mirror may be a ghost: its current summed value from its owner
+    // (the owned values may have just changed; collective, every rank calls
+    // it with a padding layer).
     const bool ghosted = field.has_ghost_elements();
-    if (!ghosted)
-      field.update_ghost_values();
+    field.update_ghost_values();
     // The walls' velocities (or, with @p difference, their rate of change
     // over [t0, t]); they depend on t only with a padding layer.
     std::vector<double> wall_speed(walls.size());
