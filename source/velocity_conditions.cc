@@ -2,6 +2,7 @@
 // Copyright (C) 2026 by the fmpm authors
 
 #include <fmpm/function_parser.h>
+#include <fmpm/shape_function.h>
 #include <fmpm/velocity_conditions.h>
 
 #include <deal.II/base/mpi.h>
@@ -115,7 +116,10 @@ namespace fmpm
       {"unlumped 2", Method::unlumped_2},
       {"collection full", Method::collection_full},
       {"collection partial", Method::collection_partial}};
-    method = methods.at(bc.method);
+    method        = methods.at(bc.method);
+    padding_layer = parameters.method.bspline_boundary == "padding" &&
+                    ShapeFunction::is_bspline(
+                      ShapeFunction::parse(parameters.method.shape_function));
     fixed  = bc.fixed;
     roller = bc.roller;
     walls  = bc.moving_walls;
@@ -165,6 +169,14 @@ namespace fmpm
                                "space."));
         if (is_box && (velocity_in_t[w] || constant_velocity[w] != 0))
           moving_nodes = true;
+        AssertThrow(!padding_layer || walls[w].boundary_ids.empty() ||
+                      !velocity_in_x[w],
+                    ExcMessage(where + "/Velocity = <" + walls[w].velocity +
+                               "> depends on the position: with Shape "
+                               "function/B-spline boundary = padding a wall "
+                               "on boundary ids moves as a whole (its "
+                               "velocity may depend on t only); use 'open "
+                               "knots'."));
 
         std::unique_ptr<FunctionParser<dim>> region;
         if (!walls[w].region.empty())
@@ -471,7 +483,59 @@ namespace fmpm
 
     // Per (boundary id, owned node): summed outward unit face normals.
     std::map<std::pair<types::boundary_id, unsigned int>, Tensor<1, dim>>
-                       normals;
+      normals;
+    // Padding layer: the cell at boundary face f is a padding cell; its
+    // opposite face lies on the wall, whose nodes carry the conditions
+    // (with the face's normal), and the boundary face's node mirrors the
+    // node across the wall, the far node of the neighbour cell.
+    std::map<std::pair<types::boundary_id, unsigned int>,
+             std::pair<unsigned int, Tensor<1, dim>>>
+                                 padding;
+    std::set<types::boundary_id> held_ids(fixed.begin(), fixed.end());
+    held_ids.insert(roller.begin(), roller.end());
+    for (const auto &wall : walls)
+      held_ids.insert(wall.boundary_ids.begin(), wall.boundary_ids.end());
+    auto add_padding_cell = [&](const auto        &cell,
+                                const unsigned int f,
+                                auto              &normals_out) {
+      const unsigned int axis = f / 2;
+      Tensor<1, dim>     normal;
+      normal[axis]                = (f % 2 == 0) ? -1. : 1.;
+      const unsigned int opposite = f ^ 1;
+      AssertThrow(!cell->at_boundary(opposite) &&
+                    !cell->neighbor(opposite)->is_artificial(),
+                  ExcMessage("Shape function/B-spline boundary = padding "
+                             "with velocity conditions needs at least three "
+                             "cells across the mesh and the mirror nodes "
+                             "two cells inside the boundary on each rank."));
+      const auto id = cell->face(f)->boundary_id();
+      if (!held_ids.count(id))
+        return;
+      const auto &inner = cell->neighbor(opposite);
+      for (unsigned int i = 0; i < GeometryInfo<dim>::vertices_per_face; ++i)
+        {
+          const auto wall_dof = cell->vertex_dof_index(
+            GeometryInfo<dim>::face_to_cell_vertices(opposite, i), 0);
+          if (owned.is_element(wall_dof))
+            normals_out[std::make_pair(
+              id, partitioner.global_to_local(wall_dof))] += normal;
+          const auto padding_dof = cell->vertex_dof_index(
+            GeometryInfo<dim>::face_to_cell_vertices(f, i), 0);
+          const auto mirror_dof = inner->vertex_dof_index(
+            GeometryInfo<dim>::face_to_cell_vertices(opposite, i), 0);
+          if (owned.is_element(padding_dof))
+            {
+              AssertThrow(owned.is_element(mirror_dof) ||
+                            partitioner.is_ghost_entry(mirror_dof),
+                          ExcMessage("B-spline boundary = padding: the "
+                                     "mirror node of a padding node is "
+                                     "not in this rank's ghost layer."));
+              padding[std::make_pair(
+                id, partitioner.global_to_local(padding_dof))] =
+                std::make_pair(partitioner.global_to_local(mirror_dof), normal);
+            }
+        }
+    };
     const unsigned int n_owned = partitioner.locally_owned_size();
     // The nodes' positions only for walls given by a region or box, for
     // velocities in x, and for a fixed region.
@@ -494,7 +558,9 @@ namespace fmpm
                     cell->vertex(v);
               }
           for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary())
+            if (padding_layer && cell->face(f)->at_boundary())
+              add_padding_cell(cell, f, normals);
+            else if (cell->face(f)->at_boundary())
               {
                 const auto     face = cell->face(f);
                 Tensor<1, dim> normal;
@@ -533,6 +599,7 @@ namespace fmpm
         }
 
     boundary_normals.assign(normals.begin(), normals.end());
+    padding_nodes.assign(padding.begin(), padding.end());
     build_conditions();
   }
 
@@ -628,6 +695,44 @@ namespace fmpm
           add_node_condition(
             per_node,
             NodeCondition{i, Point<dim>::unit_vector(0), axis_label, -1});
+
+    // Padding layer: the directions each wall holds at its padding nodes
+    // (moving walls, fixed, roller, orthonormalized in that order).
+    mirrors.clear();
+    for (const auto &entry : padding_nodes)
+      {
+        const types::boundary_id id = entry.first.first;
+        PaddingMirror            mirror;
+        mirror.padding = entry.first.second;
+        mirror.mirror  = entry.second.first;
+        mirror.source  = label_of(std::to_string(id));
+        auto hold      = [&](Tensor<1, dim> n, const int wall) {
+          for (const auto &existing : mirror.directions)
+            n -= (n * existing) * existing;
+          if (n.norm() > 1e-8)
+            {
+              mirror.directions.push_back(n / n.norm());
+              mirror.direction_wall.push_back(wall);
+            }
+        };
+        for (unsigned int w = 0; w < walls.size(); ++w)
+          if (std::find(walls[w].boundary_ids.begin(),
+                        walls[w].boundary_ids.end(),
+                        id) != walls[w].boundary_ids.end())
+            {
+              Tensor<1, dim> direction;
+              for (unsigned int d = 0; d < dim; ++d)
+                direction[d] = walls[w].direction[d];
+              hold(direction, static_cast<int>(w));
+            }
+        if (std::find(fixed.begin(), fixed.end(), id) != fixed.end())
+          for (unsigned int d = 0; d < dim; ++d)
+            hold(Point<dim>::unit_vector(d), -1);
+        if (std::find(roller.begin(), roller.end(), id) != roller.end())
+          hold(entry.second.second, -1);
+        if (!mirror.directions.empty())
+          mirrors.push_back(mirror);
+      }
 
     conditions.clear();
     for (const auto &list : per_node)

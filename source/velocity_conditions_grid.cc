@@ -146,7 +146,7 @@ namespace fmpm
     switch (method)
       {
         case Method::velocity:
-          return;
+          return; // the velocities are corrected instead
 
         case Method::constrained:
         case Method::lumped:
@@ -160,7 +160,7 @@ namespace fmpm
               add_along(q, c, dp);
               add_impulse(c, dp);
             }
-          return;
+          break;
 
         case Method::unlumped_1:
         case Method::unlumped_2:
@@ -195,7 +195,7 @@ namespace fmpm
             else
               operators.forward(delta_v, dp);
             q += dp;
-            return;
+            break;
           }
 
         case Method::collection_partial:
@@ -225,9 +225,12 @@ namespace fmpm
                 add_along(q, conditions[b], phi[b]);
                 add_impulse(conditions[b], phi[b]);
               }
-            return;
+            break;
           }
       }
+    if (padding_layer)
+      apply_padding_mirrors(
+        q, operators.lumped_mass, operators.mass_floor, t, t, false, impulse);
   }
 
 
@@ -254,6 +257,8 @@ namespace fmpm
         if (corrections)
           (*corrections)[b] = dv;
       }
+    if (padding_layer)
+      apply_padding_mirrors(v, nullptr, 0., t, t, false, nullptr);
   }
 
 
@@ -277,6 +282,77 @@ namespace fmpm
           a.block(d).local_element(c.local_index) +=
             (target - a_n) * c.normal[d];
       }
+    if (padding_layer)
+      apply_padding_mirrors(a, nullptr, 0., t1, t0, true, nullptr);
+  }
+
+
+
+  template <int dim>
+  void
+  VelocityConditions<dim>::apply_padding_mirrors(
+    GridVectorField             &field,
+    const GridScalar            *mass,
+    const double                 mass_floor,
+    const double                 t,
+    const double                 t0,
+    const bool                   difference,
+    std::vector<Tensor<1, dim>> *impulse) const
+  {
+    // The mirror may be a ghost: its current summed value from its owner
+    // (the owned values may have just changed; collective, every rank calls
+    // it with a padding layer).
+    const bool ghosted = field.has_ghost_elements();
+    field.update_ghost_values();
+    // The walls' velocities (or, with @p difference, their rate of change
+    // over [t0, t]); they depend on t only with a padding layer.
+    std::vector<double> wall_speed(walls.size());
+    for (unsigned int w = 0; w < walls.size(); ++w)
+      wall_speed[w] = difference ? (wall_value(w, NodeCondition{}, t) -
+                                    wall_value(w, NodeCondition{}, t0)) /
+                                     (t - t0) :
+                                   wall_value(w, NodeCondition{}, t);
+    // The mirrored values first (a mirror may itself be a padding node of
+    // another wall), then written.
+    std::vector<Tensor<1, dim>> mirrored(mirrors.size());
+    for (unsigned int k = 0; k < mirrors.size(); ++k)
+      {
+        const PaddingMirror &r  = mirrors[k];
+        const double   m_mirror = mass ? mass->local_element(r.mirror) : 1.;
+        Tensor<1, dim> v_mirror;
+        if (m_mirror > mass_floor)
+          for (unsigned int d = 0; d < dim; ++d)
+            v_mirror[d] = field.block(d).local_element(r.mirror) / m_mirror;
+        // v_pad · n̂ = 2 v_w − v_mirror · n̂ on the directions the wall
+        // holds, v_pad = v_mirror on the others.
+        Tensor<1, dim> v = v_mirror;
+        for (unsigned int j = 0; j < r.directions.size(); ++j)
+          {
+            const int    w   = r.direction_wall[j];
+            const double v_w = w < 0 ? 0. : wall_speed[w];
+            v += 2. * (v_w - v_mirror * r.directions[j]) * r.directions[j];
+          }
+        mirrored[k] = v;
+      }
+    for (unsigned int k = 0; k < mirrors.size(); ++k)
+      {
+        const PaddingMirror &r   = mirrors[k];
+        const double   m_padding = mass ? mass->local_element(r.padding) : 1.;
+        const double   scale     = m_padding > mass_floor ? m_padding : 0.;
+        Tensor<1, dim> change;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            double &value = field.block(d).local_element(r.padding);
+            change[d]     = scale * mirrored[k][d] - value;
+            value += change[d];
+          }
+        if (impulse)
+          (*impulse)[r.source] += change;
+      }
+    if (ghosted)
+      field.update_ghost_values();
+    else
+      field.zero_out_ghost_values();
   }
 
 

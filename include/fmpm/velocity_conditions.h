@@ -306,6 +306,42 @@ namespace fmpm
 
   private:
     /**
+     * @brief B-splines with a padding layer: a node of the layer next to a
+     * wall takes the velocity of the interior node it mirrors across the
+     * wall (two cells apart): 2 v_w − v_mirror along each direction the wall
+     * holds, v_mirror along the others (a roller's or moving wall's
+     * tangential directions: symmetry). The wall itself lies on the nodes
+     * one cell inside the mesh boundary, which carry the conditions.
+     */
+    struct PaddingMirror
+    {
+      /** Owned padding node and its mirror (local indices, the mirror may
+       * be a ghost). */
+      unsigned int padding, mirror;
+      /** Orthonormal directions the wall holds and their walls (-1: v = 0). */
+      std::vector<Tensor<1, dim>> directions;
+      std::vector<int>            direction_wall;
+      /** Reaction label of the boundary id. */
+      unsigned int source;
+    };
+
+    /**
+     * @brief Set the padding nodes of @p field from their mirrors (ghosts
+     * updated first). With @p mass, @p field holds momenta (velocities p/m);
+     * @p wall_rate scales the walls' values (1 for velocities, the
+     * acceleration's 1/(t1 − t0) otherwise, with @p t0 the start).
+     * Adds Δp per label to @p impulse if given.
+     */
+    void
+    apply_padding_mirrors(GridVectorField             &field,
+                          const GridScalar            *mass,
+                          const double                 mass_floor,
+                          const double                 t,
+                          const double                 t0,
+                          const bool                   difference,
+                          std::vector<Tensor<1, dim>> *impulse) const;
+
+    /**
      * @brief φ of 'collection full' (Eqs. 2.47-2.50): A φ = r with A_bc =
      * n̂_b · (m̃ₖ⁻¹ n̂_c e_{j_c})_{j_b}, one solve per condition (collective,
      * in global order), φ_b = 0 on empty nodes (not @p active). @p like
@@ -374,7 +410,15 @@ namespace fmpm
      * normals, in that order. */
     std::vector<
       std::pair<std::pair<types::boundary_id, unsigned int>, Tensor<1, dim>>>
-                                       boundary_normals;
+      boundary_normals;
+    /** B-splines with 'B-spline boundary = padding'. */
+    bool padding_layer = false;
+    /** Padding layer: (boundary id, owned padding node) → (mirror node,
+     * outward normal), found by setup_nodes(). */
+    std::vector<std::pair<std::pair<types::boundary_id, unsigned int>,
+                          std::pair<unsigned int, Tensor<1, dim>>>>
+                                       padding_nodes;
+    std::vector<PaddingMirror>         mirrors;
     const DoFHandler<dim>             *dof_handler_pointer = nullptr;
     const Utilities::MPI::Partitioner *partitioner_pointer = nullptr;
 

@@ -139,7 +139,12 @@ namespace fmpm
         "1 on the boundary, where velocity conditions act as with classic "
         "shape functions; 'padding': the uniform B-splines everywhere and "
         "the outer layer of cells kept free of points (NairnMPM's B2SPLINE; "
-        "the run stops if a point enters it; no velocity conditions). Units: "
+        "the run stops if a point enters it). With padding, Fixed, Roller "
+        "and Moving wall conditions on boundary ids act on the wall one "
+        "cell inside the mesh boundary: its nodes carry them, and each "
+        "padding node mirrors the node across the wall (2 v_w - v along "
+        "the held directions, v along the others); it needs Mass "
+        "matrix/Model name = lumped and wall velocities in t only. Units: "
         "none.");
     }
     prm.leave_subsection();
