@@ -50,15 +50,15 @@ namespace fmpm
                               double                 *T)
       {
         constexpr unsigned int n_sum = 2 * BSpline::Basis1D::max_nodes + 4;
-        double       N[BSpline::Basis1D::max_nodes], dN[BSpline::Basis1D::max_nodes];
-        double       S_sum[n_sum] = {}, dS_sum[n_sum] = {}, T_sum[n_sum] = {};
-        int          first_q;
+        double N[BSpline::Basis1D::max_nodes], dN[BSpline::Basis1D::max_nodes];
+        double S_sum[n_sum] = {}, dS_sum[n_sum] = {}, T_sum[n_sum] = {};
+        int    first_q;
         unsigned int count_q;
         if (!basis.values(a, first_q, count_q, N, dN) ||
             !basis.values(b, first_q, count_q, N, dN))
           return false;
-        const double half      = 0.5 * basis.cell_size();
-        const double origin    = basis.vertex(0);
+        const double half   = 0.5 * basis.cell_size();
+        const double origin = basis.vertex(0);
         const int    sum_first =
           static_cast<int>(std::floor((a - origin) / basis.cell_size())) - 3;
         // Gauss-Legendre on [0, 1], 3 points.
@@ -91,7 +91,8 @@ namespace fmpm
                       T_sum[e] += w * N[k];
                     }
                   first = std::min(first, first_q);
-                  last  = std::max(last, first_q + static_cast<int>(count_q) - 1);
+                  last =
+                    std::max(last, first_q + static_cast<int>(count_q) - 1);
                 }
             lo = hi;
           }
@@ -128,13 +129,13 @@ namespace fmpm
        */
       template <typename Sink>
       ShapeFunction::Status
-      bspline_support(const Type                   type,
-                      const BSpline::Lattice<2>   &lattice,
-                      const Point<2>              &x,
-                      const Tensor<2, 2>          &F,
-                      const Tensor<1, 2>          &l0,
-                      const double                 cpdi_critical_radius,
-                      Sink                       &&sink)
+      bspline_support(const Type                 type,
+                      const BSpline::Lattice<2> &lattice,
+                      const Point<2>            &x,
+                      const Tensor<2, 2>        &F,
+                      const Tensor<1, 2>        &l0,
+                      const double               cpdi_critical_radius,
+                      Sink                     &&sink)
       {
         using ShapeFunction::Status;
         const double r_p = x[0];
@@ -157,8 +158,7 @@ namespace fmpm
             case Type::b2gimp:
               {
                 for (unsigned int d = 0; d < 2; ++d)
-                  if (l0[d] >
-                      0.5 * lattice.basis(d).cell_size() * (1 + 1e-12))
+                  if (l0[d] > 0.5 * lattice.basis(d).cell_size() * (1 + 1e-12))
                     return Status::domain_too_wide;
                 BSpline::ProductSupport<2> product;
                 double                     T_r[BSpline::Basis1D::max_nodes];
@@ -182,13 +182,14 @@ namespace fmpm
                     {
                       const double S = product.w[0][j] * product.w[1][k];
                       Tensor<1, 2> G;
-                      G[0] = product.dw[0][j] * product.w[1][k];
-                      G[1] = product.w[0][j] * product.dw[1][k];
+                      G[0]           = product.dw[0][j] * product.w[1][k];
+                      G[1]           = product.w[0][j] * product.dw[1][k];
                       const double T = T_r[j] * product.w[1][k];
                       if (S != 0 || G.norm_square() != 0 || T != 0)
-                        sink(std::array<int, 2>{
-                               {product.first[0] + static_cast<int>(j),
-                                product.first[1] + static_cast<int>(k)}},
+                        sink(std::array<int, 2>{{product.first[0] +
+                                                   static_cast<int>(j),
+                                                 product.first[1] +
+                                                   static_cast<int>(k)}},
                              S,
                              G,
                              T);
@@ -216,11 +217,10 @@ namespace fmpm
                 double                      t;
                 cpdi_corner_weights(r_p, s, w, g, t);
                 BSpline::ProductSupport<2> corner[4];
-                int                        first[2] = {
-                  std::numeric_limits<int>::max(),
-                  std::numeric_limits<int>::max()};
-                int last[2] = {std::numeric_limits<int>::min(),
-                               std::numeric_limits<int>::min()};
+                int first[2] = {std::numeric_limits<int>::max(),
+                                std::numeric_limits<int>::max()};
+                int last[2]  = {std::numeric_limits<int>::min(),
+                                std::numeric_limits<int>::min()};
                 for (unsigned int alpha = 0; alpha < 4; ++alpha)
                   {
                     Tensor<1, 2> r;
