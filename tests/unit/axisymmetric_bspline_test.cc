@@ -62,8 +62,8 @@ namespace
         for (unsigned int p = 0; p < 60; ++p)
           {
             // A quarter of the points within a cell of the axis.
-            const Point<2>     x(p % 4 == 0 ? h * (0.02 + 0.98 * unit(generator)) :
-                                              h * (1 + 6 * unit(generator)),
+            const Point<2> x(p % 4 == 0 ? h * (0.02 + 0.98 * unit(generator)) :
+                                          h * (1 + 6 * unit(generator)),
                              h * (1 + 6 * unit(generator)));
             const Tensor<1, 2> l0({0.25 * h, 0.2 * h});
             Tensor<2, 2>       F;
@@ -74,26 +74,29 @@ namespace
             Tensor<1, 2> sum_G, sum_S_x;
             Tensor<2, 2> sum_G_x;
             bool         below_axis = false;
-            const auto   status     = Axisymmetric::bspline_support(
-              type,
-              lattice,
-              x,
-              F,
-              l0,
-              0.,
-              [&](const std::array<int, 2> &index,
-                  const double              S,
-                  const Tensor<1, 2>       &G,
-                  const double              T) {
-                const Point<2> x_i = lattice.vertex(index);
-                below_axis         = below_axis || index[0] < 0 || x_i[0] < 0;
-                sum_S += S;
-                sum_S_x += S * x_i;
-                sum_G += G;
-                sum_G_x += outer_product(G, x_i);
-                sum_T += T;
-                sum_T_r += T * x_i[0];
-              });
+            const auto   status =
+              Axisymmetric::bspline_support(type,
+                                            lattice,
+                                            x,
+                                            F,
+                                            l0,
+                                            0.,
+                                            [&](const std::array<int, 2> &index,
+                                                const double              S,
+                                                const Tensor<1, 2>       &G,
+                                                const double              T) {
+                                              const Point<2> x_i =
+                                                lattice.vertex(index);
+                                              below_axis = below_axis ||
+                                                           index[0] < 0 ||
+                                                           x_i[0] < 0;
+                                              sum_S += S;
+                                              sum_S_x += S * x_i;
+                                              sum_G += G;
+                                              sum_G_x += outer_product(G, x_i);
+                                              sum_T += T;
+                                              sum_T_r += T * x_i[0];
+                                            });
             ASSERT_EQ(status, fmpm::ShapeFunction::Status::ok);
             EXPECT_FALSE(below_axis);
             // The r-weighted centroid and ∫dA/∫r dA of the domain.
@@ -102,7 +105,8 @@ namespace
             if (type == Type::b2gimp)
               {
                 const double a = std::max(x[0] - l0[0], 0.), b = x[0] + l0[0];
-                centroid[0] = 2. / 3 * (b * b * b - a * a * a) / (b * b - a * a);
+                centroid[0] =
+                  2. / 3 * (b * b * b - a * a * a) / (b * b - a * a);
                 area_over_r_area = 2 / (a + b);
               }
             else if (type == Type::b2cpdi)
@@ -119,9 +123,9 @@ namespace
               }
             else
               area_over_r_area = 1 / x[0];
-            const std::string where = fmpm::ShapeFunction::parameter_name(type) +
-                                      " at " + std::to_string(x[0]) + ", " +
-                                      std::to_string(x[1]);
+            const std::string where =
+              fmpm::ShapeFunction::parameter_name(type) + " at " +
+              std::to_string(x[0]) + ", " + std::to_string(x[1]);
             EXPECT_NEAR(sum_S, 1, 1e-13) << where;
             EXPECT_NEAR((sum_S_x - centroid).norm(), 0, 1e-13) << where;
             EXPECT_NEAR(sum_G.norm() * h, 0, 1e-13) << where;
@@ -142,9 +146,9 @@ namespace
   // the point values, for boxes cut at the axis and boxes across knots.
   TEST(AxisymmetricBSpline, RadialAveragesEqualFineQuadrature)
   {
-    const double        h = 0.5;
-    BSpline::Basis1D    basis(2, 0., h, 8, BSpline::Boundary::open_knots);
-    std::mt19937        generator(7);
+    const double     h = 0.5;
+    BSpline::Basis1D basis(2, 0., h, 8, BSpline::Boundary::open_knots);
+    std::mt19937     generator(7);
     std::uniform_real_distribution<double> unit(0, 1);
     for (unsigned int p = 0; p < 20; ++p)
       {
@@ -153,10 +157,10 @@ namespace
         const double a = std::max(r_p - l, 0.), b = r_p + l;
         int          first;
         unsigned int count;
-        double       S[BSpline::Basis1D::max_nodes],
-          dS[BSpline::Basis1D::max_nodes], T[BSpline::Basis1D::max_nodes];
-        ASSERT_TRUE(
-          Axisymmetric::bspline_radial_averages(basis, a, b, first, count, S, dS, T));
+        double S[BSpline::Basis1D::max_nodes], dS[BSpline::Basis1D::max_nodes],
+          T[BSpline::Basis1D::max_nodes];
+        ASSERT_TRUE(Axisymmetric::bspline_radial_averages(
+          basis, a, b, first, count, S, dS, T));
         std::map<int, std::array<double, 3>> expected;
         const unsigned int                   n_pieces = 20000;
         const double                         r_area   = 0.5 * (b * b - a * a);
@@ -179,10 +183,13 @@ namespace
           }
         for (const auto &[i, e] : expected)
           {
-            const int    k    = i - first;
-            const double S_i  = (k >= 0 && k < static_cast<int>(count)) ? S[k] : 0;
-            const double dS_i = (k >= 0 && k < static_cast<int>(count)) ? dS[k] : 0;
-            const double T_i  = (k >= 0 && k < static_cast<int>(count)) ? T[k] : 0;
+            const int    k = i - first;
+            const double S_i =
+              (k >= 0 && k < static_cast<int>(count)) ? S[k] : 0;
+            const double dS_i =
+              (k >= 0 && k < static_cast<int>(count)) ? dS[k] : 0;
+            const double T_i =
+              (k >= 0 && k < static_cast<int>(count)) ? T[k] : 0;
             EXPECT_NEAR(S_i, e[0], 1e-8) << "vertex " << i << ", r_p " << r_p;
             EXPECT_NEAR(dS_i * h, e[1] * h, 1e-8) << "vertex " << i;
             EXPECT_NEAR(T_i * h, e[2] * h, 1e-8) << "vertex " << i;
@@ -199,9 +206,10 @@ namespace
   {
     for (const unsigned int degree : {2u, 3u})
       {
-        BSpline::Basis1D basis(degree, 0., 0.25, 8, BSpline::Boundary::open_knots);
-        int              first;
-        unsigned int     count;
+        BSpline::Basis1D basis(
+          degree, 0., 0.25, 8, BSpline::Boundary::open_knots);
+        int          first;
+        unsigned int count;
         double N[BSpline::Basis1D::max_nodes], dN[BSpline::Basis1D::max_nodes];
         ASSERT_TRUE(basis.values(0., first, count, N, dN));
         EXPECT_GE(first, 0);
