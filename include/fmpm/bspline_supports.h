@@ -78,6 +78,14 @@ namespace fmpm
         return lattice;
       }
 
+      /** The local index of the lattice vertex @p index in the ghosted
+       * vectors, or numbers::invalid_unsigned_int if this rank has none. */
+      unsigned int
+      vertex_local_index(const std::array<int, dim> &index) const
+      {
+        return vertices.local_index(index);
+      }
+
       /**
        * @brief How many cells beyond a point's cell its support may reach
        * per direction: 1 for b2spline and b3spline (the cells sharing a

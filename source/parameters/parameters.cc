@@ -69,9 +69,11 @@ namespace fmpm
       "thickness, the default) or 'axisymmetric' (a body of revolution about "
       "the y axis: x = r >= 0, y = z; the mesh must start at r = 0 or beyond; "
       "nodes on r = 0 keep zero radial velocity; masses, volumes, forces, "
-      "tractions and energies are per radian). Axisymmetric scenes take the "
-      "shape functions classic, ugimp, cpgimp and cpdi; multimaterial "
-      "contact acts in the r-z plane. Dimension = 3 takes only 'plane "
+      "tractions and energies are per radian). Axisymmetric scenes take every "
+      "shape function (classic, ugimp, cpgimp, cpdi, and b2spline, "
+      "b3spline, b2gimp, b2cpdi, whose basis at the axis r = 0 needs "
+      "'B-spline boundary = open knots'); multimaterial contact acts in the "
+      "r-z plane. Dimension = 3 takes only 'plane "
       "strain' (which then means nothing). Units: none.");
     MeshParameters::declare_parameters(prm, dim);
     MeshRefinementParameters::declare_parameters(prm);
@@ -180,13 +182,6 @@ namespace fmpm
     contact.parse_parameters(prm, size.n_materials);
     if (axisymmetric)
       {
-        const ShapeFunction::Type type =
-          ShapeFunction::parse(method.shape_function);
-        AssertThrow(!ShapeFunction::is_bspline(type),
-                    ExcMessage("Geometry = axisymmetric does not support "
-                               "Shape function/Type = " +
-                               method.shape_function +
-                               " yet; allowed: classic, ugimp, cpgimp, cpdi."));
         AssertThrow(!mesh.periodic[0],
                     ExcMessage("Geometry = axisymmetric: Mesh/Periodic "
                                "directions cannot include x (= r)."));

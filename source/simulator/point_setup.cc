@@ -650,7 +650,8 @@ namespace fmpm
     std::vector<unsigned long long> points_per_body(n_bodies, 0);
     std::vector<double>             p(particle_properties.n_properties());
     const bool gimp_box = shape_function == ShapeFunction::Type::ugimp ||
-                          shape_function == ShapeFunction::Type::cpgimp;
+                          shape_function == ShapeFunction::Type::cpgimp ||
+                          shape_function == ShapeFunction::Type::b2gimp;
     for_each_new_point([&](const auto        &cell,
                            const unsigned int b,
                            const Point<dim>  &x,

@@ -6,6 +6,7 @@
 // the loop of the first pass that reads them (the extrapolation), or
 // computed in each pass for classic shape functions on affine cells.
 
+#include <fmpm/axisymmetric_bspline.h>
 #include <fmpm/simulator.h>
 #include <fmpm/simulator.templates.h>
 #include <fmpm/transfer/support_builder.h>
@@ -44,8 +45,8 @@ namespace fmpm
       , cpdi(shape_function == ShapeFunction::Type::cpdi)
       , axisymmetric(axisymmetric)
     {
-      Assert(!axisymmetric || (dim == 2 && bsplines == nullptr),
-             ExcMessage("Axisymmetric supports: 2D, no B-splines."));
+      Assert(!axisymmetric || dim == 2,
+             ExcMessage("Axisymmetric supports: 2D only."));
       using Index                 = PropertyIndex<dim>;
       const unsigned int n_points = points.n_points();
       // (GIMP on a uniform patch: at most 3^dim nodes per point.)
@@ -373,6 +374,83 @@ namespace fmpm
 
     template <int dim>
     void
+    SupportBuilder<dim>::build_axisymmetric_bspline(const unsigned int first,
+                                                    const unsigned int k)
+    {
+      if constexpr (dim == 2)
+        {
+          const Point<dim> &x = points.position[k];
+          if (!(x[0] > 0))
+            {
+              if (failed_point == numbers::invalid_unsigned_int)
+                {
+                  failed_point = k;
+                  axisymmetric_failure =
+                    ShapeFunction::Axisymmetric::Status::on_axis;
+                }
+              return;
+            }
+          Tensor<2, dim> F;
+          Tensor<1, dim> l0;
+          for (unsigned int a = 0; a < dim; ++a)
+            {
+              l0[a] = l0_column[a][k];
+              for (unsigned int b = 0; b < dim; ++b)
+                F[a][b] = F_column[a][b][k];
+            }
+          cache.make_room(bsplines->max_support_size);
+          if (cache.T.size() < cache.node.size())
+            cache.T.resize(cache.node.size());
+          unsigned int                count  = 0;
+          ShapeFunction::Status       status = ShapeFunction::Status::ok;
+          const ShapeFunction::Status support_status =
+            ShapeFunction::Axisymmetric::bspline_support(
+              shape_function,
+              bsplines->get_lattice(),
+              x,
+              F,
+              l0,
+              cpdi_critical_radius,
+              [&](const std::array<int, 2> &index,
+                  const double              S_ip,
+                  const Tensor<1, 2>       &G_ip,
+                  const double              T_ip) {
+                const unsigned int local = bsplines->vertex_local_index(index);
+                if (local == numbers::invalid_unsigned_int)
+                  {
+                    status = ShapeFunction::Status::vertex_not_on_rank;
+                    return;
+                  }
+                cache.node[first + count] = local;
+                cache.S[first + count]    = S_ip;
+                cache.G[first + count]    = G_ip;
+                cache.T[first + count]    = T_ip;
+                ++count;
+              });
+          if (support_status != ShapeFunction::Status::ok)
+            status = support_status;
+          if (status != ShapeFunction::Status::ok)
+            {
+              if (failed_point == numbers::invalid_unsigned_int)
+                {
+                  failed_point = k;
+                  failure      = status;
+                }
+              count = 0; // (the step fails)
+            }
+          cache.n_stored += count;
+        }
+      else
+        {
+          (void)first;
+          (void)k;
+        }
+    }
+
+
+
+    template <int dim>
+    void
     SupportBuilder<dim>::build_axisymmetric(const unsigned int first,
                                             const unsigned int k)
     {
@@ -380,6 +458,11 @@ namespace fmpm
         {
           namespace Axisymmetric = ShapeFunction::Axisymmetric;
           const Point<dim> &x    = points.position[k];
+          if (bsplines != nullptr)
+            {
+              build_axisymmetric_bspline(first, k);
+              return;
+            }
           if (classic)
             {
               // S, G of build_classic() (from ξ), T = S/r_p.

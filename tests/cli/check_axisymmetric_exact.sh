@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: LGPL-2.1-or-later
 # Axisymmetric exact checks (Geometry = axisymmetric) on
 # scenes/axisymmetric_cylinder.prm, every node held at v_r = a r, v_z = b z,
-# for each shape function (classic, ugimp, cpgimp, cpdi):
+# for each shape function (classic, ugimp, cpgimp, cpdi, and the B-splines
+# b2spline, b3spline, b2gimp, b2cpdi with open knots at the axis):
 #  (a) uniform axial compression (a = -nu b), linear elastic 'total':
 #      F_rr = F_tt = c_a^N, F_zz = c_b^N (N Cayley steps,
 #      c = (1 + x dt/2)/(1 - x dt/2)), sigma = C : (F - I): sigma_rr,
@@ -22,8 +23,12 @@ status=0
 run_case() {
   local name="$1" shape="$2" a="$3" b="$4" measure="$5"
   local dir="output-axisymmetric-$name-$shape"
-  printf 'subsection Shape function\n set Type = %s\nend\nsubsection Boundary conditions\n subsection Moving wall 0\n  set Function constants = a=%s\n end\n subsection Moving wall 1\n  set Function constants = b=%s\n end\nend\nsubsection Material 0\n subsection Linear elastic\n  set Strain measure = %s\n end\nend\nsubsection Output\n set Directory = %s\nend\n' \
-    "$shape" "$a" "$b" "$measure" "$dir" > "$dir.prm"
+  # (B-splines: 6 x 12 cells, so that the cubic basis with open knots, at
+  # least 2 p = 6 cells per direction, is cubic in r.)
+  local subdivisions="4, 8"
+  case "$shape" in b*) subdivisions="6, 12" ;; esac
+  printf 'subsection Mesh\n set Subdivisions = %s\nend\nsubsection Shape function\n set Type = %s\nend\nsubsection Boundary conditions\n subsection Moving wall 0\n  set Function constants = a=%s\n end\n subsection Moving wall 1\n  set Function constants = b=%s\n end\nend\nsubsection Material 0\n subsection Linear elastic\n  set Strain measure = %s\n end\nend\nsubsection Output\n set Directory = %s\nend\n' \
+    "$subdivisions" "$shape" "$a" "$b" "$measure" "$dir" > "$dir.prm"
   if ! "${launcher[@]}" "$fmpm" "$scene" "$dir.prm" > "$dir.log" 2>&1; then
     echo "FAIL: $name $shape did not run"; cat "$dir.log"; status=1; return
   fi
@@ -69,7 +74,7 @@ if not ok:
 sys.exit(0 if ok else 1)
 PY
 }
-for shape in classic ugimp cpgimp cpdi; do
+for shape in classic ugimp cpgimp cpdi b2spline b3spline b2gimp b2cpdi; do
   run_case axial "$shape" 0.06 -0.2 total
   run_case radial "$shape" 0.1 0 incremental
 done

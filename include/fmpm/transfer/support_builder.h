@@ -107,6 +107,11 @@ namespace fmpm
        * with T = S/r_p). */
       void
       build_axisymmetric(const unsigned int first, const unsigned int k);
+      /** build_axisymmetric() for the B-spline shape functions
+       * (ShapeFunction::Axisymmetric::bspline_support()). */
+      void
+      build_axisymmetric_bspline(const unsigned int first,
+                                 const unsigned int k);
       /** Append an axisymmetric entry (T into cache.T), a hanging node's
        * weights to its masters. */
       void
