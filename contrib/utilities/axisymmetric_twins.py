@@ -18,8 +18,8 @@ For each scene and shape function it
    (sigma_thetatheta), averaged over the outputs of the last tenth of the run
    (the hold phase; NairnMPM's scripts average their global archive the same
    way), and the same means without the points of the loaded cell
-   (fmpm applies a traction as forces at the loaded points, Eq. 2.10, so
-   the cell under the load carries part of it only; reported, not checked);
+   (reported, not checked; the scenes integrate the traction over the
+   loaded points' faces, Traction/Distribution = face, as NairnMPM does);
 2. times N pairs of runs, fmpm (no output but the first and last) and
    NairnMPM (1 thread), interleaved fmpm, NairnMPM, fmpm, ..., one process
    at a time, and reports particle-steps per second (points x steps / wall
