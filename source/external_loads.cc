@@ -3,6 +3,7 @@
 
 #include <fmpm/external_loads.h>
 #include <fmpm/function_parser.h>
+#include <fmpm/shape_function.h>
 
 #include <algorithm>
 #include <cmath>
@@ -40,6 +41,16 @@ namespace fmpm
     axisymmetric = parameters.axisymmetric;
     if (!tractions.empty())
       traction_slot = properties.request("traction", 2);
+    for (const auto &traction : tractions)
+      (traction.on_face ? has_face_traction : has_point_tractions) = true;
+    if (has_face_traction)
+      AssertThrow(!ShapeFunction::is_bspline(
+                    ShapeFunction::parse(parameters.method.shape_function)),
+                  ExcMessage("Boundary conditions/Traction N/Distribution = "
+                             "face needs a shape function on the linear grid: "
+                             "Shape function/Type = classic, ugimp, cpgimp or "
+                             "cpdi, not " +
+                             parameters.method.shape_function + "."));
     for (unsigned int n = 0; n < tractions.size(); ++n)
       {
         const std::string where =
@@ -218,15 +229,124 @@ namespace fmpm
               body_acceleration_at(
           x, V, Point<dim>(get_vector<dim>(p, Index::initial_position))) :
               body_acceleration_at(x, V, x);
-    if (!traction_functions.empty())
+    if (has_point_tractions)
       {
         // The traction force as an acceleration, F_p / M_p (Eq. 2.10).
+        const int index =
+          static_cast<int>(points.column(traction_slot)[k] + 0.5) - 1;
+        if (index >= 0 && tractions[index].on_face)
+          return b;
         const Tensor<1, dim> F_p = traction_force(points, k);
         b += F_p / p[Index::mass];
         local_traction_power += F_p * V;
         local_traction_magnitude += F_p.norm();
       }
     return b;
+  }
+
+
+
+  template <int dim>
+  void
+  ExternalLoads<dim>::add_face_traction_forces(
+    const MaterialPoints<dim> &points,
+    const GridTransfer<dim>   &transfer,
+    double *const *const       f)
+  {
+    if (!has_face_traction)
+      return;
+    using Index = PropertyIndex<dim>;
+    // Gauss-Legendre with two points on each half of the face's
+    // parameter range [-1, 1] along each of its directions: exact for the
+    // r-weighted bilinear N_i where a half lies in one cell.
+    constexpr unsigned int     n_pieces = 2;
+    constexpr unsigned int     n_line   = 2 * n_pieces;
+    std::array<double, n_line> s_line;
+    const double               g = 1 / std::sqrt(3.);
+    for (unsigned int q = 0; q < n_pieces; ++q)
+      {
+        const double centre = -1 + (2 * q + 1) / double(n_pieces);
+        s_line[2 * q]       = centre - g / n_pieces;
+        s_line[2 * q + 1]   = centre + g / n_pieces;
+      }
+    const double       weight_line = 1. / n_pieces;
+    const unsigned int n_gauss     = dim == 2 ? n_line : n_line * n_line;
+
+    const double *const slot = points.column(traction_slot);
+    std::array<double, GridTransfer<dim>::n_nodes> N;
+    for (unsigned int k = 0; k < points.n_points(); ++k)
+      {
+        const int index = static_cast<int>(slot[k] + 0.5) - 1;
+        if (index < 0 || !tractions[index].on_face)
+          continue;
+        const TractionParameters &traction = tractions[index];
+        const unsigned int        a        = traction.normal_axis;
+        const PointRecord         p        = points.record(k);
+        Tensor<1, dim>            t;
+        for (unsigned int d = 0; d < dim; ++d)
+          t[d] = traction_functions[index]->value(Point<1>(), d);
+        Tensor<2, dim> F;
+        for (unsigned int i = 0; i < dim; ++i)
+          for (unsigned int j = 0; j < dim; ++j)
+            F[i][j] = p[Index::deformation_gradient + 3 * i + j];
+        // The face: the point's side toward the box's centre, and its
+        // half edges T_j along the other axes, deformed by F.
+        const double   X_a = p[Index::initial_position + a];
+        Tensor<1, dim> offset;
+        offset[a] =
+          (X_a < 0.5 * (traction.box_lower[a] + traction.box_upper[a]) ? 1 :
+                                                                         -1) *
+          p[Index::initial_half_length + a];
+        const Point<dim> centre = points.position[k] + F * offset;
+        std::array<Tensor<1, dim>, dim - 1> T;
+        for (unsigned int d = 0, j = 0; d < dim; ++d)
+          if (d != a)
+            {
+              Tensor<1, dim> half_edge;
+              half_edge[d] = p[Index::initial_half_length + d];
+              T[j++]       = F * half_edge;
+            }
+        double jacobian;
+        if constexpr (dim == 2)
+          jacobian = T[0].norm();
+        else
+          jacobian = cross_product_3d(T[0], T[1]).norm();
+
+        Tensor<1, dim> F_p;
+        for (unsigned int q = 0; q < n_gauss; ++q)
+          {
+            Point<dim> x      = centre;
+            double     weight = jacobian;
+            for (unsigned int j = 0; j < dim - 1; ++j)
+              {
+                const unsigned int q_j = j == 0 ? q % n_line : q / n_line;
+                x += s_line[q_j] * T[j];
+                weight *= weight_line;
+              }
+            if (axisymmetric)
+              weight *= x[0];
+            typename GridTransfer<dim>::Location location;
+            AssertThrow(
+              transfer.locate(points.cell[k], x, points.cell[k], location) ==
+                GridTransfer<dim>::LocateStatus::found,
+              ExcMessage("Boundary conditions/Traction " +
+                         std::to_string(index) +
+                         "/Distribution = face: the face of a "
+                         "loaded point at " +
+                         Utilities::to_string(x[0]) +
+                         ", ... lies outside its cell's patch "
+                         "(with Shape function/Type = classic the "
+                         "face must lie in the point's cell)."));
+            GridTransfer<dim>::values(location.xi, N);
+            const auto &cell = transfer.cell_data(location.cell);
+            for (unsigned int i = 0; i < N.size(); ++i)
+              for (unsigned int d = 0; d < dim; ++d)
+                f[d][cell.local_index[i]] += N[i] * weight * t[d];
+            F_p += weight * t;
+          }
+        local_traction_power += F_p * get_vector<dim>(p, Index::velocity);
+        local_traction_magnitude += F_p.norm();
+      }
   }
 
 

@@ -18,12 +18,16 @@ For each scene and shape function it
    (sigma_thetatheta), averaged over the outputs of the last tenth of the run
    (the hold phase; NairnMPM's scripts average their global archive the same
    way), and the same means without the points of the loaded cell
-   (fmpm applies a traction as forces at the loaded points, Eq. 2.10, so
-   the cell under the load carries part of it only; reported, not checked);
+   (reported, not checked; the scenes integrate the traction over the
+   loaded points' faces, Traction/Distribution = face, as NairnMPM does);
 2. times N pairs of runs, fmpm (no output but the first and last) and
    NairnMPM (1 thread), interleaved fmpm, NairnMPM, fmpm, ..., one process
-   at a time, and reports particle-steps per second (points x steps / wall
-   seconds of the whole process) of each run.
+   at a time, and reports particle-steps per second of each run counted two
+   ways, the same for both codes: points x steps / wall seconds of the whole
+   process (start-up included), and points x steps / wall seconds of the
+   run as the code reports it (time steps and their output, without the
+   process start-up: fmpm's TimerOutput total, NairnMPM's "Elapsed Time per
+   Step" times its steps).
 
 Prints a Markdown table and writes twins.csv in DIR. Exit status 1 when a
 hold-phase mean is more than 1 % from exact or from NairnMPM's mean.
@@ -66,7 +70,8 @@ TOLERANCE = 0.01
 
 
 def run_fmpm(fmpm, scene_prm, overrides, workdir):
-    """Runs fmpm on the scene plus an override file; returns wall seconds."""
+    """Runs fmpm on the scene plus an override file; returns wall seconds
+    of the process and of the run (its TimerOutput total)."""
     override = Path(workdir) / "override.prm"
     override.write_text(overrides)
     start = time.perf_counter()
@@ -76,7 +81,9 @@ def run_fmpm(fmpm, scene_prm, overrides, workdir):
     wall = time.perf_counter() - start
     if result.returncode != 0:
         sys.exit(f"fmpm failed on {scene_prm}:\n{result.stdout[-2000:]}")
-    return wall
+    m = re.search(r"Total wallclock time elapsed since start\s*\|\s*([0-9.e+-]+)s",
+                  result.stdout)
+    return wall, float(m.group(1)) if m else float("nan")
 
 
 def read_history(directory):
@@ -112,13 +119,13 @@ def fmpm_hold_means(fmpm, scene, shape, workdir):
 
 def time_fmpm(fmpm, scene, shape, workdir):
     out = Path(workdir) / f"timing_{scene}_{shape}"
-    wall = run_fmpm(
+    wall, run_wall = run_fmpm(
         fmpm, SCENES[scene]["prm"],
         f"subsection Shape function\n  set Type = {shape}\nend\n"
         f"subsection Output\n  set Directory = {out}\n  set Interval = 0\n"
         f"  set Step interval = 1000000000\n  set Write particle csv = false\n"
         f"end\n", workdir)
-    return wall, int(read_history(out)[-1]["step"])
+    return wall, run_wall, int(read_history(out)[-1]["step"])
 
 
 def run_nairn(scene, shape):
@@ -131,7 +138,8 @@ def run_nairn(scene, shape):
         sys.exit(f"NairnMPM twin failed:\n{result.stdout[-2000:]}")
     text = result.stdout
     figures = {k: float(v) for k, v in
-               re.findall(r"(points|steps|wall_s)=([0-9.e+-]+)", text)}
+               re.findall(r"(points|steps|wall_s|steps_wall_s)=([0-9.e+-]+)",
+                          text)}
     for name in COMPONENTS:
         m = re.search(rf"{name}: .*?mean_last_tenth=([0-9.e+-]+)", text)
         figures[name] = float(m.group(1)) * 1e6  # MPa -> Pa
@@ -155,7 +163,7 @@ def main():
     rows, failed = [], []
     print("| scene | shape | code | points | steps | " +
           " | ".join(f"{c} MPa (vs exact)" for c in COMPONENTS) +
-          " | wall s | particle-steps/s |")
+          " | wall s (run) | particle-steps/s (run) |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for scene in args.scenes:
         exact = SCENES[scene]["exact"]
@@ -165,11 +173,12 @@ def main():
             nairn = None if args.no_nairn else run_nairn(scene, shape)
             walls = {"fmpm": [], "NairnMPM": []}
             for _ in range(args.repeat):
-                wall, steps = time_fmpm(fmpm, scene, shape, workdir)
-                walls["fmpm"].append((wall, steps, n_points))
+                wall, run_wall, steps = time_fmpm(fmpm, scene, shape, workdir)
+                walls["fmpm"].append((wall, run_wall, steps, n_points))
                 if not args.no_nairn:
                     n = run_nairn(scene, shape)
-                    walls["NairnMPM"].append((n["wall_s"], int(n["steps"]),
+                    walls["NairnMPM"].append((n["wall_s"], n["steps_wall_s"],
+                                              int(n["steps"]),
                                               int(n["points"])))
             for code, stresses in (("fmpm", means),
                                    ("NairnMPM", nairn and
@@ -188,20 +197,25 @@ def main():
                                           f"fmpm {s:.6g} vs NairnMPM "
                                           f"{ref:.6g}")
                 timings = walls[code]
-                rates = [p * st / w for w, st, p in timings]
+                rates = [p * st / w for w, _, st, p in timings]
+                run_rates = [p * st / w for _, w, st, p in timings]
                 cells = " | ".join(f"{s / 1e6:.5f} ({s / x - 1:+.1e})"
                                    for s, x in zip(stresses, exact))
                 print(f"| {scene} | {shape} | {code} | "
-                      f"{timings[0][2] if timings else n_points} | "
-                      f"{timings[0][1] if timings else steps} | {cells} | "
-                      f"{', '.join(f'{w:.2f}' for w, _, _ in timings)} | "
-                      f"{', '.join(f'{r:.3g}' for r in rates)} |")
+                      f"{timings[0][3] if timings else n_points} | "
+                      f"{timings[0][2] if timings else steps} | {cells} | "
+                      f"{', '.join(f'{w:.2f} ({r:.2f})' for w, r, _, _ in timings)} | "
+                      f"{', '.join(f'{r:.3g} ({q:.3g})' for r, q in zip(rates, run_rates))} |")
                 rows.append({"scene": scene, "shape": shape, "code": code,
                              **{c: s for c, s in zip(COMPONENTS, stresses)},
                              "walls": " ".join(f"{w:.3f}"
-                                               for w, _, _ in timings),
+                                               for w, _, _, _ in timings),
+                             "run_walls": " ".join(f"{w:.3f}"
+                                                   for _, w, _, _ in timings),
                              "particle_steps_per_s": " ".join(
-                                 f"{r:.4g}" for r in rates)})
+                                 f"{r:.4g}" for r in rates),
+                             "run_particle_steps_per_s": " ".join(
+                                 f"{r:.4g}" for r in run_rates)})
             cells = " | ".join(f"{s / 1e6:.5f} ({s / x - 1:+.1e})"
                                for s, x in zip(inner_means, exact))
             print(f"| {scene} | {shape} | fmpm, outside the loaded cell | "
@@ -209,7 +223,9 @@ def main():
             rows.append({"scene": scene, "shape": shape,
                          "code": "fmpm, outside the loaded cell",
                          **dict(zip(COMPONENTS, inner_means)),
-                         "walls": "", "particle_steps_per_s": ""})
+                         "walls": "", "run_walls": "",
+                         "particle_steps_per_s": "",
+                         "run_particle_steps_per_s": ""})
     with open(workdir / "twins.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()

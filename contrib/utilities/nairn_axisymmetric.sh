@@ -8,7 +8,9 @@
 #                                            sxx, syy, szz (sigma_rr, sigma_zz, sigma_thetatheta)
 #   nairn_axi_material NAME                  prints the linear elastic <Material>
 #   nairn_axi_report TITLE SRR SZZ STT       after nairn_run: prints points, steps, wall time,
-#                                            particle-steps/s and, per stress, its exact value (MPa),
+#                                            particle-steps/s, the run's own wall time (Elapsed Time
+#                                            per Step of output.txt times steps) and, per stress,
+#                                            its exact value (MPa),
 #                                            its value at the end and its mean over the last tenth
 #                                            of the run, with relative errors, also against
 #                                            J sigma_exact (J = 1 + tr(eps) of the exact strains)
@@ -55,8 +57,12 @@ label = {'sxx': 'sigma_rr', 'syy': 'sigma_zz', 'szz': 'sigma_thetatheta'}
 # J = 1 + tr(eps) from the exact strains.
 J = 1 + (1 - 2 * nu) / E * sum(exact.values())
 tail = rows[-max(1, len(rows) // 10):]
+import re
+with open('output.txt') as f:
+    per_step = re.search(r'Elapsed Time per Step: ([0-9.e+-]+) ms', f.read())
+steps_wall = float(per_step.group(1)) * 1e-3 * steps if per_step else float('nan')
 print(f'NairnMPM {title} {shape} threads={np_} points={npts} steps={steps} wall_s={wall:.2f} '
-      f'particle_steps_per_s={npts*steps/wall:.3g}')
+      f'steps_wall_s={steps_wall:.3f} particle_steps_per_s={npts*steps/wall:.3g}')
 for q in ('sxx', 'syy', 'szz'):
     end, mean = rows[-1][col[q]], sum(r[col[q]] for r in tail) / len(tail)
     print(f'  {label[q]}: exact={exact[q]:.6g} end={end:.6g} ({end/exact[q]-1:+.2e}) '

@@ -4,6 +4,7 @@
 #ifndef fmpm_external_loads_h
 #define fmpm_external_loads_h
 
+#include <fmpm/grid_transfer.h>
 #include <fmpm/material_points.h>
 #include <fmpm/parameters.h>
 #include <fmpm/particle_properties.h>
@@ -76,8 +77,7 @@ namespace fmpm
     bool
     has_point_body_force() const
     {
-      return body_acceleration || angular_velocity ||
-             !traction_functions.empty();
+      return body_acceleration || angular_velocity || has_point_tractions;
     }
 
     /**
@@ -117,6 +117,27 @@ namespace fmpm
                   const double   dt,
                   const double   mesh_diameter,
                   const MPI_Comm communicator);
+
+    /** @brief Whether a traction has Distribution = face. */
+    bool
+    has_face_tractions() const
+    {
+      return has_face_traction;
+    }
+
+    /**
+     * @brief The nodal forces of the tractions with Distribution = face,
+     * added to @p f[d] (indexed by the nodes' local index, ghosts
+     * included; the caller compresses): f_i += ∫ t N_i dA over each loaded
+     * point's face (per radian when axisymmetric: dA = r ds), two Gauss
+     * points per half of the face along each of its directions, each
+     * located from the point's cell in @p transfer. Adds Σ F_p · V_p to
+     * the step's traction power, F_p the point's total face force.
+     */
+    void
+    add_face_traction_forces(const MaterialPoints<dim> &points,
+                             const GridTransfer<dim>   &transfer,
+                             double *const *const       f);
 
     /** @brief Whether the scene has tractions. */
     bool
@@ -163,6 +184,9 @@ namespace fmpm
     /** t(t) of each traction, its box and normal axis. */
     std::vector<std::unique_ptr<FunctionParser<1>>> traction_functions;
     std::vector<TractionParameters>                 tractions;
+    /** Whether some traction has Distribution = point, some = face. */
+    bool has_point_tractions = false;
+    bool has_face_traction   = false;
     /** Axisymmetric: face areas per radian (r times the length). */
     bool axisymmetric = false;
     /** The first of the points' traction slots (index + 1, face area). */

@@ -164,6 +164,9 @@ namespace fmpm
      * product of its initial side lengths in the other directions. */
     unsigned int normal_axis = 0;
     std::string  constants;
+    /** 'Distribution': false 'point' (F = t A_p through the point's S_ip),
+     * true 'face' (∫ t N_i dA over the point's loaded face). */
+    bool on_face = false;
 
     /** Declare the entries of one 'Traction N' (the caller enters it). */
     static void

@@ -454,6 +454,11 @@ namespace fmpm
      */
     void
     finish_re_extrapolation();
+
+    /** Add the tractions with Distribution = face to f (before its
+     * compress; an error with contact). */
+    void
+    add_face_traction_forces(const bool contact);
     void
     sort_particles_into_cells();
 

@@ -151,6 +151,20 @@ namespace fmpm
                       defaults.constants,
                       Patterns::Anything(),
                       "Constants for 'Traction'. Units: as used.");
+    prm.declare_entry(
+      "Distribution",
+      "point",
+      Patterns::Selection("point|face"),
+      "How a selected point's traction force reaches the nodes. 'point': "
+      "the force t A_p through the point's own shape functions, at the "
+      "point (Eq. 2.10, f_T). 'face': the traction integrated over the "
+      "point's loaded face, f_i = integral of t N_i dA with the grid's "
+      "linear N_i (Gauss points on the face, located in the mesh), the "
+      "face being the point's side toward the box's centre, deformed by "
+      "F; Geometry = axisymmetric: per radian, dA = r ds. This loads "
+      "the nodes of the face itself (as NairnMPM does). Needs a shape "
+      "function on the linear grid (classic, ugimp, cpgimp, cpdi) and no "
+      "contact. Allowed: point, face.");
   }
 
 
@@ -163,6 +177,7 @@ namespace fmpm
     traction    = prm.get("Traction");
     normal_axis = prm.get_integer("Normal axis");
     constants   = prm.get("Function constants");
+    on_face     = prm.get("Distribution") == "face";
   }
 
 

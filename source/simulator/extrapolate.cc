@@ -183,6 +183,8 @@ namespace fmpm
         this->contact->finish_extrapolation(centre_of_mass, with_forces);
       }
 
+    if (with_forces)
+      add_face_traction_forces(contact);
     centre_of_mass.mass.compress(VectorOperation::add);
     centre_of_mass.momentum.compress(VectorOperation::add);
     if (with_forces)
@@ -191,6 +193,24 @@ namespace fmpm
       centre_of_mass.full_mass_matrix.compress(VectorOperation::add);
     centre_of_mass.mass.update_ghost_values();
     mass_matrix->setup();
+  }
+
+
+
+  template <int dim>
+  void
+  Simulator<dim>::add_face_traction_forces(const bool contact)
+  {
+    if (!external_loads.has_face_tractions())
+      return;
+    AssertThrow(!contact,
+                ExcMessage("Boundary conditions/Traction N/Distribution = "
+                           "face does not support contact yet; allowed with "
+                           "contact: point."));
+    double *f[dim];
+    for (unsigned int d = 0; d < dim; ++d)
+      f[d] = centre_of_mass.force.block(d).begin();
+    external_loads.add_face_traction_forces(points, transfer, f);
   }
 
 

@@ -699,6 +699,7 @@ namespace fmpm
     local_max_wave_speed = wave_speed;
     if (with_forces)
       {
+        add_face_traction_forces(contact);
         if (contact) // f = Σ_α f^α0
           this->contact->finish_forces(centre_of_mass);
         centre_of_mass.force.compress(VectorOperation::add);
