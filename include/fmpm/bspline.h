@@ -559,8 +559,8 @@ namespace fmpm
             stride[d] = row;
             row *= count[d];
           }
-        n_written   = 0;
-        all_on_rank = true;
+        n_written       = 0;
+        all_on_rank     = true;
         const auto emit = [&](const unsigned int e, const unsigned int map) {
           if (box.S[e] == 0 && box.G[e].norm_square() == 0)
             return;

@@ -586,8 +586,7 @@ namespace
     for (unsigned int k = 0; k < 1000; ++k)
       values.push_back(wide(generator));
     for (const double u : values)
-      EXPECT_EQ(Basis1D::floor_to_int(u), static_cast<int>(std::floor(u)))
-        << u;
+      EXPECT_EQ(Basis1D::floor_to_int(u), static_cast<int>(std::floor(u))) << u;
   }
 
   TEST(BSpline1D, PaddingRefusesPointsThatNeedVerticesBeyond)
@@ -1051,7 +1050,7 @@ namespace
     MeshSetup<dim>                         mesh(subdivisions, lower, upper);
     std::mt19937                           generator(17 + dim);
     std::uniform_real_distribution<double> unit(0, 1);
-    constexpr unsigned int max_size = fmpm::BSpline::BoxSupport<dim>::max_size;
+    constexpr unsigned int max_size  = fmpm::BSpline::BoxSupport<dim>::max_size;
     constexpr unsigned int n_corners = 1u << dim;
     std::string            error;
     const auto             lattice =
