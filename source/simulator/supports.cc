@@ -136,14 +136,17 @@ namespace fmpm
     void
     SupportBuilder<dim>::build_bspline(const unsigned int k)
     {
+      // (b2spline and b3spline read neither F nor l⁰.)
       Tensor<2, dim> F;
       Tensor<1, dim> l0;
-      for (unsigned int a = 0; a < dim; ++a)
-        {
+      if (shape_function == ShapeFunction::Type::b2gimp ||
+          shape_function == ShapeFunction::Type::b2cpdi)
+        for (unsigned int a = 0; a < dim; ++a)
           l0[a] = l0_column[a][k];
+      if (shape_function == ShapeFunction::Type::b2cpdi)
+        for (unsigned int a = 0; a < dim; ++a)
           for (unsigned int b = 0; b < dim; ++b)
             F[a][b] = F_column[a][b][k];
-        }
       const std::size_t first = cache.n_stored;
       cache.make_room(bsplines->max_support_size);
       unsigned int                count;
