@@ -557,6 +557,33 @@ namespace fmpm
                 }
               return; // (the step fails)
             }
+          // compute_support() names each node once: without constrained
+          // nodes (no masters to merge) the entries go straight into the
+          // cache, as add_axisymmetric_node() would store them.
+          bool any_constrained = false;
+          for (const auto &node : axisymmetric_support)
+            any_constrained = any_constrained || node.constrained;
+          if (!any_constrained)
+            {
+              const unsigned int n = axisymmetric_support.size();
+              cache.make_room(n);
+              if (cache.T.size() < cache.node.size())
+                cache.T.resize(cache.node.size());
+              unsigned int *const   node_out = cache.node.data() + first;
+              double *const         S_out    = cache.S.data() + first;
+              Tensor<1, dim> *const G_out    = cache.G.data() + first;
+              double *const         T_out    = cache.T.data() + first;
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  const auto &node = axisymmetric_support[i];
+                  node_out[i]      = node.local_index;
+                  S_out[i]         = node.S;
+                  G_out[i]         = node.G;
+                  T_out[i]         = node.T;
+                }
+              cache.n_stored += n;
+              return;
+            }
           for (const auto &node : axisymmetric_support)
             add_axisymmetric_node(first,
                                   node.local_index,
