@@ -162,7 +162,7 @@ namespace fmpm
        * @p t (T) of corner α = r_0 + 2 r_1 bits (r_d = −1 for a clear bit,
        * +1 for a set one), the order of compute_support()'s corners.
        */
-      inline void
+      DEAL_II_ALWAYS_INLINE inline void
       cpdi_corner_weights(const double                 r_p,
                           const Tensor<2, 2>          &s,
                           std::array<double, 4>       &w,
@@ -188,7 +188,7 @@ namespace fmpm
        * lies at r < 0: s scaled by r_p / Σ_j |s_0j| when that is below 1.
        * @return whether s was changed
        */
-      inline bool
+      DEAL_II_ALWAYS_INLINE inline bool
       keep_cpdi_domain_off_axis(const double r_p, Tensor<2, 2> &s)
       {
         const double reach = std::abs(s[0][0]) + std::abs(s[0][1]);

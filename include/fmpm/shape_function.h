@@ -486,6 +486,50 @@ namespace fmpm
           limit_cpdi_domain(s, cpdi_critical_radius * smallest_extent);
         const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
         const double         weight              = 1.0 / n_nodes; // 2^-dim
+        Tensor<1, dim>       w;
+        return merge_corners(
+          transfer,
+          x,
+          s,
+          node,
+          [&](const unsigned int, const Tensor<1, dim> &r)
+            DEAL_II_ALWAYS_INLINE { w = weight * (s_inverse_transpose * r); },
+          [&](const double S_corner, const unsigned int entry, const bool first)
+            DEAL_II_ALWAYS_INLINE {
+              if (first)
+                {
+                  S[entry] = weight * S_corner;
+                  G[entry] = S_corner * w;
+                }
+              else
+                {
+                  S[entry] += weight * S_corner;
+                  G[entry] += S_corner * w;
+                }
+            });
+      }
+
+      /**
+       * @brief The corners x_α = x + s r_α (r_α ∈ {±1}^dim, α = Σ_j bit_j
+       * 2^j with bit 0 for −1) located in the patch's cells and their nodes
+       * merged by plane slot, in the order of compute_support(): for each α
+       * @p corner(α, r_α), then @p entry(N_i(x_α), e, first) for each of the
+       * cell's nodes i, with e the node's entry in @p node (written on its
+       * first appearance, when first is true). The caller's weights then
+       * give S̄, Ḡ (support()) or the axisymmetric S, G, T.
+       *
+       * @return the number of entries, or 0 when a corner is in no cell of
+       * the patch
+       */
+      template <typename Corner, typename Entry>
+      DEAL_II_ALWAYS_INLINE unsigned int
+      merge_corners(const GridTransfer<dim> &transfer,
+                    const Point<dim>        &x,
+                    const Tensor<2, dim>    &s,
+                    unsigned int            *node,
+                    const Corner            &corner_,
+                    const Entry             &entry_) const
+      {
         // Entry of each plane slot in this support (none: 0xff).
         unsigned char entry_of_slot[max_support_size];
         std::fill(entry_of_slot, entry_of_slot + max_support_size, 0xff);
@@ -504,8 +548,8 @@ namespace fmpm
             hint = column;
             std::array<double, n_nodes> S_corner;
             GridTransfer<dim>::values(xi, S_corner);
-            const Tensor<1, dim> w     = weight * (s_inverse_transpose * r);
-            const ColumnCell    &cell_ = cell[column];
+            corner_(alpha, r);
+            const ColumnCell &cell_ = cell[column];
             for (unsigned int i = 0; i < n_nodes; ++i)
               {
                 const unsigned char slot  = cell_.slot[i];
@@ -514,15 +558,11 @@ namespace fmpm
                   {
                     entry_of_slot[slot] = count;
                     node[count]         = cell_.local_index[i];
-                    S[count]            = weight * S_corner[i];
-                    G[count]            = S_corner[i] * w;
+                    entry_(S_corner[i], count, true);
                     ++count;
                   }
                 else
-                  {
-                    S[entry] += weight * S_corner[i];
-                    G[entry] += S_corner[i] * w;
-                  }
+                  entry_(S_corner[i], entry, false);
               }
           }
         return count;

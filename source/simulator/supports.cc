@@ -89,15 +89,6 @@ namespace fmpm
             }
           gimp_patch = &patches.gimp[patches.gimp_of_cell[c]];
         }
-      if constexpr (dim == 2)
-        if (axisymmetric)
-          {
-            // The axisymmetric closed forms read the same planes.
-            axisymmetric_gimp_patch_ready = gimp && data->uniform_patch;
-            if (axisymmetric_gimp_patch_ready)
-              axisymmetric_gimp_patch.reinit(gimp_patch->planes());
-            return;
-          }
       cpdi_patch = nullptr;
       if (cpdi && data->uniform_patch)
         {
@@ -110,6 +101,14 @@ namespace fmpm
           if (patches.cpdi[patches.cpdi_of_cell[c]].applies())
             cpdi_patch = &patches.cpdi[patches.cpdi_of_cell[c]];
         }
+      if constexpr (dim == 2)
+        if (axisymmetric)
+          {
+            // The axisymmetric closed forms read the same planes and cells.
+            axisymmetric_gimp_patch_ready = gimp && data->uniform_patch;
+            if (axisymmetric_gimp_patch_ready)
+              axisymmetric_gimp_patch.reinit(gimp_patch->planes());
+          }
     }
 
 
@@ -512,6 +511,62 @@ namespace fmpm
               l0[a] = l0_column[a][k];
               for (unsigned int b = 0; b < dim; ++b)
                 F[a][b] = F_column[a][b][k];
+            }
+          // CPDI on a uniform patch: the corners' cells found
+          // arithmetically and their nodes merged by plane slot, with the
+          // axisymmetric corner weights (Axisymmetric::compute_support()'s
+          // operations: the same bits), straight into the cache.
+          if (cpdi_patch != nullptr && x[0] > 0)
+            {
+              Tensor<2, dim> s;
+              for (unsigned int a = 0; a < dim; ++a)
+                for (unsigned int b = 0; b < dim; ++b)
+                  s[a][b] = F[a][b] * l0[b];
+              Axisymmetric::keep_cpdi_domain_off_axis(x[0], s);
+              std::array<double, 4>         w;
+              std::array<Tensor<1, dim>, 4> g;
+              double                        t;
+              Axisymmetric::cpdi_corner_weights(x[0], s, w, g, t);
+              cache.make_room(
+                ShapeFunction::UniformCpdiPatch<dim>::max_support_size);
+              if (cache.T.size() < cache.node.size())
+                cache.T.resize(cache.node.size());
+              double *const         S_out   = cache.S.data() + first;
+              Tensor<1, dim> *const G_out   = cache.G.data() + first;
+              double *const         T_out   = cache.T.data() + first;
+              double                w_alpha = 0;
+              Tensor<1, dim>        g_alpha;
+              const unsigned int    count = cpdi_patch->merge_corners(
+                transfer,
+                x,
+                s,
+                cache.node.data() + first,
+                [&](const unsigned int alpha, const Tensor<1, dim> &)
+                  DEAL_II_ALWAYS_INLINE {
+                    w_alpha = w[alpha];
+                    g_alpha = g[alpha];
+                  },
+                [&](const double       N,
+                    const unsigned int entry,
+                    const bool         first_time) DEAL_II_ALWAYS_INLINE {
+                  if (first_time)
+                    {
+                      S_out[entry] = w_alpha * N;
+                      G_out[entry] = N * g_alpha;
+                      T_out[entry] = t * N;
+                    }
+                  else
+                    {
+                      S_out[entry] += w_alpha * N;
+                      G_out[entry] += N * g_alpha;
+                      T_out[entry] += t * N;
+                    }
+                });
+              if (count > 0)
+                {
+                  cache.n_stored += count;
+                  return;
+                }
             }
           // GIMP on a uniform patch: the closed forms of the cell's patch
           // (no hanging nodes), straight into the cache.
