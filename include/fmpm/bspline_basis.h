@@ -400,32 +400,9 @@ namespace fmpm
           }
       }
 
-      /** The uniform quadratic B-spline N(s) centred at 0 and its
-       * antiderivative Φ(s) = ∫_{−∞}^s N. */
-      static double
-      quadratic(const double s)
-      {
-        const double a = std::abs(s);
-        if (a < 0.5)
-          return 0.75 - s * s;
-        if (a < 1.5)
-          return 0.5 * (1.5 - a) * (1.5 - a);
-        return 0;
-      }
-      static double
-      quadratic_antiderivative(const double s)
-      {
-        if (s <= -1.5)
-          return 0;
-        if (s <= -0.5)
-          return (s + 1.5) * (s + 1.5) * (s + 1.5) / 6;
-        if (s <= 0.5)
-          return 0.5 + 0.75 * s - s * s * s / 3;
-        if (s < 1.5)
-          return 1 - (1.5 - s) * (1.5 - s) * (1.5 - s) / 6;
-        return 1;
-      }
-
+      /** averages() on uniform quadratic pieces: S̄_i = (Φ_i(b) −
+       * Φ_i(a))/(2λ), Ḡ_i = (N_i(b) − N_i(a))/(2λh) with a, b = t ∓ λ, N_i
+       * the uniform quadratic B-spline of vertex i and Φ_i = ∫ N_i. */
       DEAL_II_ALWAYS_INLINE void
       quadratic_averages(const double  t,
                          const double  lambda,
@@ -438,18 +415,54 @@ namespace fmpm
         // (Within round-off of the padding layer a vertex beyond carries a
         // weight of (round-off)³: left out.)
         // (⌈u⌉ = −⌊−u⌋.)
-        first = std::max(floor_to_int(t - lambda - 1.5) + 1, 0);
+        const double a = t - lambda, b = t + lambda;
+        const int    first_unclamped = floor_to_int(a - 1.5) + 1;
+        first                        = std::max(first_unclamped, 0);
         const int last =
-          std::min(-floor_to_int(-(t + lambda + 1.5)) - 1, static_cast<int>(n));
-        count              = last - first + 1;
-        const double scale = 0.5 / lambda;
+          std::min(-floor_to_int(-(b + 1.5)) - 1, static_cast<int>(n));
+        count = last - first + 1;
+        // Φ_i and N_i at an end e of the segment from the three functions
+        // not zero there, those of the vertices m − 1, m, m + 1 with
+        // m = ⌊e + 1/2⌋, u = e − m ∈ [−1/2, 1/2): Φ = 1 − (1/2 − u)³/6,
+        // 1/2 + 3u/4 − u³/3, (1/2 + u)³/6 and N = (1/2 − u)²/2, 3/4 − u²,
+        // (1/2 + u)²/2; vertices left of them have Φ = 1, right of them
+        // Φ = 0 (no branch on the pieces).
+        const int m_a = floor_to_int(a + 0.5);
+        const int m_b = floor_to_int(b + 0.5);
+        const int d   = m_b - m_a; // 0 or 1 for λ ≤ 1/2
+        if (d < 0 || d > 1 || first_unclamped != m_a - 1 ||
+            last - first_unclamped > 2 + d)
+          {
+            averages_by_quadrature(
+              t, lambda, span(a), span(b), first, count, S, dS);
+            return;
+          }
+        const double u = a - m_a, v = b - m_b;
+        const double ua = 0.5 - u, ub = 0.5 + u, va = 0.5 - v, vb = 0.5 + v;
+        // Slot 0: vertex m_a − 1. The b-arrays start one vertex lower
+        // (m_b − 2, Φ = 1) so that a vertex's b-slot is its a-slot + 1 − d.
+        const double Phi_a[5] = {1 - ua * ua * ua / 6,
+                                 0.5 + 0.75 * u - u * u * u / 3,
+                                 ub * ub * ub / 6,
+                                 0,
+                                 0};
+        const double Phi_b[6] = {1,
+                                 1 - va * va * va / 6,
+                                 0.5 + 0.75 * v - v * v * v / 3,
+                                 vb * vb * vb / 6,
+                                 0,
+                                 0};
+        const double N_a[5]   = {
+            0.5 * ua * ua, 0.75 - u * u, 0.5 * ub * ub, 0, 0};
+        const double N_b[6] = {
+          0, 0.5 * va * va, 0.75 - v * v, 0.5 * vb * vb, 0, 0};
+        const double scale = 0.5 / lambda, gradient_scale = scale * inverse_h;
+        const int    offset = first - first_unclamped;
         for (unsigned int k = 0; k < count; ++k)
           {
-            const double r = t - (first + static_cast<int>(k));
-            S[k]           = scale * (quadratic_antiderivative(r + lambda) -
-                            quadratic_antiderivative(r - lambda));
-            dS[k]          = scale * inverse_h *
-                    (quadratic(r + lambda) - quadratic(r - lambda));
+            const int k_a = static_cast<int>(k) + offset, k_b = k_a + 1 - d;
+            S[k]  = scale * (Phi_b[k_b] - Phi_a[k_a]);
+            dS[k] = gradient_scale * (N_b[k_b] - N_a[k_a]);
           }
       }
 

@@ -517,8 +517,15 @@ namespace
     std::uniform_real_distribution<double> unit(0, 1);
     for (unsigned int sample = 0; sample < 2000; ++sample)
       {
-        const double l = 0.02 + 0.48 * unit(generator);
-        const double x = 2.5 + (n - 5) * unit(generator);
+        double l = 0.02 + 0.48 * unit(generator);
+        double x = 2.5 + (n - 5) * unit(generator);
+        if (sample % 4 == 0)
+          {
+            // Segment ends on vertices and mid-cells, where the closed
+            // form's pieces change (l = h/2 included).
+            x = 0.25 * std::round(4 * x);
+            l = 0.25 * (1 + sample / 4 % 2);
+          }
         double       S[6], dS[6], S_q[6], dS_q[6];
         int          first, first_q;
         unsigned int count, count_q;
