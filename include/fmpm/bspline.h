@@ -294,7 +294,7 @@ namespace fmpm
       }
 
       /** b2spline/b3spline: S_i(x_p) and ∇S_i(x_p). */
-      Status
+      DEAL_II_ALWAYS_INLINE Status
       point_support(const Point<dim> &x, ProductSupport<dim> &support) const
       {
         for (unsigned int d = 0; d < dim; ++d)
@@ -311,7 +311,7 @@ namespace fmpm
        * @brief b2gimp: the averages over the box x ± l (half-lengths l_d ≤
        * h_d/2), a product of 1D averages.
        */
-      Status
+      DEAL_II_ALWAYS_INLINE Status
       gimp_support(const Point<dim>     &x,
                    const Tensor<1, dim> &l,
                    ProductSupport<dim>  &support) const
@@ -380,14 +380,34 @@ namespace fmpm
         std::fill(support.G.begin(),
                   support.G.begin() + n_entries,
                   Tensor<1, dim>());
+        // Each corner's values S_i(x_α), the products of
+        // ProductSupport::for_each_node() (its gradients are not needed).
+        // Its entries whose value is zero add nothing: S and G never hold
+        // −0, so adding ±0 leaves their bits as they are.
         for (unsigned int alpha = 0; alpha < n_corners; ++alpha)
-          corner[alpha].for_each_node([&](const std::array<int, dim> &index,
-                                          const double                S_alpha,
-                                          const Tensor<1, dim> &) {
-            const unsigned int e = support.entry(index);
-            support.S[e] += S_alpha / n_corners;
-            support.G[e] += S_alpha * weight_of_corner[alpha];
-          });
+          {
+            const ProductSupport<dim> &c         = corner[alpha];
+            unsigned int               k[dim]    = {};
+            const unsigned int         n_entries = c.size();
+            std::array<int, dim>       index;
+            for (unsigned int e = 0; e < n_entries; ++e)
+              {
+                double value = 1;
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    value *= c.w[d][k[d]];
+                    index[d] = c.first[d] + static_cast<int>(k[d]);
+                  }
+                const unsigned int entry = support.entry(index);
+                support.S[entry] += value / n_corners;
+                support.G[entry] += value * weight_of_corner[alpha];
+                for (unsigned int d = 0; d < dim; ++d)
+                  if (++k[d] < c.count[d])
+                    break;
+                  else
+                    k[d] = 0;
+              }
+          }
         return Status::ok;
       }
 
@@ -446,7 +466,7 @@ namespace fmpm
        * out, as the sink leaves it out), or if the support is not inside the
        * map's box (then nothing is written; use for_each_node()).
        */
-      bool
+      DEAL_II_ALWAYS_INLINE bool
       write_product(const ProductSupport<dim> &product,
                     unsigned int              *node,
                     double                    *S,
@@ -508,6 +528,63 @@ namespace fmpm
                        w[0][k0] * w[1][k1] * w[2][k2],
                        g);
                 }
+        else
+          return false;
+        return true;
+      }
+
+      /**
+       * @brief The entries of @p box as BoxSupport::for_each_node() gives
+       * them to a sink that stores the local index, S and G, read along the
+       * rows of the dense map as write_product() does.
+       *
+       * @return as write_product().
+       */
+      DEAL_II_ALWAYS_INLINE bool
+      write_box(const BoxSupport<dim> &box,
+                unsigned int          *node,
+                double                *S,
+                Tensor<1, dim>        *G,
+                unsigned int          &n_written,
+                bool                  &all_on_rank) const
+      {
+        unsigned int base = 0, stride[dim];
+        unsigned int row  = 1;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const int k = box.first[d] - first[d];
+            if (k < 0 || k + box.count[d] > count[d])
+              return false;
+            base += row * k;
+            stride[d] = row;
+            row *= count[d];
+          }
+        n_written       = 0;
+        all_on_rank     = true;
+        const auto emit = [&](const unsigned int e, const unsigned int map) {
+          if (box.S[e] == 0 && box.G[e].norm_square() == 0)
+            return;
+          const unsigned int local_index = local[map];
+          if (local_index == numbers::invalid_unsigned_int)
+            {
+              all_on_rank = false;
+              return;
+            }
+          node[n_written] = local_index;
+          S[n_written]    = box.S[e];
+          G[n_written]    = box.G[e];
+          ++n_written;
+        };
+        unsigned int e = 0;
+        if constexpr (dim == 2)
+          for (unsigned int k1 = 0; k1 < box.count[1]; ++k1)
+            for (unsigned int k0 = 0; k0 < box.count[0]; ++k0, ++e)
+              emit(e, base + k0 + stride[1] * k1);
+        else if constexpr (dim == 3)
+          for (unsigned int k2 = 0; k2 < box.count[2]; ++k2)
+            for (unsigned int k1 = 0; k1 < box.count[1]; ++k1)
+              for (unsigned int k0 = 0; k0 < box.count[0]; ++k0, ++e)
+                emit(e, base + k0 + stride[1] * k1 + stride[2] * k2);
         else
           return false;
         return true;

@@ -188,7 +188,14 @@ namespace fmpm
                   return Status::in_padding_layer;
                 if (box_status != BSpline::Status::ok)
                   return Status::domain_too_wide;
-                box.for_each_node(sink);
+                bool all_on_rank = true;
+                if (vertices.write_box(box, node, S, G, count, all_on_rank))
+                  {
+                    if (!all_on_rank)
+                      status = Status::vertex_not_on_rank;
+                  }
+                else
+                  box.for_each_node(sink);
                 break;
               }
             default:

@@ -136,14 +136,17 @@ namespace fmpm
     void
     SupportBuilder<dim>::build_bspline(const unsigned int k)
     {
+      // (b2spline and b3spline read neither F nor l⁰.)
       Tensor<2, dim> F;
       Tensor<1, dim> l0;
-      for (unsigned int a = 0; a < dim; ++a)
-        {
+      if (shape_function == ShapeFunction::Type::b2gimp ||
+          shape_function == ShapeFunction::Type::b2cpdi)
+        for (unsigned int a = 0; a < dim; ++a)
           l0[a] = l0_column[a][k];
+      if (shape_function == ShapeFunction::Type::b2cpdi)
+        for (unsigned int a = 0; a < dim; ++a)
           for (unsigned int b = 0; b < dim; ++b)
             F[a][b] = F_column[a][b][k];
-        }
       const std::size_t first = cache.n_stored;
       cache.make_room(bsplines->max_support_size);
       unsigned int                count;
@@ -553,6 +556,33 @@ namespace fmpm
                   axisymmetric_failure = status;
                 }
               return; // (the step fails)
+            }
+          // compute_support() names each node once: without constrained
+          // nodes (no masters to merge) the entries go straight into the
+          // cache, as add_axisymmetric_node() would store them.
+          bool any_constrained = false;
+          for (const auto &node : axisymmetric_support)
+            any_constrained = any_constrained || node.constrained;
+          if (!any_constrained)
+            {
+              const unsigned int n = axisymmetric_support.size();
+              cache.make_room(n);
+              if (cache.T.size() < cache.node.size())
+                cache.T.resize(cache.node.size());
+              unsigned int *const   node_out = cache.node.data() + first;
+              double *const         S_out    = cache.S.data() + first;
+              Tensor<1, dim> *const G_out    = cache.G.data() + first;
+              double *const         T_out    = cache.T.data() + first;
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  const auto &node = axisymmetric_support[i];
+                  node_out[i]      = node.local_index;
+                  S_out[i]         = node.S;
+                  G_out[i]         = node.G;
+                  T_out[i]         = node.T;
+                }
+              cache.n_stored += n;
+              return;
             }
           for (const auto &node : axisymmetric_support)
             add_axisymmetric_node(first,

@@ -337,8 +337,8 @@ namespace
         for (double x = -0.49; x <= n + 0.5; x += 0.0625)
           {
             double       S[6], dS[6], S_m[6], dS_m[6];
-            int          first, first_m;
-            unsigned int count, count_m;
+            int          first = 0, first_m = 0;
+            unsigned int count = 0, count_m = 0;
             basis.values(x, first, count, S, dS);
             basis.values(n - x, first_m, count_m, S_m, dS_m);
             for (unsigned int k = 0; k < count; ++k)
@@ -375,8 +375,8 @@ namespace
         for (double t = 0.01; t < 2.5; t += 0.01)
           {
             double       S[6], dS[6];
-            int          first;
-            unsigned int count;
+            int          first = 0;
+            unsigned int count = 0;
             basis.values(t, first, count, S, dS);
             right =
               std::max(right, defects(basis, t, first, count, S, dS).largest());
@@ -566,6 +566,28 @@ namespace
   }
 
 
+
+  // Basis1D::floor_to_int() is the integer of std::floor() (which the span
+  // of a point used before): at and next to integers of both signs, and at
+  // random values. Rounding towards zero fails below 0, a test with <= at
+  // the integers.
+  TEST(BSpline1D, FloorToIntIsTheFloor)
+  {
+    std::vector<double> values;
+    for (int i = -5; i <= 5; ++i)
+      for (const double u : {double(i),
+                             std::nextafter(double(i), -10.),
+                             std::nextafter(double(i), 10.),
+                             i + 0.5,
+                             i - 1e-13})
+        values.push_back(u);
+    std::mt19937                           generator(3);
+    std::uniform_real_distribution<double> wide(-1e6, 1e6);
+    for (unsigned int k = 0; k < 1000; ++k)
+      values.push_back(wide(generator));
+    for (const double u : values)
+      EXPECT_EQ(Basis1D::floor_to_int(u), static_cast<int>(std::floor(u))) << u;
+  }
 
   TEST(BSpline1D, PaddingRefusesPointsThatNeedVerticesBeyond)
   {
@@ -1004,6 +1026,127 @@ namespace
             }
       }
     EXPECT_EQ(n_compared, 600u);
+  }
+
+  // The CPDI support (Lattice::cpdi_support()) is bitwise the sum over
+  // the corners of their tensor products as ProductSupport::for_each_node()
+  // gives them (S̄ += S_α/2^dim, Ḡ += S_α s⁻ᵀr_α/2^dim over the entries
+  // that are not zero, corner by corner), and VertexMap::write_box() gives
+  // the box's entries with the same local indices, S and G and in the same
+  // order as BoxSupport::for_each_node() with one local_index() per node,
+  // for deformed domains all over the mesh; a box that leaves the map's
+  // box is refused and nothing is written.
+  TYPED_TEST(BSplineLatticeTest, CpdiBoxesAsTheCornerSumAndTheLookup)
+  {
+    constexpr int             dim = TypeParam::value;
+    std::vector<unsigned int> subdivisions;
+    Point<dim>                lower, upper;
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        subdivisions.push_back(6 + d);
+        lower[d] = -1 + 0.25 * d;
+        upper[d] = lower[d] + 0.3 * subdivisions[d];
+      }
+    MeshSetup<dim>                         mesh(subdivisions, lower, upper);
+    std::mt19937                           generator(17 + dim);
+    std::uniform_real_distribution<double> unit(0, 1);
+    constexpr unsigned int max_size  = fmpm::BSpline::BoxSupport<dim>::max_size;
+    constexpr unsigned int n_corners = 1u << dim;
+    std::string            error;
+    const auto             lattice =
+      fmpm::BSpline::Lattice<dim>::of_mesh(mesh.transfer,
+                                           mesh.triangulation.n_active_cells(),
+                                           2,
+                                           Boundary::open_knots,
+                                           MPI_COMM_WORLD,
+                                           error);
+    ASSERT_TRUE(error.empty()) << error;
+    fmpm::BSpline::VertexMap<dim> map;
+    map.reinit(lattice, mesh.transfer, mesh.triangulation.n_active_cells());
+    unsigned int n_compared = 0;
+    for (unsigned int sample = 0; sample < 300; ++sample)
+      {
+        Point<dim>     x;
+        Tensor<2, dim> s;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            x[d] = lower[d] + (upper[d] - lower[d]) * unit(generator);
+            for (unsigned int e = 0; e < dim; ++e)
+              s[d][e] = (d == e ? 0.075 : 0.02) * (2 * unit(generator) - 1) +
+                        (d == e ? 0.04 : 0);
+          }
+        fmpm::BSpline::BoxSupport<dim> box;
+        ASSERT_EQ(lattice.cpdi_support(x, s, box), fmpm::BSpline::Status::ok);
+
+        // The corner sum entry by entry.
+        std::map<std::array<int, dim>, std::pair<double, Tensor<1, dim>>> sum;
+        const Tensor<2, dim> s_inverse_transpose = transpose(invert(s));
+        for (unsigned int alpha = 0; alpha < n_corners; ++alpha)
+          {
+            Tensor<1, dim> r;
+            for (unsigned int j = 0; j < dim; ++j)
+              r[j] = ((alpha >> j) & 1) ? 1. : -1.;
+            const Tensor<1, dim> weight = s_inverse_transpose * r / n_corners;
+            fmpm::BSpline::ProductSupport<dim> corner;
+            ASSERT_EQ(lattice.point_support(x + s * r, corner),
+                      fmpm::BSpline::Status::ok);
+            corner.for_each_node([&](const std::array<int, dim> &index,
+                                     const double                S_alpha,
+                                     const Tensor<1, dim> &) {
+              auto &entry = sum[index];
+              entry.first += S_alpha / n_corners;
+              entry.second += S_alpha * weight;
+            });
+          }
+        std::vector<unsigned int>   node;
+        std::vector<double>         S;
+        std::vector<Tensor<1, dim>> G;
+        box.for_each_node([&](const std::array<int, dim> &index,
+                              const double                value,
+                              const Tensor<1, dim>       &gradient) {
+          node.push_back(map.local_index(index));
+          S.push_back(value);
+          G.push_back(gradient);
+          const auto entry = sum.find(index);
+          ASSERT_NE(entry, sum.end());
+          EXPECT_EQ(value, entry->second.first);
+          for (unsigned int d = 0; d < dim; ++d)
+            EXPECT_EQ(gradient[d], entry->second.second[d]);
+        });
+        // (No entry of the sum left out.)
+        unsigned int n_not_zero = 0;
+        for (const auto &entry : sum)
+          if (entry.second.first != 0 || entry.second.second.norm_square() != 0)
+            ++n_not_zero;
+        EXPECT_EQ(n_not_zero, node.size());
+
+        unsigned int   written_node[max_size];
+        double         written_S[max_size];
+        Tensor<1, dim> written_G[max_size];
+        unsigned int   n_written   = 0;
+        bool           all_on_rank = false;
+        ASSERT_TRUE(map.write_box(
+          box, written_node, written_S, written_G, n_written, all_on_rank));
+        EXPECT_TRUE(all_on_rank);
+        ASSERT_EQ(n_written, node.size()) << x;
+        for (unsigned int j = 0; j < n_written; ++j)
+          {
+            EXPECT_EQ(written_node[j], node[j]);
+            EXPECT_EQ(written_S[j], S[j]);
+            for (unsigned int d = 0; d < dim; ++d)
+              EXPECT_EQ(written_G[j][d], G[j][d]);
+          }
+        ++n_compared;
+
+        // The box shifted one vertex below the lattice: refused.
+        fmpm::BSpline::BoxSupport<dim> shifted = box;
+        shifted.first[0]                       = -1;
+        n_written                              = 7;
+        EXPECT_FALSE(map.write_box(
+          shifted, written_node, written_S, written_G, n_written, all_on_rank));
+        EXPECT_EQ(n_written, 7u);
+      }
+    EXPECT_EQ(n_compared, 300u);
   }
 
   // Meshes that are not box lattices are refused with the reason.

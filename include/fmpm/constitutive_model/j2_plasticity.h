@@ -116,7 +116,13 @@ namespace fmpm
             const double A2 = 0.5 * A.norm() * A.norm(), detA = determinant(A);
             x = 1.;
             for (unsigned int i = 0; i < 8; ++i)
-              x -= (x * x * x - A2 * x + detA - 1.) / (3. * x * x - A2);
+              {
+                const double dx =
+                  (x * x * x - A2 * x + detA - 1.) / (3. * x * x - A2);
+                x -= dx;
+                if (std::abs(dx) < 1e-10)
+                  break;
+              }
           }
         elastic_b_minus_identity = A + (x - 1.) * I;
         return s;
