@@ -167,7 +167,7 @@ namespace fmpm
       mutable unsigned long long n_lumped_fallbacks  = 0;
       /** Padding layer: the solves of the mirror iteration, and their cap. */
       mutable unsigned long long n_mirror_sweeps   = 0;
-      const unsigned int         max_mirror_sweeps = 100;
+      static constexpr unsigned int max_mirror_sweeps = 100;
       /** 1 on weak nodes (owned entries), else 0. */
       GridScalar weak;
       /** The diagonal K_ii of the matrix solved with (owned entries). */
