@@ -39,6 +39,17 @@ namespace fmpm
               }
           }
       }
+    // The padding layer's mirror is a constraint on the solved field itself
+    // (the full mass couples the padding nodes to the interior), imposed
+    // by the mass matrix in each iterate at the field's time.
+    if (conditions && conditions->has_padding_mirrors())
+      this->padding_mirror =
+        [conditions, is_accel, t_field, &solver](GridVectorField &v) {
+          if (is_accel)
+            conditions->mirror_padding(v, solver.t_end, t_field, true);
+          else
+            conditions->mirror_padding(v, t_field, t_field, false);
+        };
     solver.solve(
       *this,
       field,
@@ -56,6 +67,7 @@ namespace fmpm
       field == updated_velocity ? &velocity_corrections[1] :
       field == velocity         ? &velocity_corrections[0] :
                                   nullptr);
+    this->padding_mirror = nullptr;
   }
 
   template struct GridState<2>;

@@ -91,6 +91,13 @@ namespace fmpm
   }
 
   template <int dim>
+  const std::function<void(GridVectorField &)> &
+  SimulatorAccess<dim>::get_padding_mirror() const
+  {
+    return get_simulator().centre_of_mass.padding_mirror;
+  }
+
+  template <int dim>
   double
   SimulatorAccess<dim>::get_time() const
   {

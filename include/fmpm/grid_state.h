@@ -11,6 +11,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace fmpm
@@ -54,6 +55,10 @@ namespace fmpm
      * mass-matrix solves (constrained method), and the known values. */
     std::vector<GridScalar> known_velocity_mask;
     std::vector<GridScalar> known_velocity_value;
+    /** B-splines with a padding layer and velocity conditions: sets the
+     * padding nodes of a solved field from their mirrors at the field's
+     * time (collective), during compute()'s solve only; empty otherwise. */
+    std::function<void(GridVectorField &)> padding_mirror;
     /** Corrections Δv (of v) and Δv⁺ (of v⁺) per node condition of the
      * last solves (the velocity method's reactions). */
     std::array<std::vector<double>, 2> velocity_corrections;

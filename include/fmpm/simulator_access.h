@@ -19,6 +19,8 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/particles/particle_handler.h>
 
+#include <functional>
+
 namespace fmpm
 {
   template <int dim>
@@ -97,6 +99,11 @@ namespace fmpm
     /** The known values where the mask is 1 (set before each solve). */
     const std::vector<GridScalar> &
     get_known_velocity_values() const;
+    /** Sets the padding nodes of a solved velocity-like field from their
+     * mirrors (B-splines with a padding layer and velocity conditions;
+     * collective), or empty: set for each solve of a grid field. */
+    const std::function<void(GridVectorField &)> &
+    get_padding_mirror() const;
     double
     get_time() const;
     double

@@ -250,6 +250,40 @@ namespace fmpm
                  std::vector<GridScalar> &mask,
                  std::vector<GridScalar> &value) const;
 
+    /** @brief Whether a padding layer mirrors nodes (B-spline boundary =
+     * padding with velocity conditions; the same on every rank). */
+    bool
+    has_padding_mirrors() const
+    {
+      return padding_layer;
+    }
+
+    /**
+     * @brief Set the padding nodes of the velocity-like field @p v from
+     * their mirrors (collective): v_pad = R v_mirror + 2 (v_w · n̂) n̂ along
+     * the held directions n̂, at time @p t, or with @p difference the
+     * walls' rate (v_w(t) − v_w(t0)) / (t − t0) (accelerations).
+     */
+    void
+    mirror_padding(GridVectorField &v,
+                   const double     t,
+                   const double     t0,
+                   const bool       difference) const
+    {
+      if (padding_layer)
+        apply_padding_mirrors(v, nullptr, 0., t, t0, difference, nullptr);
+    }
+
+    /** @brief The owned padding nodes that mirror a node (local indices). */
+    std::vector<unsigned int>
+    padding_node_indices() const
+    {
+      std::vector<unsigned int> result;
+      for (const PaddingMirror &r : mirrors)
+        result.push_back(r.padding);
+      return result;
+    }
+
     /** @brief The reaction labels: boundary ids, or "wall<N>" for boxes. */
     const std::vector<std::string> &
     labels() const

@@ -166,6 +166,15 @@ namespace fmpm
         for (unsigned int i = 0; i < m.locally_owned_size(); ++i)
           if (known[b].local_element(i) != 0)
             v.block(b).local_element(i) = known_values[b].local_element(i);
+      // B-splines with a padding layer: the mirror v_pad = R v_mirror +
+      // 2 (v_w · n̂) n̂ is a constraint on v like the known values, so it
+      // is imposed on every iterate as they are held in every sweep: the
+      // series then converges to m̃ v = p on the interior rows with the
+      // padding nodes slaved to their mirrors (seed 000 Eqs. 1.22-1.23,
+      // 2.51-2.53), and with k = 1 it is the lumped padding layer.
+      const auto &mirror = this->get_padding_mirror();
+      if (mirror)
+        mirror(v);
       if (order == 1)
         {
           count(1);
@@ -185,7 +194,9 @@ namespace fmpm
         {&m_tilde_v},
         order,
         floor,
-        tolerance));
+        tolerance,
+        mirror ? SeriesHooks{nullptr, [&](const unsigned int) { mirror(v); }} :
+                 SeriesHooks{}));
     }
 
 

@@ -10,6 +10,7 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 
+#include <cmath>
 #include <cstring>
 
 namespace fmpm
@@ -118,32 +119,90 @@ namespace fmpm
       settings.lumped_fraction   = lumped_fraction;
       settings.mass_floor        = this->get_mass_floor();
       settings.conserve_momentum = columns_sum_to_lumped_mass();
-      const GridScalar   &m      = this->get_lumped_mass();
-      const FullMassSolve result = cellwise_matrix() ?
-                                     solve_full_mass_system(*cellwise_matrix(),
-                                                            diagonal,
-                                                            m,
-                                                            &mask,
-                                                            weak,
-                                                            p,
-                                                            v,
-                                                            start_from_v,
-                                                            settings,
-                                                            &workspace) :
-                                     solve_full_mass_system(matrix(),
-                                                            diagonal,
-                                                            m,
-                                                            &mask,
-                                                            weak,
-                                                            p,
-                                                            v,
-                                                            start_from_v,
-                                                            settings,
-                                                            &workspace);
-      ++n_solves;
-      total_iterations += result.iterations;
-      max_iterations_used = std::max(max_iterations_used, result.iterations);
-      n_lumped_fallbacks += result.converged ? 0 : 1;
+      const GridScalar &m        = this->get_lumped_mass();
+      const auto        solve    = [&](const std::vector<GridScalar> &held,
+                             const bool                     from_v) {
+        const FullMassSolve result =
+          cellwise_matrix() ? solve_full_mass_system(*cellwise_matrix(),
+                                                     diagonal,
+                                                     m,
+                                                     &held,
+                                                     weak,
+                                                     p,
+                                                     v,
+                                                     from_v,
+                                                     settings,
+                                                     &workspace) :
+                                        solve_full_mass_system(matrix(),
+                                                     diagonal,
+                                                     m,
+                                                     &held,
+                                                     weak,
+                                                     p,
+                                                     v,
+                                                     from_v,
+                                                     settings,
+                                                     &workspace);
+        ++n_solves;
+        total_iterations += result.iterations;
+        max_iterations_used = std::max(max_iterations_used, result.iterations);
+        n_lumped_fallbacks += result.converged ? 0 : 1;
+      };
+      const auto &mirror = this->get_padding_mirror();
+      if (!mirror)
+        {
+          solve(mask, start_from_v);
+          return;
+        }
+      // B-splines with a padding layer: the padding nodes are slaved to
+      // their mirrors, v_pad = R v_mirror + 2 (v_w · n̂) n̂ (a constraint on
+      // v as the known values are). The solve is m̃ v = p on the interior
+      // rows with v_pad so constrained, the limit of the FMPM(k) series
+      // that imposes the mirror on every iterate (seed 000 Eqs. 1.22-1.23,
+      // 2.51-2.53). It is found by holding the padding nodes as known
+      // values at their mirrors' last values and solving again from the
+      // previous solution until the padding values stop changing (block
+      // Gauss-Seidel: the padding nodes carry only the B-splines' tails of
+      // the points next to the layer, a weak coupling).
+      const std::vector<unsigned int> padding =
+        this->get_velocity_conditions().padding_node_indices();
+      std::vector<GridScalar> held(mask);
+      for (const unsigned int i : padding)
+        for (unsigned int b = 0; b < p.n_blocks(); ++b)
+          held[b].local_element(i) = 1;
+      std::vector<double> previous(padding.size() * p.n_blocks());
+      const MPI_Comm      comm = m.get_mpi_communicator();
+      if (!start_from_v)
+        apply_lumped_inverse(m, p, v, settings.mass_floor);
+      for (unsigned int b = 0; b < p.n_blocks(); ++b)
+        for (unsigned int i = 0; i < n; ++i)
+          if (mask[b].local_element(i) != 0)
+            v.block(b).local_element(i) = values[b].local_element(i);
+      for (unsigned int sweep = 0; sweep < max_mirror_sweeps; ++sweep)
+        {
+          mirror(v);
+          for (unsigned int k = 0; k < padding.size(); ++k)
+            for (unsigned int b = 0; b < p.n_blocks(); ++b)
+              previous[k * p.n_blocks() + b] =
+                v.block(b).local_element(padding[k]);
+          solve(held, true);
+          mirror(v);
+          double change = 0, size = 0;
+          for (unsigned int k = 0; k < padding.size(); ++k)
+            for (unsigned int b = 0; b < p.n_blocks(); ++b)
+              {
+                const double value = v.block(b).local_element(padding[k]);
+                change =
+                  std::max(change,
+                           std::abs(value - previous[k * p.n_blocks() + b]));
+              }
+          for (unsigned int b = 0; b < p.n_blocks(); ++b)
+            size = std::max(size, v.block(b).linfty_norm());
+          ++n_mirror_sweeps;
+          if (Utilities::MPI::max(change, comm) <=
+              tolerance * Utilities::MPI::max(size, comm))
+            break;
+        }
     }
 
 
@@ -180,6 +239,21 @@ namespace fmpm
           weak.local_element(i) = is_weak ? 1. : 0.;
           n_weak += is_weak;
         }
+      // B-splines with a padding layer: the padding nodes are held at
+      // their mirrors' values in every solve (solve_system()), as known
+      // values are, and never weak: a weak node's couplings move onto its
+      // neighbours' diagonals, as if it moved with them, where the mirror
+      // moves it against them across a held wall (measured: the padded
+      // bar's energy changed by 28 % with the padding nodes weak).
+      const VelocityConditions<dim> &conditions =
+        this->get_velocity_conditions();
+      if (conditions.has_padding_mirrors())
+        for (const unsigned int i : conditions.padding_node_indices())
+          if (weak.local_element(i) != 0)
+            {
+              weak.local_element(i) = 0;
+              --n_weak;
+            }
       n_weak_node_steps += n_weak;
       ++n_setups;
     }
@@ -231,8 +305,8 @@ namespace fmpm
     std::map<std::string, double>
     Full<dim>::statistics() const
     {
-      const MPI_Comm comm = this->get_mpi_communicator();
-      return {
+      const MPI_Comm                comm   = this->get_mpi_communicator();
+      std::map<std::string, double> result = {
         {"weak_nodes_per_step",
          n_setups ?
            Utilities::MPI::sum(static_cast<double>(n_weak_node_steps), comm) /
@@ -244,6 +318,9 @@ namespace fmpm
         {"cg_iterations_max", static_cast<double>(max_iterations_used)},
         {"lumped_fallbacks",
          Utilities::MPI::max(static_cast<double>(n_lumped_fallbacks), comm)}};
+      if (n_mirror_sweeps > 0)
+        result["padding_mirror_solves"] = static_cast<double>(n_mirror_sweeps);
+      return result;
     }
 
 

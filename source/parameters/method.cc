@@ -143,9 +143,10 @@ namespace fmpm
         "and Moving wall conditions on boundary ids act on the wall one "
         "cell inside the mesh boundary: its nodes carry them, and each "
         "padding node mirrors the node across the wall (2 v_w - v along "
-        "the held directions, v along the others); it needs Mass "
-        "matrix/Model name = lumped and wall velocities in t only. Units: "
-        "none.");
+        "the held directions, v along the others; with the full mass, fmpm "
+        "or full, in every iterate of the solve); it needs wall velocities "
+        "in t only, and with the full mass Boundary conditions/Method = "
+        "constrained and no multimaterial contact. Units: none.");
     }
     prm.leave_subsection();
 

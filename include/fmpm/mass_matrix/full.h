@@ -165,6 +165,9 @@ namespace fmpm
       mutable unsigned long long total_iterations    = 0;
       mutable unsigned int       max_iterations_used = 0;
       mutable unsigned long long n_lumped_fallbacks  = 0;
+      /** Padding layer: the solves of the mirror iteration, and their cap. */
+      mutable unsigned long long    n_mirror_sweeps   = 0;
+      static constexpr unsigned int max_mirror_sweeps = 100;
       /** 1 on weak nodes (owned entries), else 0. */
       GridScalar weak;
       /** The diagonal K_ii of the matrix solved with (owned entries). */
