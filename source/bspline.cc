@@ -59,6 +59,66 @@ namespace fmpm
                              " need at least " + std::to_string(fewest) +
                              " cells per direction, not " +
                              std::to_string(n_cells) + "."));
+      // Open knots: each span's functions as polynomials in u = t − u_j,
+      // from their values at p + 1 points of the span (exact: they are of
+      // degree p there), for averages_by_polynomials().
+      if (boundary == Boundary::open_knots)
+        {
+          span_polynomials.resize(last_span - first_span + 1);
+          for (int j = first_span; j <= last_span; ++j)
+            {
+              SpanPolynomials &span  = span_polynomials[j - first_span];
+              const double     width = knot(j + 1) - knot(j);
+              if (!(width > 0))
+                continue;
+              double       values[max_degree + 1][max_nodes];
+              double       u[max_degree + 1];
+              double       dS[max_nodes];
+              int          first = 0;
+              unsigned int count = 0;
+              for (unsigned int m = 0; m <= p; ++m)
+                {
+                  u[m] = width * m / p;
+                  int          first_m;
+                  unsigned int count_m;
+                  span_values_with_knots(j,
+                                         knot(j) + u[m],
+                                         OwnKnots{this},
+                                         first_m,
+                                         count_m,
+                                         values[m],
+                                         dS);
+                  AssertThrow(m == 0 || (first_m == first && count_m == count),
+                              ExcInternalError());
+                  first = first_m;
+                  count = count_m;
+                }
+              span.first = first;
+              span.count = count;
+              // Newton's divided differences on u_0 ... u_p, then the
+              // Newton form expanded into powers of u.
+              for (unsigned int k = 0; k < count; ++k)
+                {
+                  double d[max_degree + 1];
+                  for (unsigned int m = 0; m <= p; ++m)
+                    d[m] = values[m][k];
+                  for (unsigned int level = 1; level <= p; ++level)
+                    for (unsigned int m = p; m >= level; --m)
+                      d[m] = (d[m] - d[m - 1]) / (u[m] - u[m - level]);
+                  // c(u) = d_p; c ← c (u − u_m) + d_m for m = p − 1 ... 0.
+                  double c[max_degree + 1] = {};
+                  c[0]                     = d[p];
+                  for (int m = static_cast<int>(p) - 1; m >= 0; --m)
+                    {
+                      for (int q = static_cast<int>(p); q >= 1; --q)
+                        c[q] = c[q - 1] - u[m] * c[q];
+                      c[0] = d[m] - u[m] * c[0];
+                    }
+                  for (unsigned int q = 0; q <= p; ++q)
+                    span.coefficient[k][q] = c[q];
+                }
+            }
+        }
     }
 
 

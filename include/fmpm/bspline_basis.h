@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace fmpm
 {
@@ -171,7 +172,8 @@ namespace fmpm
         if (p == 2 && uniform_span(j_low) && uniform_span(j_high))
           quadratic_averages(t, lambda, first, count, S, dS);
         else
-          averages_by_quadrature(t, lambda, j_low, j_high, first, count, S, dS);
+          averages_by_polynomials(
+            t, lambda, j_low, j_high, first, count, S, dS);
         return true;
       }
 
@@ -521,6 +523,74 @@ namespace fmpm
           }
       }
 
+      /** averages() from each span's stored polynomials (open knots, where
+       * the uniform closed form does not hold): on each piece [lo, hi] of
+       * [t − λ, t + λ] in span j, S̄_i += ∫ P_ij / (2λ) and Ḡ_i += (P_ij(hi)
+       * − P_ij(lo)) / (2λh), exact. Without stored polynomials (padding),
+       * the quadrature. Not inlined, as span_values(). */
+      __attribute__((noinline)) void
+      averages_by_polynomials(const double  t,
+                              const double  lambda,
+                              const int     j_low,
+                              const int     j_high,
+                              int          &first,
+                              unsigned int &count,
+                              double       *S,
+                              double       *dS) const
+      {
+        if (span_polynomials.empty())
+          {
+            averages_by_quadrature(
+              t, lambda, j_low, j_high, first, count, S, dS);
+            return;
+          }
+        double S_sum[2 * max_nodes] = {}, dS_sum[2 * max_nodes] = {};
+        first                  = std::numeric_limits<int>::max();
+        int          last      = std::numeric_limits<int>::min();
+        const int    sum_first = node_of_span_start(j_low);
+        const double a = t - lambda, b = t + lambda;
+        const double inverse_length = 0.5 / lambda;
+        for (int j = j_low; j <= j_high; ++j)
+          {
+            // The piece of [a, b] in span j (the end spans extended).
+            const double lo = (j == j_low) ? a : knot(j);
+            const double hi = (j == j_high) ? b : knot(j + 1);
+            if (!(hi > lo))
+              continue;
+            const SpanPolynomials &span = span_polynomials[j - first_span];
+            // Powers of the local coordinate u = t − u_j at the ends.
+            double u_lo[max_degree + 2], u_hi[max_degree + 2];
+            u_lo[0] = u_hi[0] = 1;
+            for (unsigned int q = 0; q <= p; ++q)
+              {
+                u_lo[q + 1] = u_lo[q] * (lo - knot(j));
+                u_hi[q + 1] = u_hi[q] * (hi - knot(j));
+              }
+            for (unsigned int k = 0; k < span.count; ++k)
+              {
+                double integral = 0, difference = 0;
+                for (unsigned int q = 0; q <= p; ++q)
+                  {
+                    integral += span.coefficient[k][q] *
+                                (u_hi[q + 1] - u_lo[q + 1]) / (q + 1);
+                    difference += span.coefficient[k][q] * (u_hi[q] - u_lo[q]);
+                  }
+                const int e = span.first + static_cast<int>(k) - sum_first;
+                S_sum[e] += inverse_length * integral;
+                dS_sum[e] += inverse_length * inverse_h * difference;
+              }
+            first = std::min(first, span.first);
+            last =
+              std::max(last, span.first + static_cast<int>(span.count) - 1);
+          }
+        count = last - first + 1;
+        for (unsigned int k = 0; k < count; ++k)
+          {
+            S[k]  = S_sum[first - sum_first + static_cast<int>(k)];
+            dS[k] = dS_sum[first - sum_first + static_cast<int>(k)];
+          }
+      }
+
       /** The lowest vertex a span's functions reach (its Greville split
        * included). */
       int
@@ -543,6 +613,17 @@ namespace fmpm
        * the lattice: the first and last non-empty ones (open knots), p and n
        * (padding). */
       int first_span = 0, last_span = 0;
+
+      /** The functions of one span as polynomials in u = t − u_j:
+       * S_i = Σ_q coefficient[k][q] u^q for vertex i = first + k. */
+      struct SpanPolynomials
+      {
+        int          first                                  = 0;
+        unsigned int count                                  = 0;
+        double       coefficient[max_nodes][max_degree + 1] = {};
+      };
+      /** Per span from first_span (open knots; empty for padding). */
+      std::vector<SpanPolynomials> span_polynomials;
     };
   } // namespace BSpline
 } // namespace fmpm
