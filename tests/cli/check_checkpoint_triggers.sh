@@ -14,7 +14,9 @@ rm -rf checkpoint-triggers; mkdir checkpoint-triggers; cd checkpoint-triggers ||
 # A wall-time interval shorter than a step: a checkpoint after every step,
 # the newest 3 kept.
 printf 'subsection Output\n set Directory = wall\n set Write vtu = false\nend\nsubsection Time\n set Maximum number of steps = 6\nend\nsubsection Checkpoint\n set Wall time interval = 1e-9\n set Keep = 3\nend\nsubsection Timer\n set Type = none\nend\n' > wall.prm
-"$fmpm" "$disks" wall.prm > wall.log 2>&1 || { tail wall.log; fail "run with a wall-time interval"; }
+"$fmpm" "$disks" wall.prm > wall.log 2>&1
+code=$?
+[ "$code" -eq 0 ] || { tail wall.log; fail "run with a wall-time interval: exit code $code"; }
 [ "$(ls wall/checkpoint)" = "$(printf 'step-000004\nstep-000005\nstep-000006')" ] \
   || { ls wall/checkpoint; fail "expected the checkpoints of steps 4, 5, 6"; }
 
