@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace fmpm
 {
@@ -39,6 +40,51 @@ namespace fmpm
           return averaged_strain_update ? entry.usavg : entry.usl;
       return -1; // above 10: the full matrix
     }
+
+
+    double
+    shape_order_limit(const unsigned int        k,
+                      const ShapeFunction::Type shape,
+                      const bool                bspline_padding,
+                      const StrainUpdateScheme &strain_update)
+    {
+      // The vibrating bar of parameters/vibrating_bar.prm, 32 cells, 2
+      // points per cell, v0 = 1e-3, 20 periods, unstable = the energy
+      // doubled or drifted by more than 1 % (doc/studies/stability.md,
+      // "Shape functions and strain updates"): the lower end of each
+      // bracket (width 0.012) to two decimals. USF, USL+ and USAVG+ were at
+      // or above fmpm_order_limit() with every shape function.
+      if (strain_update.re_extrapolate || !strain_update.update_last || k <= 1)
+        return std::numeric_limits<double>::infinity();
+      struct Entry
+      {
+        ShapeFunction::Type shape;
+        double              usl[4], usavg[4]; // k = 2, 3, 5, 10
+      };
+      using ShapeFunction::Type;
+      static const Entry table[] = {
+        {Type::classic, {0.64, 0.58, 0.53, 0.50}, {0.76, 0.65, 0.57, 0.51}},
+        {Type::cpdi, {0.64, 0.58, 0.53, 0.50}, {0.76, 0.65, 0.57, 0.51}},
+        {Type::ugimp, {0.44, 0.37, 0.30, 0.22}, {0.59, 0.49, 0.39, 0.29}},
+        {Type::cpgimp, {0.44, 0.37, 0.30, 0.22}, {0.59, 0.49, 0.39, 0.29}},
+        {Type::b2spline, {0.67, 0.58, 0.46, 0.35}, {0.89, 0.74, 0.60, 0.46}},
+        {Type::b2gimp, {0.76, 0.65, 0.55, 0.42}, {0.97, 0.83, 0.67, 0.53}},
+        {Type::b2cpdi, {0.85, 0.74, 0.64, 0.52}, {0.99, 0.91, 0.76, 0.60}},
+        {Type::b3spline, {0.89, 0.76, 0.64, 0.52}, {0.99, 0.92, 0.78, 0.62}}};
+      static const unsigned int orders[4] = {2, 3, 5, 10};
+      // b2spline with a padding layer (parameters/vibrating_bar_b2spline_
+      // padding.prm): USL- 0.46 for k = 2 and 5 (0.58 for k = 3: the limit
+      // is taken not to rise with k), 0.35 for k = 10; USAVG- as open knots.
+      if (bspline_padding && shape == Type::b2spline && !strain_update.average)
+        return k <= 5 ? 0.46 : 0.35;
+      for (const Entry &entry : table)
+        if (entry.shape == shape)
+          for (unsigned int j = 0; j < 4; ++j)
+            if (k <= orders[j])
+              return strain_update.average ? entry.usavg[j] : entry.usl[j];
+      return std::numeric_limits<double>::infinity();
+    }
+
 
 
     /** The lumped mass matrix's critical Courant number on the bar: above

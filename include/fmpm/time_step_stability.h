@@ -34,6 +34,8 @@ namespace fmpm
     double position_update_psi = 0;
     /** 'Shape function/Type'. */
     ShapeFunction::Type shape_function = ShapeFunction::Type::classic;
+    /** 'Shape function/B-spline boundary = padding' (B-splines only). */
+    bool bspline_padding = false;
   };
 
   /**
@@ -81,6 +83,20 @@ namespace fmpm
      */
     double
     fmpm_order_limit(const unsigned int k, const bool averaged_strain_update);
+
+    /**
+     * FMPM(k) with the FMPM update and the series' velocities in a strain
+     * update without re-extrapolation (USL-, USAVG-): the vibrating bar's
+     * critical Courant number with @p shape, where it lies below
+     * fmpm_order_limit() (uGIMP and cpGIMP far below: 0.30 for FMPM(5)
+     * with USL-; b2spline with a padding layer below open knots with
+     * USL-); infinity otherwise and for k > 10.
+     */
+    double
+    shape_order_limit(const unsigned int        k,
+                      const ShapeFunction::Type shape,
+                      const bool                bspline_padding,
+                      const StrainUpdateScheme &strain_update);
 
     /** The lumped mass matrix (and FMPM(1)): no limit but the user's
      * Courant number (at most 1). */

@@ -230,7 +230,15 @@ namespace fmpm
       const std::string name        = "FMPM(" + std::to_string(k) + ")";
       const std::string strain_text = strain_update_text(method);
       const double      k_limit     = fmpm_order_limit(k, averaged);
-      StabilityLimit    limit;
+      // USL- and USAVG- with the series' velocities: lower with some shape
+      // functions.
+      const double   shape_limit = method.lumped_strain_velocities ?
+                                     std::numeric_limits<double>::infinity() :
+                                     shape_order_limit(std::min(k, 10u),
+                                                     method.shape_function,
+                                                     method.bspline_padding,
+                                                     method.strain_update);
+      StabilityLimit limit;
       if (k_limit > 0)
         {
           limit.max_courant = k_limit;
@@ -266,6 +274,15 @@ namespace fmpm
                 "the rigid rotation is stable at C = 2.56/k (k = 32), "
                 "unstable at 3.2/k";
             }
+        }
+      if (shape_limit < limit.max_courant)
+        {
+          limit.max_courant = shape_limit;
+          limit.basis =
+            name + ", " + strain_text + ", shape function '" +
+            ShapeFunction::parameter_name(method.shape_function) + "'" +
+            (method.bspline_padding ? " with a padding layer" : "") +
+            ": the vibrating bar's measured critical Courant number";
         }
       if (periodic() && periodic_limit < limit.max_courant)
         {

@@ -276,7 +276,8 @@ namespace fmpm
         std::to_string(Utilities::MPI::max(n_lumped_fallbacks, comm));
       status["full.n_weak_node_steps"] =
         std::to_string(Utilities::MPI::sum(n_weak_node_steps, comm));
-      status["full.n_setups"] = std::to_string(n_setups);
+      status["full.n_setups"]        = std::to_string(n_setups);
+      status["full.n_mirror_sweeps"] = std::to_string(n_mirror_sweeps);
     }
 
 
@@ -297,6 +298,7 @@ namespace fmpm
       n_lumped_fallbacks  = value("full.n_lumped_fallbacks");
       n_weak_node_steps   = is_root ? value("full.n_weak_node_steps") : 0;
       n_setups            = value("full.n_setups");
+      n_mirror_sweeps     = value("full.n_mirror_sweeps");
     }
 
 

@@ -408,7 +408,9 @@ namespace fmpm
         parameters.method.lumped_strain_velocities;
       method.position_update_psi =
         particle_updates.configured->position_update_psi();
-      method.shape_function = shape_function;
+      method.shape_function  = shape_function;
+      method.bspline_padding = bspline_supports.active() &&
+                               parameters.method.bspline_boundary == "padding";
       control.time_step_rule().set_method_limit(
         mass_matrix->stability_limit(method));
     }

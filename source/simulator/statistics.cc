@@ -193,6 +193,33 @@ namespace fmpm
                                 control.step_number(),
                                 control.time());
       }
+    // Kinetic and strain energy are not negative: the balance cannot fall
+    // by more than the initial energy, gravity's reach, the gross external
+    // work and a wall's drive put in. (The error scale's energy exchanged
+    // is left out: an unstable run inflates it as the energy goes wrong.)
+    const double available =
+      std::max({energy_balance.growth_scale(),
+                external_loads.work_scale(),
+                0.5 * statistics.mass * wall_speed * wall_speed});
+    if (E - E0 - external_loads.work() <
+        -(parameters.failure.energy_growth_limit - 1) * available)
+      {
+        std::ostringstream message;
+        message << "total energy fell from " << E0 << " to " << E
+                << " J (kinetic " << statistics.kinetic_energy << ", strain "
+                << statistics.strain_energy << ", external work "
+                << external_loads.work()
+                << " J): a loss larger than Failure detection/Energy "
+                   "growth limit - 1 = "
+                << parameters.failure.energy_growth_limit - 1
+                << " times all the energy the run was given (the kinetic "
+                   "and strain energies cannot be negative: an unstable "
+                   "step); "
+                << fastest_point();
+        throw SimulationFailure(message.str(),
+                                control.step_number(),
+                                control.time());
+      }
     const double kinetic_limit = parameters.failure.kinetic_energy_limit;
     if (kinetic_limit > 0 && statistics.kinetic_energy > kinetic_limit)
       throw SimulationFailure(
