@@ -69,7 +69,7 @@ class StepTest(unittest.TestCase):
             p_grid = S.T @ (mass * V)
             f = -G.T @ (volume * stress)
             v_plus = Minv @ (p_grid + dt * f)
-            if method in ("lumped", "consistent"):
+            if method in ("lumped", "consistent", "flip series"):
                 V_new = V + dt * (S @ (Minv @ f))
                 u = u + dt * (S @ v_plus)
             else:
@@ -86,6 +86,7 @@ class StepTest(unittest.TestCase):
         for p, placement, method, k in ((2, "gauss", "lumped", 0),
                                         (3, "uniform", "consistent", 0),
                                         (2, "uniform", "fmpm", 3),
+                                        (2, "gauss", "flip series", 4),
                                         (1, "gauss", "fmpm exact", 0)):
             reduced = study.error_after_one_period(p, 6, placement, method,
                                                    k, 300)
@@ -112,6 +113,31 @@ class StepTest(unittest.TestCase):
                                               0, 2 ** 23) for n in (8, 16)]
             self.assertAlmostEqual(math.log2(e[0] / e[1]), expected,
                                    delta=0.15, msg=f"p = {p}")
+
+    def test_series_does_not_reach_the_full_mass_at_tiny_steps(self):
+        # doc/studies/bspline_mass_1d.md: FMPM(16) stays far above
+        # FMPM(exact) at 16 cells, and FLIP with the series above FLIP with
+        # the consistent mass, while at 8 cells the FLIP series has
+        # converged; the series' own partial sums converge to m~^-1.
+        steps = 2 ** 23
+        ratio = [study.error_after_one_period(2, 16, "gauss", a, k, steps) /
+                 study.error_after_one_period(2, 16, "gauss", b, 0, steps)
+                 for a, b, k in (("fmpm", "fmpm exact", 16),
+                                 ("flip series", "consistent", 16))]
+        self.assertGreater(ratio[0], 20)
+        self.assertGreater(ratio[1], 3)
+        converged = (
+            study.error_after_one_period(2, 8, "gauss", "flip series", 16,
+                                         steps) /
+            study.error_after_one_period(2, 8, "gauss", "consistent", 0,
+                                         steps))
+        self.assertAlmostEqual(converged, 1, delta=0.05)
+        x, volume, S, G = study.operators(2, 8, "gauss")
+        mass = study.RHO * volume
+        self.assertLess(
+            np.abs(study.inverse_mass("flip series", 400, S, mass) -
+                   study.inverse_mass("consistent", 0, S, mass)).max(),
+            1e-8)
 
 
 if __name__ == "__main__":
