@@ -4,8 +4,9 @@ function and strain update, by bisection on the vibrating bar.
 
 Each run: parameters/vibrating_bar.prm (32 cells in the bar, 2 points per
 cell) with v0 = 1e-3, 20 periods (End time = 8), `Courant number limit =
-none`; unstable = the run fails (energy growth or loss bound) or the
-energy drifts by more than 1 % (|energy_error| > 0.01). Seven bisection
+none`; unstable as in the B-spline study (bsplines.is_unstable): the run
+does not complete (energy growth or loss bound) or the energy drifts by
+more than 1 % (|energy_error| > 0.01). Seven bisection
 steps in [0.1, 1.6] give a bracket of width 0.012. One progress line and
 one CSV row (shape, strain update, k, stable, unstable) per bisection,
 appended to OUTPUT/critical_courant_shapes.csv; rows already there are
@@ -32,6 +33,10 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "contrib" / "studies" / "bsplines"))
+
+from bsplines import is_unstable  # noqa: E402  (the criterion of bsplines.md)
+
 SHAPES = "classic,ugimp,cpgimp,cpdi,b2spline,b2gimp,b2cpdi,b3spline"
 
 
@@ -78,13 +83,13 @@ def stable(fmpm, scene, shape, k, scheme, courant):
         work = Path(work)
         (work / "over.prm").write_text(
             overrides(shape, k, scheme, courant, work / "out"))
-        run = subprocess.run([fmpm, str(scene), str(work / "over.prm")],
-                             capture_output=True, text=True)
+        subprocess.run([fmpm, str(scene), str(work / "over.prm")],
+                       capture_output=True, text=True)
         try:
             summary = json.loads((work / "out" / "summary.json").read_text())
         except (OSError, ValueError):
             return False
-        return run.returncode == 0 and abs(summary["energy_error"]) < 0.01
+        return not is_unstable(summary)
 
 
 def main():
