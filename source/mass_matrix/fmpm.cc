@@ -182,6 +182,16 @@ namespace fmpm
         }
       const CellwiseMatrix *cellwise = this->get_cellwise_full_mass_matrix();
       GridVectorField       m_tilde_v(v);
+      // The adaptive order tests the increments of the nodes the sweep
+      // sets: a padding node's is overwritten by its mirror.
+      GridScalar padding;
+      if (tolerance > 0 && mirror)
+        {
+          padding.reinit(m);
+          for (const unsigned int i :
+               this->get_velocity_conditions().padding_node_indices())
+            padding.local_element(i) = 1;
+        }
       count(fmpm_series(
         [&](const std::vector<GridVectorField *> &in,
             const std::vector<GridVectorField *> &out) {
@@ -190,7 +200,8 @@ namespace fmpm
           else
             apply_full_mass(this->get_full_mass_matrix(), *out[0], *in[0]);
         },
-        {SeriesField{&m, &p, &v, &known}},
+        {SeriesField{
+          &m, &p, &v, &known, tolerance > 0 && mirror ? &padding : nullptr}},
         {&m_tilde_v},
         order,
         floor,

@@ -102,6 +102,8 @@ namespace fmpm
                   const double *const held =
                     field.held ? (*field.held)[b].begin() : nullptr;
                   const double *const m_i = field.mass->begin();
+                  const double *const untested =
+                    field.untested ? field.untested->begin() : nullptr;
                   if (tolerance == 0)
                     {
                       for (const auto &[begin, end] : runs[f])
@@ -115,7 +117,7 @@ namespace fmpm
                         {
                           const double dz = (qb[i] - mz[i]) / m_i[i];
                           zb[i] += dz;
-                          if (tolerance > 0)
+                          if (!(untested && untested[i] != 0))
                             increment_squared += dz * dz;
                         }
                 }

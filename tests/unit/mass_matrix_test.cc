@@ -524,6 +524,79 @@ TEST(MassMatrix, AdaptiveOrderStopsAtTheTolerance)
 
 
 
+// A node set by a hook after every sweep (a padding node from its mirror)
+// and marked untested leaves the adaptive order's test: with a right-hand
+// side that gives it a large increment in every sweep, the series still
+// stops where the other nodes' increment falls below the tolerance, with
+// FMPM(ℓ) bit for bit; counted, that increment never lets it stop.
+TEST(MassMatrix, AdaptiveOrderSkipsUntestedNodes)
+{
+  Cloud<2>              cloud(3, 5);
+  const unsigned int    padding = 0, mirror = 1;
+  fmpm::GridVectorField p = cloud.p;
+  for (unsigned int d = 0; d < 2; ++d)
+    p.block(d).local_element(padding) += 1e3 * p.l2_norm();
+  fmpm::GridScalar untested(cloud.m);
+  untested                        = 0;
+  untested.local_element(padding) = 1;
+  const auto set_padding          = [&](fmpm::GridVectorField &v) {
+    for (unsigned int d = 0; d < 2; ++d)
+      v.block(d).local_element(padding) = -v.block(d).local_element(mirror);
+  };
+  const auto series = [&](const unsigned int      k,
+                          const double            tolerance,
+                          const fmpm::GridScalar *skipped,
+                          unsigned int           &order) {
+    fmpm::GridVectorField v = cloud.new_field();
+    fmpm::MassMatrix::apply_lumped_inverse(cloud.m, p, v, 0);
+    set_padding(v);
+    fmpm::GridVectorField m_tilde_v(v);
+    order = fmpm::MassMatrix::fmpm_series(
+      [&](const std::vector<fmpm::GridVectorField *> &in,
+          const std::vector<fmpm::GridVectorField *> &out) {
+        fmpm::MassMatrix::apply_full_mass(cloud.m_tilde, *out[0], *in[0]);
+      },
+      {fmpm::MassMatrix::SeriesField{&cloud.m, &p, &v, nullptr, skipped}},
+      {&m_tilde_v},
+      k,
+      0,
+      tolerance,
+      fmpm::MassMatrix::SeriesHooks{nullptr, [&](const unsigned int) {
+                                      set_padding(v);
+                                    }});
+    return v;
+  };
+  // The increment of sweep ℓ without the padding node.
+  const auto tested_increment = [&](const unsigned int l) {
+    unsigned int                used = 0;
+    const fmpm::GridVectorField a    = series(l, 0, nullptr, used);
+    const fmpm::GridVectorField b    = series(l - 1, 0, nullptr, used);
+    double                      sum  = 0;
+    for (unsigned int d = 0; d < 2; ++d)
+      for (unsigned int i = 0; i < cloud.m.locally_owned_size(); ++i)
+        if (i != padding)
+          sum +=
+            std::pow(a.block(d).local_element(i) - b.block(d).local_element(i),
+                     2);
+    return std::sqrt(sum);
+  };
+  unsigned int                used      = 0;
+  fmpm::GridVectorField       v1        = series(1, 0, nullptr, used);
+  const double                z1        = v1.l2_norm();
+  const double                tolerance = 1e-3;
+  unsigned int                order     = 0;
+  const fmpm::GridVectorField v = series(200, tolerance, &untested, order);
+  EXPECT_GT(order, 2u);
+  EXPECT_LT(order, 200u);
+  EXPECT_EQ(difference(v, series(order, 0, nullptr, used)), 0.);
+  EXPECT_LE(tested_increment(order), tolerance * z1);
+  EXPECT_GT(tested_increment(order - 1), tolerance * z1);
+  series(200, tolerance, nullptr, order);
+  EXPECT_EQ(order, 200u);
+}
+
+
+
 // Systems solved together (materials in contact, seed 004): split a cloud's
 // points into two materials. Sharing the unknown at every node gives both
 // the velocity of the whole cloud (m̃¹ + m̃²) v = p¹ + p²; sharing none gives

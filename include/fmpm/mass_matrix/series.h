@@ -20,14 +20,18 @@ namespace fmpm
   namespace MassMatrix
   {
     /** One field of fmpm_series(): the lumped masses m, the right-hand
-     * side q, the velocities z (z₁ on entry, z_k on exit) and, per
-     * component, the nodes whose value is held (or nullptr). */
+     * side q, the velocities z (z₁ on entry, z_k on exit), per
+     * component, the nodes whose value is held (or nullptr), and the
+     * nodes (nonzero) whose increments the adaptive order's test skips
+     * (or nullptr): the padding nodes, which an after-update hook sets
+     * from their mirrors. */
     struct SeriesField
     {
       const GridScalar              *mass;
       const GridVectorField         *rhs;
       GridVectorField               *velocity;
-      const std::vector<GridScalar> *held = nullptr;
+      const std::vector<GridScalar> *held     = nullptr;
+      const GridScalar              *untested = nullptr;
     };
 
     /** out[f] = m̃_f in[f] for every field of fmpm_series() (in: z, out:
@@ -52,8 +56,9 @@ namespace fmpm
      * @p mass_floor) and held components keep z.
      *
      * @param[in] tolerance adaptive order: the series ends after the sweep
-     * whose increment has ‖Δz‖₂ <= tolerance ‖z₁‖₂ (all fields, nodes and
-     * components; one reduction per sweep); 0 runs all k sweeps
+     * whose increment has ‖Δz‖₂ <= tolerance ‖z₁‖₂ (all fields and
+     * components, the nodes but the fields' untested ones; one reduction
+     * per sweep); 0 runs all k sweeps
      * @param[in] products scratch fields for m̃ z, one per field
      * @return the order used (k without a tolerance)
      */
