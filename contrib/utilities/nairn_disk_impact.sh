@@ -9,13 +9,18 @@
 # Prints the points, steps, wall time and the energy lost, 1 - (KE + SE)_end / (KE + SE)_0.
 # usage: nairn_disk_impact.sh VARIANT [THREADS]    VARIANT = FLIP | FMPM<k> | XPIC<k>
 # env: CELL (mm, default 0.5), SHAPE (NairnMPM's shape function, default lCPDI; B2SPLINE, B2GIMP,
-#      B2CPDI for B-splines)
+#      B2CPDI for B-splines), DX and DY (mm, default 0: both disks moved by (DX, DY), fmpm's
+#      Body n/Center; the points stay on the cell lattice, so the set of points changes)
 set -euo pipefail
 var=${1:?variant}; np=${2:-1}
 here=$(cd "$(dirname "$0")" && pwd); source "$here/nairn_common.sh"
 nairn_binary; nairn_task "$var" > /dev/null
 CELL=${CELL:-0.5}
 SHAPE=${SHAPE:-lCPDI}
+DX=${DX:-0}; DY=${DY:-0}
+oval() { # xmin xmax: the disk's box moved by (DX, DY)
+  python3 -c "import sys; dx, dy = float(sys.argv[3]), float(sys.argv[4]); print(f'<Oval xmin=\"{float(sys.argv[1]) + dx!r}\" xmax=\"{float(sys.argv[2]) + dx!r}\" ymin=\"{2 + dy!r}\" ymax=\"{22 + dy!r}\"/>')" "$1" "$2" "$DX" "$DY"
+}
 nairn_workdir ndisk
 material() {
   echo "  <Material Type=\"28\" Name=\"$1\"><rho>0.0015</rho><K>980.392156862745</K><G>375.939849624060</G><UJOption>2</UJOption></Material>"
@@ -46,8 +51,8 @@ cat > in.xml <<X
     </Grid>
   </Mesh>
   <MaterialPoints>
-    <Body matname="disk0" thick="1" vx="8.16496580927726" vy="0"><Oval xmin="1.5" xmax="21.5" ymin="2" ymax="22"/></Body>
-    <Body matname="disk1" thick="1" vx="-8.16496580927726" vy="0"><Oval xmin="22.5" xmax="42.5" ymin="2" ymax="22"/></Body>
+    <Body matname="disk0" thick="1" vx="8.16496580927726" vy="0">$(oval 1.5 21.5)</Body>
+    <Body matname="disk1" thick="1" vx="-8.16496580927726" vy="0">$(oval 22.5 42.5)</Body>
   </MaterialPoints>
 $(material disk0)
 $(material disk1)
