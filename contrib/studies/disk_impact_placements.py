@@ -24,6 +24,7 @@ Usage::
 
 import argparse
 import csv
+import os
 import statistics
 import subprocess
 import sys
@@ -108,7 +109,6 @@ def run_fmpm(binary, shape, method, k):
 def run_nairn(shape, method, k):
     dx, dy = offset_mm(k)
     env = {"SHAPE": NAIRN_SHAPES[shape], "DX": repr(dx), "DY": repr(dy)}
-    import os
     log = subprocess.run([str(NAIRN), method.upper()],
                          env={**os.environ, **env},
                          capture_output=True, text=True)
