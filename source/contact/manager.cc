@@ -409,6 +409,12 @@ namespace fmpm
       const SupportReader<dim> support_of(supports,
                                           transfer,
                                           points.cell.data());
+      // A point is in a node's cloud where S_ip > 1e-30: a support that
+      // meets the node only at its edge, up to the round-off of the
+      // position (a point on the lattice of B-spline support edges:
+      // S ~ ε², ε³ with ε ~ 1e-16 cells), stays out whichever way it rounds.
+      // A genuine overlap below 1e-30 is below 1e-10 cells.
+      constexpr double edge_round_off = 1e-30;
       for (unsigned int c = 0; c < points.n_cells(); ++c)
         {
           // Computed supports are the cell's nodes: a cell without a
@@ -437,7 +443,7 @@ namespace fmpm
                 for (unsigned int j = 0; j < n_entries; ++j)
                   {
                     const unsigned int i = node[j];
-                    if (!shared[i] || !(S[j] > 0))
+                    if (!shared[i] || !(S[j] > edge_round_off))
                       continue;
                     if (!filled)
                       {
