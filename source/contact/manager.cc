@@ -411,9 +411,10 @@ namespace fmpm
                                           points.cell.data());
       // A point is in a node's cloud where S_ip > 1e-30: a support that
       // meets the node only at its edge, up to the round-off of the
-      // position (a point on the lattice of B-spline support edges:
-      // S ~ ε², ε³ with ε ~ 1e-16 cells), stays out whichever way it rounds.
-      // A genuine overlap below 1e-30 is below 1e-10 cells.
+      // position (a point on the lattice of support edges: the tails of
+      // uGIMP and the B-splines go as ε², ε³, ε ~ 1e-16 cells), stays out
+      // whichever way it rounds. S ≤ 1e-30 is an overlap below 1e-10
+      // cells for the cubic tails, 1e-15 for the quadratic ones.
       constexpr double edge_round_off = 1e-30;
       for (unsigned int c = 0; c < points.n_cells(); ++c)
         {
